@@ -1,0 +1,159 @@
+#pragma once
+// The validated content of a case file (docs/case-file.md, examples/beam.toml).
+// Units are SI throughout. Nodes are numbered 0 (clamp) .. elements (free end);
+// the free dofs of node i >= 1 are w (transverse displacement, m) at index
+// 2 (i - 1) and theta (rotation, rad) at index 2 (i - 1) + 1.
+// A CaseSpec is produced by CaseDocument::ToSpec() (case_file.hpp), which
+// checks every range documented here.
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+namespace podid {
+
+struct BeamSpec {
+  double length_m = 0.0;              ///< > 0
+  int elements = 0;                   ///< >= 1 Euler-Bernoulli elements
+  double youngs_modulus_Pa = 0.0;     ///< > 0
+  double density_kg_per_m3 = 0.0;     ///< > 0
+  double area_m2 = 0.0;               ///< > 0, cross-section area
+  double second_moment_m4 = 0.0;      ///< > 0, I = a^2/12 (square) or w h^3/12
+};
+
+enum class DampingType { kNone, kRayleigh };
+
+/// Rayleigh damping C = alpha M + beta K, given either directly or as the
+/// damping ratios of two modes of the linear beam:
+/// zeta_i = alpha / (2 omega_i) + beta omega_i / 2.
+struct DampingSpec {
+  DampingType type = DampingType::kNone;
+  bool from_modal_ratios = false;
+  double alpha_per_s = 0.0;             ///< used when !from_modal_ratios
+  double beta_s = 0.0;                  ///< used when !from_modal_ratios
+  std::array<double, 2> modal_ratios{};  ///< zeta of the two modes, in [0, 1)
+  std::array<int, 2> modes{1, 2};        ///< 1-based linear mode numbers, distinct
+};
+
+enum class NonlinearType {
+  kCubic,       ///< f = -k3 w^3
+  kPolynomial,  ///< f = -(k1 w + k2 w^2 + k3 w^3)
+  kGap,         ///< clearance: f = -k_c (w - g) for w > g, -k_c (w + g) for w < -g, else 0
+  kFriction,    ///< regularised dry friction: f = -mu N tanh(v / v_reg)
+};
+
+/// One nonlinear element on the transverse (w) dof of `node` (1..elements).
+/// f is the force the element applies to the beam.
+struct NonlinearitySpec {
+  NonlinearType type = NonlinearType::kCubic;
+  int node = 0;
+  double k1_N_per_m = 0.0;              ///< polynomial
+  double k2_N_per_m2 = 0.0;             ///< polynomial
+  double k3_N_per_m3 = 0.0;             ///< cubic, polynomial
+  double gap_m = 0.0;                   ///< gap, >= 0
+  double contact_stiffness_N_per_m = 0.0;  ///< gap, > 0
+  double friction_coefficient = 0.0;    ///< friction: mu >= 0
+  double normal_force_N = 0.0;          ///< friction: N >= 0
+  double regularisation_velocity_m_per_s = 0.0;  ///< friction: v_reg > 0
+};
+
+enum class InitialType {
+  kRest,         ///< x = 0, v = 0
+  kStaticForce,  ///< static deflection under a force at a node, released with v = 0
+  kExplicit,     ///< displacement and velocity given (dim n_dofs each)
+};
+
+struct InitialSpec {
+  InitialType type = InitialType::kRest;
+  double static_force_N = 0.0;  ///< kStaticForce: transverse force
+  int static_force_node = 0;    ///< kStaticForce: node, defaults to the free end
+  Eigen::VectorXd displacement;  ///< kExplicit: (dim n_dofs), m and rad
+  Eigen::VectorXd velocity;      ///< kExplicit: (dim n_dofs), m/s and rad/s
+};
+
+enum class ForceType { kNone, kHarmonic, kSweep, kFile };
+
+/// External transverse force at `node`:
+///  harmonic: F = A sin(2 pi f t);
+///  sweep:    F = A sin(2 pi (f0 t + (f1 - f0) t^2 / (2 T))), T = duration;
+///  file:     F(t) read from a CSV column, linearly interpolated, 0 outside.
+struct ForceSpec {
+  ForceType type = ForceType::kNone;
+  int node = 0;
+  double amplitude_N = 0.0;
+  double frequency_Hz = 0.0;        ///< harmonic
+  double start_frequency_Hz = 0.0;  ///< sweep
+  double end_frequency_Hz = 0.0;    ///< sweep
+  std::string file;                 ///< file: CSV path (relative to the case file)
+  std::string column;               ///< file: column name
+  Eigen::VectorXd file_time_s;      ///< file: filled by ToSpec()
+  Eigen::VectorXd file_force_N;     ///< file: filled by ToSpec()
+};
+
+struct TimeSpec {
+  double duration_s = 0.0;  ///< > 0
+  double step_s = 0.0;      ///< > 0, <= duration
+  /// Number of samples including t = 0: round(duration / step) + 1.
+  int samples() const;
+};
+
+enum class SensorDof { kW, kTheta };
+
+struct SensorSpec {
+  SensorDof dof = SensorDof::kW;
+  std::vector<int> nodes;  ///< 1..elements; default all of them
+  /// Column names, "w1".."w6" (or "theta1"...).
+  std::vector<std::string> ChannelNames() const;
+};
+
+struct NoiseSpec {
+  double relative = 0.0;  ///< std = relative * max |x(t = 0)| over the sensors, >= 0
+  unsigned long long seed = 1;
+};
+
+enum class IntegratorType {
+  kModifiedNewmark,  ///< the paper's condensed Newmark (sec. 4.1), default
+  kNewmark,          ///< Newton-Raphson on all dofs (reference)
+};
+
+struct IntegratorSpec {
+  IntegratorType type = IntegratorType::kModifiedNewmark;
+  double gamma = 0.5;   ///< Newmark gamma, in [0.5, 1]
+  double beta = 0.25;   ///< Newmark beta, in [gamma/2 * ... , 0.5] (> 0)
+  double tolerance = 1e-10;   ///< Newton: relative residual tolerance, > 0
+  int max_iterations = 50;    ///< Newton iterations per step, >= 1
+};
+
+/// One identified parameter: the case value at `key` is scale * value.
+struct ParameterSpec {
+  std::string name;   ///< e.g. "knl"
+  std::string key;    ///< e.g. "nonlinearity.0.k3"
+  double scale = 1.0;
+  double start = 0.0;
+  double lower = 0.0;
+  double upper = 0.0;
+};
+
+struct CaseSpec {
+  std::string source;  ///< the file it came from (for messages)
+  BeamSpec beam;
+  DampingSpec damping;
+  std::vector<NonlinearitySpec> nonlinearities;
+  InitialSpec initial;
+  ForceSpec force;
+  TimeSpec time;
+  SensorSpec sensors;
+  NoiseSpec noise;
+  IntegratorSpec integrator;
+  std::vector<ParameterSpec> parameters;
+
+  int dofs() const { return 2 * beam.elements; }
+};
+
+/// Index of node's transverse dof among the free dofs (node in 1..elements).
+inline int TransverseDof(int node) { return 2 * (node - 1); }
+/// Index of node's rotation dof among the free dofs (node in 1..elements).
+inline int RotationDof(int node) { return 2 * (node - 1) + 1; }
+
+}  // namespace podid

@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Builds podid (preset "default", RelWithDebInfo) and runs the whole test suite.
+# Usage: bash scripts/test.sh [asan]
+#   PODID_WERROR=ON makes warnings errors (CI sets it).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+preset="${1:-default}"
+bash scripts/install-deps.sh
+cmake --preset "$preset" -DPODID_WERROR="${PODID_WERROR:-OFF}" >/dev/null
+cmake --build --preset "$preset" -j "$(nproc)"
+ctest --preset "$preset" -j "$(nproc)" --timeout 900
