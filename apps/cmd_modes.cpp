@@ -1,0 +1,38 @@
+// podid modes: linear natural frequencies and damping ratios of a case.
+#include <cstdio>
+#include <memory>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "podid/core/beam_model.hpp"
+
+namespace podid::cli {
+
+void AddModesCommand(CLI::App& app) {
+  auto args = std::make_shared<CaseArguments>();
+  auto count = std::make_shared<int>(0);
+  CLI::App* command = app.add_subcommand(
+      "modes", "Print the natural frequencies (Hz) and damping ratios of the case's linear beam");
+  args->AddTo(*command);
+  command->add_option("-n,--count", *count, "Number of modes to print (default: all)")
+      ->check(CLI::NonNegativeNumber);
+  command->callback([args, count] {
+    const CaseSpec spec = args->Load().ToSpec();
+    const BeamModel model = BeamModel::Build(spec);
+    const ModalAnalysis modes = model.Modes();
+    const int n = *count > 0 ? std::min<int>(*count, modes.frequencies_Hz.size())
+                             : static_cast<int>(modes.frequencies_Hz.size());
+    std::printf("%s: %d Euler-Bernoulli elements, %d dofs\n", spec.source.c_str(), spec.beam.elements,
+                model.dofs());
+    if (spec.damping.type == DampingType::kRayleigh) {
+      std::printf("Rayleigh damping: alpha = %.6g 1/s, beta = %.6g s\n", model.rayleigh_alpha_per_s(),
+                  model.rayleigh_beta_s());
+    }
+    std::printf("%4s  %14s  %14s\n", "mode", "frequency_Hz", "damping_ratio");
+    for (int k = 0; k < n; ++k) {
+      std::printf("%4d  %14.4f  %14.6f\n", k + 1, modes.frequencies_Hz[k], modes.damping_ratios[k]);
+    }
+  });
+}
+
+}  // namespace podid::cli

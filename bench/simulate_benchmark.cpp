@@ -1,0 +1,85 @@
+// Speed of the shared simulator (issue 2):
+//  * 1 s of the reference case (5000 steps) with the condensed integrator;
+//  * a 300-element beam (600 dofs, one nonlinear dof): condensed vs full
+//    Newton per step, and the cost's growth with the number of steps.
+#include <benchmark/benchmark.h>
+
+#include <string>
+#include <vector>
+
+#include "podid/core/case_file.hpp"
+#include "podid/core/newmark.hpp"
+#include "podid/core/simulate.hpp"
+
+namespace podid {
+namespace {
+
+CaseSpec Reference(const std::vector<std::string>& overrides) {
+  CaseDocument document = CaseDocument::Load(std::string(PODID_EXAMPLES_DIR) + "/beam.toml");
+  ApplySetArguments(document, overrides);
+  return document.ToSpec();
+}
+
+// The time loop only: model, integrator and workspace are built once.
+void RunLoop(benchmark::State& state, const CaseSpec& spec) {
+  const BeamModel model = BeamModel::Build(spec);
+  const NewmarkIntegrator integrator(model, NewmarkOptions::FromCase(spec));
+  NewmarkWorkspace workspace(integrator);
+  const State initial = InitialState(spec, model);
+  const ExternalLoad load = BuildLoad(spec);
+  Recording recording;
+  recording.dofs = SensorDofs(spec);
+  SimulationSummary summary;
+  for (auto _ : state) {
+    summary = integrator.Run(initial, load, &recording, &workspace);
+    benchmark::DoNotOptimize(recording.displacement.data());
+  }
+  if (!summary.IsSolutionUsable()) state.SkipWithError(summary.message.c_str());
+  const double steps = integrator.options().steps;
+  state.counters["steps"] = steps;
+  state.counters["newton_per_step"] = static_cast<double>(summary.newton_iterations) / steps;
+  state.counters["per_step"] = benchmark::Counter(steps, benchmark::Counter::kIsIterationInvariantRate |
+                                                             benchmark::Counter::kInvert);
+}
+
+void BM_Reference1sCondensed(benchmark::State& state) {
+  RunLoop(state, Reference({"time.duration=1.0"}));
+}
+BENCHMARK(BM_Reference1sCondensed)->Unit(benchmark::kMicrosecond);
+
+void BM_Reference1sFullNewton(benchmark::State& state) {
+  RunLoop(state, Reference({"time.duration=1.0", "integrator.type=\"newmark\""}));
+}
+BENCHMARK(BM_Reference1sFullNewton)->Unit(benchmark::kMicrosecond);
+
+// Everything an identification evaluation pays: parse-free spec -> model
+// (modal analysis for Rayleigh), static solve, integrator set-up, run.
+void BM_Reference1sSimulateEndToEnd(benchmark::State& state) {
+  const CaseSpec spec = Reference({"time.duration=1.0"});
+  for (auto _ : state) {
+    SimulationResult result = Simulate(spec);
+    benchmark::DoNotOptimize(result.sensors.values.data());
+  }
+}
+BENCHMARK(BM_Reference1sSimulateEndToEnd)->Unit(benchmark::kMicrosecond);
+
+// 300 elements, steps = range(0); step 2e-5 s.
+CaseSpec Long(int steps, bool full) {
+  std::vector<std::string> sets = {"beam.elements=300", "time.step=2e-5",
+                                   "time.duration=" + std::to_string(steps * 2e-5)};
+  if (full) sets.push_back("integrator.type=\"newmark\"");
+  return Reference(sets);
+}
+
+void BM_Beam300Condensed(benchmark::State& state) {
+  RunLoop(state, Long(static_cast<int>(state.range(0)), false));
+}
+BENCHMARK(BM_Beam300Condensed)->Arg(100)->Arg(200)->Arg(400)->Unit(benchmark::kMillisecond);
+
+void BM_Beam300FullNewton(benchmark::State& state) {
+  RunLoop(state, Long(static_cast<int>(state.range(0)), true));
+}
+BENCHMARK(BM_Beam300FullNewton)->Arg(10)->Arg(20)->Arg(40)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace podid

@@ -1,0 +1,92 @@
+#pragma once
+// Finite-element model of a clamped Euler-Bernoulli beam with local nonlinear
+// elements (the paper's section 4, fig. 1). Units are SI throughout.
+//
+// Element matrices (length l, bending stiffness EI, mass per length rho A;
+// dofs w_i, theta_i, w_j, theta_j; Hermite cubic shape functions):
+//   K_e = EI / l^3 [ 12  6l  -12  6l ; 6l 4l^2 -6l 2l^2 ; -12 -6l 12 -6l ; 6l 2l^2 -6l 4l^2 ]
+//   M_e = rho A l / 420 [ 156 22l 54 -13l ; 22l 4l^2 13l -3l^2 ; 54 13l 156 -22l ;
+//                         -13l -3l^2 -22l 4l^2 ]   (consistent mass)
+// Node 0 is clamped; the n = 2 * elements free dofs are ordered
+// (w_1, theta_1, ..., w_N, theta_N), see TransverseDof() in case_spec.hpp.
+// Equation of motion (eq. 20): M x'' + C x' + K x = g(t) + f_nl(x, x').
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "podid/core/case_spec.hpp"
+#include "podid/core/nonlinear.hpp"
+
+namespace podid {
+
+/// Linear modal analysis: K phi = omega^2 M phi (generalised symmetric
+/// eigenproblem), modes sorted by increasing frequency, mass-normalised
+/// (phi^T M phi = 1), each shape's largest-|.| transverse component positive.
+struct ModalAnalysis {
+  Eigen::VectorXd frequencies_Hz;   ///< (dim n_dofs) undamped natural frequencies
+  Eigen::VectorXd damping_ratios;   ///< (dim n_dofs) phi^T C phi / (2 omega)
+  Eigen::MatrixXd shapes;           ///< (n_dofs x n_dofs), column k is mode k+1
+};
+
+/// The constant part of a simulation: matrices and elements. Built once,
+/// never changed (the integrators keep their buffers in a separate workspace).
+class BeamModel {
+ public:
+  /// Builds M, K, the nonlinear elements and C from the case (C after a modal
+  /// analysis when damping is given as modal ratios). Throws
+  /// std::invalid_argument if the case is inconsistent (e.g. a node out of range).
+  static BeamModel Build(const CaseSpec& spec);
+
+  /// Assembles the clamped beam's M and K only (no damping, no elements).
+  static BeamModel BuildLinear(const BeamSpec& beam);
+
+  /// Any linear system with local nonlinear elements: M (SPD), K and C
+  /// (symmetric, n x n). Element `node` k acts on dof 2 (k - 1), as for a
+  /// beam; for a single-dof oscillator use node 1. Throws
+  /// std::invalid_argument for inconsistent sizes.
+  static BeamModel FromMatrices(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& stiffness,
+                                const Eigen::MatrixXd& damping,
+                                const std::vector<NonlinearitySpec>& nonlinearities);
+
+  int dofs() const { return static_cast<int>(mass_.rows()); }
+  const Eigen::MatrixXd& mass() const { return mass_; }            ///< kg, kg m, kg m^2
+  const Eigen::MatrixXd& stiffness() const { return stiffness_; }  ///< N/m, N, N m
+  const Eigen::MatrixXd& damping() const { return damping_; }      ///< N s/m ...
+  const NonlinearForces& nonlinear() const { return nonlinear_; }
+  double rayleigh_alpha_per_s() const { return alpha_per_s_; }
+  double rayleigh_beta_s() const { return beta_s_; }
+
+  /// Modal analysis of the linear part (M, K, C).
+  ModalAnalysis Modes() const;
+
+ private:
+  Eigen::MatrixXd mass_, stiffness_, damping_;
+  NonlinearForces nonlinear_;
+  double alpha_per_s_ = 0.0, beta_s_ = 0.0;
+};
+
+/// Rayleigh coefficients giving damping ratios zeta_1, zeta_2 at circular
+/// frequencies omega_1 != omega_2 (rad/s): zeta_i = alpha / (2 omega_i) + beta omega_i / 2.
+void RayleighFromModalRatios(double omega1_rad_per_s, double zeta1, double omega2_rad_per_s,
+                             double zeta2, double* alpha_per_s, double* beta_s);
+
+struct StaticSolveOptions {
+  double tolerance = 1e-12;  ///< on ||r|| / ||F||
+  int max_iterations = 100;
+};
+
+struct StaticSolveSummary {
+  bool converged = false;
+  int iterations = 0;
+  double relative_residual = 0.0;  ///< ||K x - f_nl(x, 0) - F|| / ||F||
+  std::string message;
+};
+
+/// Static equilibrium K x - f_nl(x, 0) = F (dim n_dofs), by Newton with
+/// backtracking (the step is halved until the residual decreases). x starts
+/// from the linear solution.
+Eigen::VectorXd SolveStatic(const BeamModel& model, const Eigen::VectorXd& force,
+                            const StaticSolveOptions& options, StaticSolveSummary* summary);
+
+}  // namespace podid

@@ -1,0 +1,152 @@
+#pragma once
+// Newmark time integration of M x'' + C x' + K x = g(t) + f_nl(x, x') (eq. 20).
+//
+// Newmark relations (gamma, beta; average acceleration 1/2, 1/4 by default):
+//   x'' _{n+1} = a0 (x_{n+1} - x_n) - a2 x'_n - a3 x''_n,   a0 = 1/(beta dt^2),
+//                a2 = 1/(beta dt), a3 = 1/(2 beta) - 1
+//   x' _{n+1} = x'_n + dt ((1 - gamma) x''_n + gamma x''_{n+1})
+// which turn the equation at t_{n+1} into S x_{n+1} = b_n + g_{n+1} + f_nl (eq. 23)
+// with the constant S = a0 M + a1 C + K, a1 = gamma / (beta dt).
+//
+// Two integrators solve it:
+//  * kNewmark: Newton-Raphson on all n dofs, the jacobian (eq. 25) refactored at
+//    every iteration. The reference implementation.
+//  * kModifiedNewmark (default): the paper's section 4.1 (Zheng & Hasebe 1999).
+//    Dofs are split into nonlinear `a` and linear `b` (eq. 21); the projection
+//    S_ab S_b^-1 S_ba is computed once for the step; Newton iterates on the
+//    condensed equation (eq. 29) on the `a` dofs only, and x_b follows from
+//    eq. 28. Both solve the same equations, so they agree to the Newton tolerance.
+//
+// Model/workspace split: a NewmarkIntegrator holds constant precomputed
+// matrices; a NewmarkWorkspace holds every buffer the time loop uses, so Run()
+// allocates nothing inside the loop and is const (thread-safe with one
+// workspace per thread). Units are SI.
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "podid/core/beam_model.hpp"
+#include "podid/core/case_spec.hpp"
+
+namespace podid {
+
+struct NewmarkOptions {
+  IntegratorType type = IntegratorType::kModifiedNewmark;
+  double gamma = 0.5;        ///< in [0.5, 1]
+  double beta = 0.25;        ///< in (0, 0.5]; unconditionally stable when beta >= gamma / 2
+  double step_s = 0.0;       ///< > 0, constant
+  int steps = 0;             ///< >= 1; samples = steps + 1
+  double tolerance = 1e-10;  ///< Newton: ||r||_inf <= tolerance * (force scale of the step)
+  int max_iterations = 50;   ///< Newton iterations per step
+  bool IsValid(std::string* why) const;
+  /// From the case's [time] and [integrator] tables.
+  static NewmarkOptions FromCase(const CaseSpec& spec);
+};
+
+struct State {
+  Eigen::VectorXd displacement;  ///< (dim n_dofs) m, rad
+  Eigen::VectorXd velocity;      ///< (dim n_dofs) m/s, rad/s
+};
+
+/// External force on one dof, sampled at t_n = n dt (dim steps + 1, N).
+/// An empty `values_N` means no external force.
+struct ExternalLoad {
+  int dof = -1;
+  Eigen::VectorXd values_N;
+};
+
+enum class SimulationTermination {
+  kNotRun,            ///< nothing computed
+  kCompleted,         ///< all steps done
+  kStaticSolveFailed, ///< the initial static deflection did not converge
+  kNewtonFailed,      ///< a step's Newton iterations did not converge; history kept up to it
+  kNonFinite,         ///< the state became NaN/Inf; history kept up to the step before
+};
+
+const char* ToString(SimulationTermination termination);
+
+struct SimulationSummary {
+  SimulationTermination termination = SimulationTermination::kNotRun;
+  std::string message = "Simulation was not run.";
+  IntegratorType integrator = IntegratorType::kModifiedNewmark;
+  int dofs = 0;
+  int nonlinear_dofs = 0;
+  int steps_requested = 0;
+  int steps_completed = 0;
+  long long newton_iterations = 0;  ///< total Newton corrections
+  int max_step_iterations = 0;      ///< worst step
+  double worst_step_time_s = 0.0;   ///< time of the worst step
+  double failure_time_s = std::numeric_limits<double>::quiet_NaN();
+  double failure_residual = std::numeric_limits<double>::quiet_NaN();  ///< relative
+  double wall_time_s = 0.0;
+
+  bool IsSolutionUsable() const { return termination == SimulationTermination::kCompleted; }
+  std::string BriefReport() const;  ///< one line
+  std::string FullReport() const;  ///< several lines
+};
+
+/// What Run() records at each sample (rows 0..steps; row n is t = n dt).
+struct Recording {
+  std::vector<int> dofs;        ///< free-dof indices to record
+  bool record_velocity = false;
+  Eigen::MatrixXd displacement;  ///< (steps + 1) x dofs.size(), sized by Run()
+  Eigen::MatrixXd velocity;      ///< same, when record_velocity
+};
+
+class NewmarkIntegrator;
+
+/// Every buffer the time loop needs, allocated once for an integrator.
+class NewmarkWorkspace {
+ public:
+  explicit NewmarkWorkspace(const NewmarkIntegrator& integrator);
+
+ private:
+  friend class NewmarkIntegrator;
+  Eigen::VectorXd x, v, acc, x_new, p, q, rhs, y, r, dx;
+  Eigen::VectorXd xa, xa_n, va, fa, ka, ca, ra, dxa, xa_trial, fa_trial;
+  Eigen::MatrixXd jac, jac_a;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu, lu_a;
+};
+
+class NewmarkIntegrator {
+ public:
+  /// Precomputes S and, for the modified method, the condensation. Throws
+  /// std::invalid_argument if !options.IsValid().
+  NewmarkIntegrator(const BeamModel& model, const NewmarkOptions& options);
+
+  const NewmarkOptions& options() const { return options_; }
+  int dofs() const { return n_; }
+  int nonlinear_dofs() const { return na_; }
+
+  /// Integrates from `initial` (dim n_dofs each) over options().steps steps.
+  /// On failure the recording keeps the samples up to the last good step
+  /// (summary.steps_completed + 1 rows are valid). No allocation in the loop.
+  SimulationSummary Run(const State& initial, const ExternalLoad& load, Recording* recording,
+                        NewmarkWorkspace* workspace) const;
+  /// Same, with a workspace of its own.
+  SimulationSummary Run(const State& initial, const ExternalLoad& load, Recording* recording) const;
+
+ private:
+  friend class NewmarkWorkspace;
+  bool StepModified(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
+                    double* residual) const;
+  bool StepFull(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
+                double* residual) const;
+  void NonlinearVelocity(NewmarkWorkspace& w) const;
+
+  NewmarkOptions options_;
+  int n_ = 0, na_ = 0, nb_ = 0;
+  double a0_ = 0, a1_ = 0, a2_ = 0, a3_ = 0;
+  // All matrices are in the permuted order (a dofs first, then b dofs).
+  std::vector<int> perm_;      ///< perm_[k] = original dof of permuted index k
+  std::vector<int> inv_perm_;  ///< inverse of perm_
+  Eigen::MatrixXd mass_, damping_, stiffness_, s_;
+  Eigen::MatrixXd sbb_inv_, sab_, h_, shat_;
+  Eigen::MatrixXd mass_inverse_;
+  NonlinearForces nonlinear_;  ///< with `local` indices = permuted indices
+};
+
+}  // namespace podid

@@ -1,0 +1,195 @@
+#include "podid/core/beam_model.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "podid/core/error.hpp"
+
+namespace podid {
+
+BeamModel BeamModel::BuildLinear(const BeamSpec& beam) {
+  if (!(beam.elements >= 1)) ThrowInvalid("beam.elements", "an integer >= 1", ToText(beam.elements));
+  if (!(beam.length_m > 0)) ThrowInvalid("beam.length", "a length > 0 m", ToText(beam.length_m));
+  if (!(beam.youngs_modulus_Pa > 0))
+    ThrowInvalid("beam.youngs_modulus", "a modulus > 0 Pa", ToText(beam.youngs_modulus_Pa));
+  if (!(beam.density_kg_per_m3 > 0))
+    ThrowInvalid("beam.density", "a density > 0 kg/m^3", ToText(beam.density_kg_per_m3));
+  if (!(beam.area_m2 > 0)) ThrowInvalid("beam.area", "an area > 0 m^2", ToText(beam.area_m2));
+  if (!(beam.second_moment_m4 > 0))
+    ThrowInvalid("beam section", "a second moment of area > 0 m^4", ToText(beam.second_moment_m4));
+
+  const int n_nodes = beam.elements + 1;
+  const int n_all = 2 * n_nodes;
+  const double l = beam.length_m / beam.elements;
+  const double ei = beam.youngs_modulus_Pa * beam.second_moment_m4;
+  const double rho_a = beam.density_kg_per_m3 * beam.area_m2;
+
+  Eigen::Matrix4d ke;
+  ke << 12, 6 * l, -12, 6 * l,  //
+      6 * l, 4 * l * l, -6 * l, 2 * l * l,  //
+      -12, -6 * l, 12, -6 * l,  //
+      6 * l, 2 * l * l, -6 * l, 4 * l * l;
+  ke *= ei / (l * l * l);
+  Eigen::Matrix4d me;
+  me << 156, 22 * l, 54, -13 * l,  //
+      22 * l, 4 * l * l, 13 * l, -3 * l * l,  //
+      54, 13 * l, 156, -22 * l,  //
+      -13 * l, -3 * l * l, -22 * l, 4 * l * l;
+  me *= rho_a * l / 420.0;
+
+  Eigen::MatrixXd k_all = Eigen::MatrixXd::Zero(n_all, n_all);
+  Eigen::MatrixXd m_all = Eigen::MatrixXd::Zero(n_all, n_all);
+  for (int e = 0; e < beam.elements; ++e) {
+    k_all.block<4, 4>(2 * e, 2 * e) += ke;
+    m_all.block<4, 4>(2 * e, 2 * e) += me;
+  }
+  BeamModel model;
+  // Clamp at node 0: drop its two dofs.
+  const int n = n_all - 2;
+  model.stiffness_ = k_all.bottomRightCorner(n, n);
+  model.mass_ = m_all.bottomRightCorner(n, n);
+  model.damping_ = Eigen::MatrixXd::Zero(n, n);
+  return model;
+}
+
+BeamModel BeamModel::FromMatrices(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& stiffness,
+                                  const Eigen::MatrixXd& damping,
+                                  const std::vector<NonlinearitySpec>& nonlinearities) {
+  const Eigen::Index n = mass.rows();
+  for (const Eigen::MatrixXd* m : {&mass, &stiffness, &damping}) {
+    if (m->rows() != n || m->cols() != n) {
+      ThrowInvalid("BeamModel::FromMatrices", "square matrices of one size " + ToText(n),
+                   ToText(m->rows()) + " x " + ToText(m->cols()));
+    }
+  }
+  BeamModel model;
+  model.mass_ = mass;
+  model.stiffness_ = stiffness;
+  model.damping_ = damping;
+  // Node k's transverse dof is 2 (k - 1): nodes 1..(n + 1) / 2 exist.
+  model.nonlinear_ = NonlinearForces(nonlinearities, static_cast<int>((n + 1) / 2));
+  return model;
+}
+
+void RayleighFromModalRatios(double omega1_rad_per_s, double zeta1, double omega2_rad_per_s,
+                             double zeta2, double* alpha_per_s, double* beta_s) {
+  PODID_CHECK(omega1_rad_per_s > 0 && omega2_rad_per_s > 0 && omega1_rad_per_s != omega2_rad_per_s);
+  // Solve [1/(2 w1)  w1/2; 1/(2 w2)  w2/2] [alpha; beta] = [z1; z2].
+  const double w1 = omega1_rad_per_s, w2 = omega2_rad_per_s;
+  *beta_s = 2.0 * (zeta2 * w2 - zeta1 * w1) / (w2 * w2 - w1 * w1);
+  *alpha_per_s = 2.0 * zeta1 * w1 - *beta_s * w1 * w1;
+}
+
+BeamModel BeamModel::Build(const CaseSpec& spec) {
+  BeamModel model = BuildLinear(spec.beam);
+  model.nonlinear_ = NonlinearForces(spec.nonlinearities, spec.beam.elements);
+  const DampingSpec& d = spec.damping;
+  if (d.type == DampingType::kRayleigh) {
+    if (d.from_modal_ratios) {
+      const int n = model.dofs();
+      for (int k = 0; k < 2; ++k) {
+        if (d.modes[k] < 1 || d.modes[k] > n) {
+          ThrowInvalid("damping.modes." + std::to_string(k), "a mode in 1.." + std::to_string(n),
+                       ToText(d.modes[k]));
+        }
+      }
+      if (d.modes[0] == d.modes[1]) {
+        ThrowInvalid("damping.modes", "two different modes", ToText(d.modes[0]) + " twice");
+      }
+      const ModalAnalysis modes = model.Modes();
+      const double w1 = 2 * std::numbers::pi * modes.frequencies_Hz[d.modes[0] - 1];
+      const double w2 = 2 * std::numbers::pi * modes.frequencies_Hz[d.modes[1] - 1];
+      RayleighFromModalRatios(w1, d.modal_ratios[0], w2, d.modal_ratios[1], &model.alpha_per_s_,
+                              &model.beta_s_);
+    } else {
+      model.alpha_per_s_ = d.alpha_per_s;
+      model.beta_s_ = d.beta_s;
+    }
+    model.damping_ = model.alpha_per_s_ * model.mass_ + model.beta_s_ * model.stiffness_;
+  }
+  return model;
+}
+
+ModalAnalysis BeamModel::Modes() const {
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(stiffness_, mass_);
+  PODID_CHECK(solver.info() == Eigen::Success);
+  ModalAnalysis result;
+  const int n = dofs();
+  result.shapes = solver.eigenvectors();  // ascending eigenvalues, M-normalised
+  result.frequencies_Hz.resize(n);
+  result.damping_ratios.resize(n);
+  for (int k = 0; k < n; ++k) {
+    const double omega = std::sqrt(std::max(solver.eigenvalues()[k], 0.0));
+    result.frequencies_Hz[k] = omega / (2 * std::numbers::pi);
+    auto phi = result.shapes.col(k);
+    // Sign convention: the largest-magnitude transverse component is positive.
+    Eigen::Index best = 0;
+    for (Eigen::Index i = 0; i < n; i += 2) {
+      if (std::abs(phi[i]) > std::abs(phi[best])) best = i;
+    }
+    if (phi[best] < 0) phi = -phi;
+    result.damping_ratios[k] = omega > 0 ? phi.dot(damping_ * phi) / (2 * omega) : 0.0;
+  }
+  return result;
+}
+
+Eigen::VectorXd SolveStatic(const BeamModel& model, const Eigen::VectorXd& force,
+                            const StaticSolveOptions& options, StaticSolveSummary* summary) {
+  PODID_CHECK(force.size() == model.dofs());
+  PODID_CHECK(summary != nullptr);
+  const Eigen::MatrixXd& k = model.stiffness();
+  const NonlinearForces& nl = model.nonlinear();
+  const std::vector<int>& a = nl.dofs();
+  const int na = static_cast<int>(a.size());
+  Eigen::VectorXd x = k.llt().solve(force);  // linear solution as the start
+  Eigen::VectorXd wa(na), va = Eigen::VectorXd::Zero(na), fa(na), ka(na), ca(na);
+
+  const double force_norm = std::max(force.norm(), 1e-300);
+  auto residual = [&](const Eigen::VectorXd& xx, Eigen::VectorXd* r) {
+    for (int i = 0; i < na; ++i) wa[i] = xx[a[i]];
+    nl.Evaluate(wa, va, fa, ka, ca);
+    *r = k * xx - force;
+    for (int i = 0; i < na; ++i) (*r)[a[i]] -= fa[i];
+  };
+  Eigen::VectorXd r(x.size()), trial(x.size()), r_trial(x.size());
+  residual(x, &r);
+  summary->converged = false;
+  summary->iterations = 0;
+  for (int it = 0; it < options.max_iterations; ++it) {
+    summary->relative_residual = r.norm() / force_norm;
+    if (summary->relative_residual <= options.tolerance || force.norm() == 0.0) {
+      summary->converged = true;
+      break;
+    }
+    Eigen::MatrixXd jac = k;
+    for (int i = 0; i < na; ++i) jac(a[i], a[i]) += ka[i];
+    const Eigen::VectorXd dx = jac.partialPivLu().solve(-r);
+    // Backtracking: halve the step until the residual norm decreases.
+    double step = 1.0;
+    for (int halving = 0; halving < 40; ++halving) {
+      trial = x + step * dx;
+      residual(trial, &r_trial);
+      if (r_trial.norm() < r.norm()) break;
+      step *= 0.5;
+    }
+    x = trial;
+    r = r_trial;
+    summary->iterations = it + 1;
+  }
+  summary->relative_residual = r.norm() / force_norm;
+  if (summary->relative_residual <= options.tolerance || force.norm() == 0.0) summary->converged = true;
+  summary->message = summary->converged
+                         ? "static solve converged in " + std::to_string(summary->iterations) +
+                               " Newton iterations, relative residual " +
+                               ToText(summary->relative_residual)
+                         : "static solve did not converge in " +
+                               std::to_string(options.max_iterations) +
+                               " iterations, relative residual " + ToText(summary->relative_residual);
+  return x;
+}
+
+}  // namespace podid

@@ -1,0 +1,371 @@
+// Allocation checks: the no-allocation test compiles the core with
+// EIGEN_RUNTIME_NO_MALLOC, and Run() forbids Eigen heap allocations inside the
+// time loop, so any allocation there aborts (see tests/CMakeLists.txt).
+#include "podid/core/newmark.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "podid/core/error.hpp"
+
+namespace podid {
+namespace {
+
+void SetMallocAllowed([[maybe_unused]] bool allowed) {
+#ifdef EIGEN_RUNTIME_NO_MALLOC
+  Eigen::internal::set_is_malloc_allowed(allowed);
+#endif
+}
+
+}  // namespace
+
+const char* ToString(SimulationTermination termination) {
+  switch (termination) {
+    case SimulationTermination::kNotRun: return "not run";
+    case SimulationTermination::kCompleted: return "completed";
+    case SimulationTermination::kStaticSolveFailed: return "static solve failed";
+    case SimulationTermination::kNewtonFailed: return "Newton failed";
+    case SimulationTermination::kNonFinite: return "non-finite state";
+  }
+  return "unknown";
+}
+
+bool NewmarkOptions::IsValid(std::string* why) const {
+  auto fail = [why](const std::string& text) {
+    if (why) *why = text;
+    return false;
+  };
+  if (!(gamma >= 0.5 && gamma <= 1.0)) return fail("gamma: expected a value in [0.5, 1], got " + ToText(gamma));
+  if (!(beta > 0.0 && beta <= 0.5)) return fail("beta: expected a value in (0, 0.5], got " + ToText(beta));
+  if (!(step_s > 0.0 && std::isfinite(step_s))) return fail("step: expected a step > 0 s, got " + ToText(step_s));
+  if (steps < 1) return fail("steps: expected at least 1 step, got " + ToText(steps));
+  if (!(tolerance > 0.0 && tolerance < 1.0))
+    return fail("tolerance: expected a value in (0, 1), got " + ToText(tolerance));
+  if (max_iterations < 1) return fail("max_iterations: expected >= 1, got " + ToText(max_iterations));
+  return true;
+}
+
+NewmarkOptions NewmarkOptions::FromCase(const CaseSpec& spec) {
+  NewmarkOptions o;
+  o.type = spec.integrator.type;
+  o.gamma = spec.integrator.gamma;
+  o.beta = spec.integrator.beta;
+  o.tolerance = spec.integrator.tolerance;
+  o.max_iterations = spec.integrator.max_iterations;
+  o.step_s = spec.time.step_s;
+  o.steps = spec.time.samples() - 1;
+  return o;
+}
+
+std::string SimulationSummary::BriefReport() const {
+  std::ostringstream os;
+  os.precision(4);
+  os << (integrator == IntegratorType::kModifiedNewmark ? "modified Newmark" : "Newmark (full Newton)")
+     << ": " << ToString(termination) << ", " << steps_completed << "/" << steps_requested
+     << " steps, " << newton_iterations << " Newton iterations (max " << max_step_iterations
+     << " in a step), " << wall_time_s * 1e3 << " ms";
+  return os.str();
+}
+
+std::string SimulationSummary::FullReport() const {
+  std::ostringstream os;
+  os.precision(6);
+  os << "Simulation summary\n"
+     << "  integrator:         "
+     << (integrator == IntegratorType::kModifiedNewmark ? "modified Newmark (condensed, eq. 29)"
+                                                        : "Newmark, Newton on all dofs")
+     << "\n  dofs:               " << dofs << " (" << nonlinear_dofs << " nonlinear)"
+     << "\n  steps:              " << steps_completed << " of " << steps_requested
+     << "\n  Newton iterations:  " << newton_iterations << " total, worst step " << max_step_iterations
+     << " at t = " << worst_step_time_s << " s"
+     << "\n  wall time:          " << wall_time_s << " s"
+     << "\n  termination:        " << ToString(termination) << "\n  message:            " << message
+     << "\n";
+  return os.str();
+}
+
+NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOptions& options)
+    : options_(options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument("integrator options: " + why);
+  n_ = model.dofs();
+  const std::vector<int>& a = model.nonlinear().dofs();
+  na_ = static_cast<int>(a.size());
+  nb_ = n_ - na_;
+  const double dt = options.step_s, g = options.gamma, b = options.beta;
+  a0_ = 1.0 / (b * dt * dt);
+  a1_ = g / (b * dt);
+  a2_ = 1.0 / (b * dt);
+  a3_ = 1.0 / (2.0 * b) - 1.0;
+
+  // Permutation putting the `a` dofs first (eq. 21), so partitions are blocks.
+  perm_ = a;
+  for (int i = 0; i < n_; ++i) {
+    if (!std::binary_search(a.begin(), a.end(), i)) perm_.push_back(i);
+  }
+  inv_perm_.assign(n_, 0);
+  for (int k = 0; k < n_; ++k) inv_perm_[perm_[k]] = k;
+  auto permute = [&](const Eigen::MatrixXd& m) {
+    Eigen::MatrixXd out(n_, n_);
+    for (int i = 0; i < n_; ++i)
+      for (int j = 0; j < n_; ++j) out(i, j) = m(perm_[i], perm_[j]);
+    return out;
+  };
+  mass_ = permute(model.mass());
+  damping_ = permute(model.damping());
+  stiffness_ = permute(model.stiffness());
+  s_ = a0_ * mass_ + a1_ * damping_ + stiffness_;
+  mass_inverse_ = mass_.llt().solve(Eigen::MatrixXd::Identity(n_, n_));
+
+  // The `a` dofs are 0..na-1 in the permuted order, so the elements' local
+  // indices are already permuted indices.
+  nonlinear_ = model.nonlinear();
+
+  if (options.type == IntegratorType::kModifiedNewmark) {
+    // Computed once for the constant step: S_b^-1, S_ab, H = S_b^-1 S_ba and
+    // the condensed matrix S_a - S_ab S_b^-1 S_ba (eqs. 28-29).
+    const Eigen::MatrixXd sbb = s_.bottomRightCorner(nb_, nb_);
+    Eigen::LLT<Eigen::MatrixXd> llt(sbb);
+    PODID_CHECK_MSG(llt.info() == Eigen::Success, "S_b must be positive definite");
+    sbb_inv_ = llt.solve(Eigen::MatrixXd::Identity(nb_, nb_));
+    sab_ = s_.topRightCorner(na_, nb_);
+    h_ = sbb_inv_ * s_.bottomLeftCorner(nb_, na_);
+    shat_ = s_.topLeftCorner(na_, na_) - sab_ * h_;
+  }
+}
+
+NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
+  const int n = integrator.n_, na = integrator.na_;
+  for (Eigen::VectorXd* v : {&x, &v, &acc, &x_new, &p, &q, &rhs, &y, &r, &dx}) v->setZero(n);
+  for (Eigen::VectorXd* v : {&xa, &xa_n, &va, &fa, &ka, &ca, &ra, &dxa, &xa_trial, &fa_trial})
+    v->setZero(na);
+  jac.setZero(n, n);
+  jac_a.setZero(na, na);
+  lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+  lu_a = Eigen::PartialPivLU<Eigen::MatrixXd>(na);
+  if (na > 0) lu_a.compute(Eigen::MatrixXd::Identity(na, na));
+  lu.compute(Eigen::MatrixXd::Identity(n, n));
+}
+
+// Velocity of the `a` dofs implied by the trial displacement w.xa (Newmark relations).
+void NewmarkIntegrator::NonlinearVelocity(NewmarkWorkspace& w) const {
+  const double dt = options_.step_s, g = options_.gamma, b = options_.beta;
+  w.va = a1_ * (w.xa - w.xa_n) + (1.0 - g / b) * w.v.head(na_) +
+         dt * (1.0 - g / (2.0 * b)) * w.acc.head(na_);
+}
+
+bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, double load, int load_dof,
+                                     int* iterations, double* residual) const {
+  // y = S_b^-1 r_b;  bhat = rhs_a - S_ab y  (the right side of eq. 29 at x_b = y).
+  if (load_dof >= 0) w.rhs[load_dof] += load;
+  w.y.tail(nb_).noalias() = sbb_inv_ * w.rhs.tail(nb_);
+  *iterations = 0;
+  *residual = 0.0;
+  if (na_ > 0) {
+    w.ra = w.rhs.head(na_);
+    w.ra.noalias() -= sab_ * w.y.tail(nb_);  // ra holds bhat during the iterations
+    w.xa_n = w.x.head(na_);
+    w.xa = w.xa_n;
+    bool converged = false;
+    for (int it = 0; it <= options_.max_iterations; ++it) {
+      NonlinearVelocity(w);
+      nonlinear_.Evaluate(w.xa, w.va, w.fa, w.ka, w.ca);
+      // Condensed residual R = Shat x_a - bhat - f_a (eq. 29 with r_b = 0 kept by eq. 28).
+      w.dxa.noalias() = shat_ * w.xa;
+      const double scale = std::max({w.dxa.lpNorm<Eigen::Infinity>(), w.ra.lpNorm<Eigen::Infinity>(),
+                                     w.fa.lpNorm<Eigen::Infinity>(), 1e-300});
+      w.dxa -= w.ra + w.fa;
+      *residual = w.dxa.lpNorm<Eigen::Infinity>() / scale;
+      if (!std::isfinite(*residual)) return false;
+      if (*residual <= options_.tolerance) {
+        converged = true;
+        break;
+      }
+      if (it == options_.max_iterations) break;
+      // Tangent of eq. 29: Shat + K_t + a1 C_t on the `a` dofs.
+      if (na_ == 1) {
+        const double j = shat_(0, 0) + w.ka[0] + a1_ * w.ca[0];
+        w.xa[0] -= w.dxa[0] / j;
+      } else {
+        w.jac_a = shat_;
+        w.jac_a.diagonal() += w.ka + a1_ * w.ca;
+        w.lu_a.compute(w.jac_a);
+        w.xa_trial = w.lu_a.solve(w.dxa);
+        w.xa -= w.xa_trial;
+      }
+      ++*iterations;
+    }
+    if (!converged) return false;
+    w.x_new.head(na_) = w.xa;
+  }
+  // eq. 28: x_b = S_b^-1 (r_b - S_ba x_a).
+  w.x_new.tail(nb_) = w.y.tail(nb_);
+  if (na_ > 0) w.x_new.tail(nb_).noalias() -= h_ * w.xa;
+  return true;
+}
+
+bool NewmarkIntegrator::StepFull(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
+                                 double* residual) const {
+  if (load_dof >= 0) w.rhs[load_dof] += load;
+  w.x_new = w.x;
+  w.xa_n = w.x.head(na_);
+  *iterations = 0;
+  for (int it = 0; it <= options_.max_iterations; ++it) {
+    w.xa = w.x_new.head(na_);
+    NonlinearVelocity(w);
+    nonlinear_.Evaluate(w.xa, w.va, w.fa, w.ka, w.ca);
+    // Residual of eq. 23: r = S x - rhs - f_nl.
+    w.r.noalias() = s_ * w.x_new;
+    const double scale = std::max({w.r.lpNorm<Eigen::Infinity>(), w.rhs.lpNorm<Eigen::Infinity>(),
+                                   w.fa.lpNorm<Eigen::Infinity>(), 1e-300});
+    w.r -= w.rhs;
+    w.r.head(na_) -= w.fa;
+    *residual = w.r.lpNorm<Eigen::Infinity>() / scale;
+    if (!std::isfinite(*residual)) return false;
+    if (*residual <= options_.tolerance) return true;
+    if (it == options_.max_iterations) break;
+    // Jacobian (eq. 25), refactored at every iteration: the cost the
+    // modified method avoids.
+    w.jac = s_;
+    w.jac.diagonal().head(na_) += w.ka + a1_ * w.ca;
+    w.lu.compute(w.jac);
+    w.dx = w.lu.solve(w.r);
+    w.x_new -= w.dx;
+    ++*iterations;
+  }
+  return false;
+}
+
+SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoad& load,
+                                         Recording* recording) const {
+  NewmarkWorkspace workspace(*this);
+  return Run(initial, load, recording, &workspace);
+}
+
+SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoad& load,
+                                         Recording* recording, NewmarkWorkspace* workspace) const {
+  const auto start = std::chrono::steady_clock::now();
+  if (initial.displacement.size() != n_ || initial.velocity.size() != n_) {
+    ThrowInvalid("initial state", "displacement and velocity of dimension " + ToText(n_),
+                 ToText(initial.displacement.size()) + " and " + ToText(initial.velocity.size()));
+  }
+  const int steps = options_.steps;
+  if (load.values_N.size() != 0 && load.values_N.size() != steps + 1) {
+    ThrowInvalid("external load", ToText(steps + 1) + " samples", ToText(load.values_N.size()));
+  }
+  const bool has_load = load.values_N.size() > 0;
+  if (has_load && (load.dof < 0 || load.dof >= n_)) {
+    ThrowInvalid("external load dof", "a dof in 0.." + ToText(n_ - 1), ToText(load.dof));
+  }
+  const int load_dof = has_load ? inv_perm_[load.dof] : -1;
+  PODID_CHECK(recording != nullptr && workspace != nullptr);
+  const int n_rec = static_cast<int>(recording->dofs.size());
+  std::vector<int> rec(n_rec);
+  for (int k = 0; k < n_rec; ++k) {
+    const int d = recording->dofs[k];
+    if (d < 0 || d >= n_) ThrowInvalid("recorded dof", "a dof in 0.." + ToText(n_ - 1), ToText(d));
+    rec[k] = inv_perm_[d];
+  }
+  recording->displacement.resize(steps + 1, n_rec);
+  if (recording->record_velocity) recording->velocity.resize(steps + 1, n_rec);
+
+  NewmarkWorkspace& w = *workspace;
+  for (int k = 0; k < n_; ++k) {
+    w.x[k] = initial.displacement[perm_[k]];
+    w.v[k] = initial.velocity[perm_[k]];
+  }
+  // Initial acceleration from the equation of motion at t = 0.
+  w.xa = w.x.head(na_);
+  w.va = w.v.head(na_);
+  nonlinear_.Evaluate(w.xa, w.va, w.fa, w.ka, w.ca);
+  w.rhs.setZero();
+  w.rhs.head(na_) = w.fa;
+  if (has_load) w.rhs[load_dof] += load.values_N[0];
+  w.rhs.noalias() -= stiffness_ * w.x;
+  w.rhs.noalias() -= damping_ * w.v;
+  w.acc.noalias() = mass_inverse_ * w.rhs;
+
+  SimulationSummary summary;
+  summary.integrator = options_.type;
+  summary.dofs = n_;
+  summary.nonlinear_dofs = na_;
+  summary.steps_requested = steps;
+  auto record = [&](int row) {
+    for (int k = 0; k < n_rec; ++k) recording->displacement(row, k) = w.x[rec[k]];
+    if (recording->record_velocity)
+      for (int k = 0; k < n_rec; ++k) recording->velocity(row, k) = w.v[rec[k]];
+  };
+  record(0);
+
+  const double dt = options_.step_s, g = options_.gamma, b = options_.beta;
+  summary.termination = SimulationTermination::kCompleted;
+  SetMallocAllowed(false);
+  for (int step = 1; step <= steps; ++step) {
+    // Known part of the right side: rhs = M (a0 x + a2 v + a3 a) + C (a1 x + (g/b - 1) v + dt (g/(2b) - 1) a).
+    w.p = a0_ * w.x + a2_ * w.v + a3_ * w.acc;
+    w.q = a1_ * w.x + (g / b - 1.0) * w.v + dt * (g / (2.0 * b) - 1.0) * w.acc;
+    w.rhs.noalias() = mass_ * w.p;
+    w.rhs.noalias() += damping_ * w.q;
+    int iterations = 0;
+    double residual = 0.0;
+    const double load_value = has_load ? load.values_N[step] : 0.0;
+    const bool ok = options_.type == IntegratorType::kModifiedNewmark
+                        ? StepModified(w, load_value, load_dof, &iterations, &residual)
+                        : StepFull(w, load_value, load_dof, &iterations, &residual);
+    summary.newton_iterations += iterations;
+    if (iterations > summary.max_step_iterations) {
+      summary.max_step_iterations = iterations;
+      summary.worst_step_time_s = step * dt;
+    }
+    if (!ok) {
+      summary.termination = std::isfinite(residual) ? SimulationTermination::kNewtonFailed
+                                                    : SimulationTermination::kNonFinite;
+      summary.failure_time_s = step * dt;
+      summary.failure_residual = residual;
+      break;
+    }
+    if (!w.x_new.allFinite()) {
+      summary.termination = SimulationTermination::kNonFinite;
+      summary.failure_time_s = step * dt;
+      break;
+    }
+    // Newmark updates of acceleration and velocity.
+    w.p = a0_ * (w.x_new - w.x) - a2_ * w.v - a3_ * w.acc;  // new acceleration
+    w.v += dt * ((1.0 - g) * w.acc + g * w.p);
+    w.acc = w.p;
+    w.x = w.x_new;
+    summary.steps_completed = step;
+    record(step);
+  }
+  SetMallocAllowed(true);
+  summary.wall_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::ostringstream os;
+  os.precision(6);
+  switch (summary.termination) {
+    case SimulationTermination::kCompleted:
+      os << "completed " << steps << " steps of " << dt << " s";
+      break;
+    case SimulationTermination::kNewtonFailed:
+      os << "Newton failed at t = " << summary.failure_time_s << " s (step " << summary.steps_completed + 1
+         << ") with relative residual " << summary.failure_residual << " after "
+         << options_.max_iterations << " iterations; history kept up to t = "
+         << summary.steps_completed * dt << " s";
+      break;
+    case SimulationTermination::kNonFinite:
+      os << "state became non-finite at t = " << summary.failure_time_s << " s (step "
+         << summary.steps_completed + 1 << "); history kept up to t = " << summary.steps_completed * dt
+         << " s";
+      break;
+    default:
+      os << ToString(summary.termination);
+  }
+  summary.message = os.str();
+  return summary;
+}
+
+}  // namespace podid

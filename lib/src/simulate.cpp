@@ -1,0 +1,128 @@
+#include "podid/core/simulate.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "podid/core/error.hpp"
+#include "podid/core/noise.hpp"
+
+namespace podid {
+
+State InitialState(const CaseSpec& spec, const BeamModel& model, StaticSolveSummary* static_summary) {
+  const int n = model.dofs();
+  State state{Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)};
+  switch (spec.initial.type) {
+    case InitialType::kRest:
+      break;
+    case InitialType::kExplicit:
+      if (spec.initial.displacement.size() != n || spec.initial.velocity.size() != n) {
+        ThrowInvalid("initial.displacement/velocity", ToText(n) + " values each (2 per free node)",
+                     ToText(spec.initial.displacement.size()) + " and " +
+                         ToText(spec.initial.velocity.size()));
+      }
+      state.displacement = spec.initial.displacement;
+      state.velocity = spec.initial.velocity;
+      break;
+    case InitialType::kStaticForce: {
+      const int node = spec.initial.static_force_node;
+      if (node < 1 || node > spec.beam.elements) {
+        ThrowInvalid("initial.node", "a node in 1.." + ToText(spec.beam.elements), ToText(node));
+      }
+      Eigen::VectorXd force = Eigen::VectorXd::Zero(n);
+      force[TransverseDof(node)] = spec.initial.static_force_N;
+      StaticSolveSummary local;
+      state.displacement = SolveStatic(model, force, StaticSolveOptions{}, &local);
+      if (static_summary) *static_summary = local;
+      break;
+    }
+  }
+  return state;
+}
+
+ExternalLoad BuildLoad(const CaseSpec& spec) {
+  ExternalLoad load;
+  const ForceSpec& f = spec.force;
+  if (f.type == ForceType::kNone) return load;
+  if (f.node < 1 || f.node > spec.beam.elements) {
+    ThrowInvalid("force.node", "a node in 1.." + ToText(spec.beam.elements), ToText(f.node));
+  }
+  load.dof = TransverseDof(f.node);
+  const int samples = spec.time.samples();
+  const double dt = spec.time.step_s;
+  const double duration = (samples - 1) * dt;
+  load.values_N.resize(samples);
+  constexpr double kTwoPi = 2 * std::numbers::pi;
+  for (int i = 0; i < samples; ++i) {
+    const double t = i * dt;
+    double value = 0.0;
+    switch (f.type) {
+      case ForceType::kHarmonic:
+        value = f.amplitude_N * std::sin(kTwoPi * f.frequency_Hz * t);
+        break;
+      case ForceType::kSweep:  // linear sweep: phase = 2 pi (f0 t + (f1 - f0) t^2 / (2 T))
+        value = f.amplitude_N *
+                std::sin(kTwoPi * (f.start_frequency_Hz * t +
+                                   (f.end_frequency_Hz - f.start_frequency_Hz) * t * t / (2 * duration)));
+        break;
+      case ForceType::kFile: {
+        const Eigen::VectorXd& ft = f.file_time_s;
+        const Eigen::VectorXd& fv = f.file_force_N;
+        PODID_CHECK(ft.size() == fv.size());
+        if (ft.size() >= 2 && t >= ft[0] && t <= ft[ft.size() - 1]) {
+          // Linear interpolation on the (uniform, increasing) file time grid.
+          const double h = (ft[ft.size() - 1] - ft[0]) / static_cast<double>(ft.size() - 1);
+          Eigen::Index k = std::min<Eigen::Index>(static_cast<Eigen::Index>((t - ft[0]) / h), ft.size() - 2);
+          const double s = (t - ft[k]) / (ft[k + 1] - ft[k]);
+          value = f.amplitude_N * ((1 - s) * fv[k] + s * fv[k + 1]);
+        }
+        break;
+      }
+      case ForceType::kNone:
+        break;
+    }
+    load.values_N[i] = value;
+  }
+  return load;
+}
+
+std::vector<int> SensorDofs(const CaseSpec& spec) {
+  std::vector<int> dofs;
+  for (int node : spec.sensors.nodes) {
+    if (node < 1 || node > spec.beam.elements) {
+      ThrowInvalid("sensors.nodes", "nodes in 1.." + ToText(spec.beam.elements), ToText(node));
+    }
+    dofs.push_back(spec.sensors.dof == SensorDof::kW ? TransverseDof(node) : RotationDof(node));
+  }
+  return dofs;
+}
+
+SimulationResult Simulate(const CaseSpec& spec, const SimulateOptions& options) {
+  SimulationResult result;
+  const BeamModel model = BeamModel::Build(spec);
+  const State initial = InitialState(spec, model, &result.static_solve);
+  const NewmarkOptions newmark = NewmarkOptions::FromCase(spec);
+  const NewmarkIntegrator integrator(model, newmark);
+  Recording recording;
+  recording.dofs = SensorDofs(spec);
+  result.sensors.channel_names = spec.sensors.ChannelNames();
+  if (spec.initial.type == InitialType::kStaticForce && !result.static_solve.converged) {
+    result.summary.termination = SimulationTermination::kStaticSolveFailed;
+    result.summary.message = result.static_solve.message;
+    result.summary.steps_requested = newmark.steps;
+    result.sensors.time_s.resize(0);
+    result.sensors.values.resize(0, static_cast<Eigen::Index>(recording.dofs.size()));
+    return result;
+  }
+  result.summary = integrator.Run(initial, BuildLoad(spec), &recording);
+  const int rows = result.summary.steps_completed + 1;
+  result.sensors.values = recording.displacement.topRows(rows);
+  result.sensors.time_s.resize(rows);
+  for (int i = 0; i < rows; ++i) result.sensors.time_s[i] = i * newmark.step_s;
+  if (options.add_noise && spec.noise.relative > 0.0) {
+    AddNoise(result.sensors, spec.noise.relative, spec.noise.seed);
+  }
+  return result;
+}
+
+}  // namespace podid

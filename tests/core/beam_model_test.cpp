@@ -1,0 +1,109 @@
+// The finite-element model against the analytic cantilever and the reference
+// facts of ../shared/reference/README.md.
+#include "podid/core/beam_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "podid/core/simulate.hpp"
+#include "reference_case.hpp"
+#include "test_support.hpp"
+
+namespace podid {
+namespace {
+
+using testing::ReferenceCase;
+
+// Analytic cantilever: omega_n = (beta_n L)^2 sqrt(EI / (rho A L^4)).
+constexpr double kBetaL[] = {1.875104, 4.694091, 7.854757};
+
+double AnalyticFrequencyHz(const BeamSpec& beam, int mode) {
+  const double ei = beam.youngs_modulus_Pa * beam.second_moment_m4;
+  const double rho_a = beam.density_kg_per_m3 * beam.area_m2;
+  const double bl = kBetaL[mode];
+  return bl * bl * std::sqrt(ei / (rho_a * std::pow(beam.length_m, 4))) / (2 * std::numbers::pi);
+}
+
+TEST(BeamModelTest, ReferenceNaturalFrequencies) {
+  // The reference README gives the FE frequencies to 0.01 Hz.
+  constexpr double kToleranceHz = 0.005 + 1e-9;
+  const ModalAnalysis modes = BeamModel::Build(ReferenceCase()).Modes();
+  ASSERT_EQ(modes.frequencies_Hz.size(), 12);
+  EXPECT_NEAR(modes.frequencies_Hz[0], 32.97, kToleranceHz);
+  EXPECT_NEAR(modes.frequencies_Hz[1], 206.68, kToleranceHz);
+  EXPECT_NEAR(modes.frequencies_Hz[2], 579.61, kToleranceHz);
+  EXPECT_NEAR(modes.frequencies_Hz[3], 1141.04, kToleranceHz);
+}
+
+TEST(BeamModelTest, FirstModeMatchesAnalyticCantilever) {
+  // Issue 2: mode 1 of the 6-element model within 0.05 % of beta1 L = 1.875104.
+  constexpr double kRelativeTolerance = 5e-4;
+  const CaseSpec spec = ReferenceCase();
+  const ModalAnalysis modes = BeamModel::Build(spec).Modes();
+  EXPECT_NEAR(modes.frequencies_Hz[0] / AnalyticFrequencyHz(spec.beam, 0), 1.0, kRelativeTolerance);
+}
+
+TEST(BeamModelTest, FrequenciesConvergeToAnalyticWithElements) {
+  // Hermite cubic elements converge as h^4 in frequency: refining from 6 to 48
+  // elements brings modes 2 and 3 within 1e-6 of the analytic values.
+  constexpr double kRelativeTolerance = 1e-6;
+  const CaseSpec spec = ReferenceCase({"beam.elements=48"});
+  const ModalAnalysis modes = BeamModel::Build(spec).Modes();
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(modes.frequencies_Hz[k] / AnalyticFrequencyHz(spec.beam, k), 1.0, kRelativeTolerance)
+        << "mode " << k + 1;
+  }
+}
+
+TEST(BeamModelTest, RayleighDampingHitsTheModalRatios) {
+  // The two fitted modes get exactly the requested ratios (round-off only).
+  constexpr double kTolerance = 1e-12;
+  const ModalAnalysis modes =
+      BeamModel::Build(ReferenceCase({"damping.modal_ratios=[0.01, 0.02]"})).Modes();
+  EXPECT_NEAR(modes.damping_ratios[0], 0.01, kTolerance);
+  EXPECT_NEAR(modes.damping_ratios[1], 0.02, kTolerance);
+  // Rayleigh damping grows ~linearly with frequency above mode 2.
+  EXPECT_GT(modes.damping_ratios[2], 0.02);
+}
+
+TEST(BeamModelTest, ModeShapesAreMassNormalised) {
+  constexpr double kTolerance = 1e-10;  // eigen-solver round-off on 12 x 12
+  const BeamModel model = BeamModel::Build(ReferenceCase());
+  const ModalAnalysis modes = model.Modes();
+  const Eigen::MatrixXd gram = modes.shapes.transpose() * model.mass() * modes.shapes;
+  EXPECT_TRUE(testing::ExpectMatricesNear(gram, Eigen::MatrixXd::Identity(12, 12), kTolerance));
+}
+
+TEST(BeamModelTest, StaticTipDeflectionMatchesReference) {
+  // The README gives 5 significant digits: half a unit in the last place.
+  constexpr double kTolerance_m = 0.5e-7;
+  const CaseSpec spec = ReferenceCase();
+  StaticSolveSummary summary;
+  const State with_spring = InitialState(spec, BeamModel::Build(spec), &summary);
+  EXPECT_TRUE(summary.converged) << summary.message;
+  EXPECT_NEAR(with_spring.displacement[TransverseDof(6)], 1.2010e-3, kTolerance_m);
+
+  const CaseSpec linear = ReferenceCase({"nonlinearity.0.k3=0"});
+  const State without = InitialState(linear, BeamModel::Build(linear), &summary);
+  EXPECT_NEAR(without.displacement[TransverseDof(6)], 2.1183e-3, kTolerance_m);
+  // And the closed form F L^3 / (3 EI) to round-off (cubic elements are exact here).
+  const double ei = spec.beam.youngs_modulus_Pa * spec.beam.second_moment_m4;
+  EXPECT_NEAR(without.displacement[TransverseDof(6)], 20.0 * std::pow(spec.beam.length_m, 3) / (3 * ei),
+              1e-15);
+}
+
+TEST(BeamModelTest, StaticSolveReportsNonConvergence) {
+  // A softening polynomial spring with no equilibrium under the load.
+  const CaseSpec spec = ReferenceCase(
+      {"nonlinearity.0.type=\"polynomial\"", "nonlinearity.0.k1=0", "nonlinearity.0.k2=0",
+       "nonlinearity.0.k3=-1e12"});
+  StaticSolveSummary summary;
+  InitialState(spec, BeamModel::Build(spec), &summary);
+  EXPECT_FALSE(summary.converged);
+  EXPECT_NE(summary.message.find("did not converge"), std::string::npos) << summary.message;
+}
+
+}  // namespace
+}  // namespace podid

@@ -1,0 +1,259 @@
+// Newmark integrators against the independent DOP853 data, closed-form
+// single-dof results, energy conservation and each other.
+#include "podid/core/newmark.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "podid/core/simulate.hpp"
+#include "reference_case.hpp"
+#include "test_support.hpp"
+
+namespace podid {
+namespace {
+
+using testing::ReferenceCase;
+using testing::ReferenceData;
+using testing::RelativeError;
+constexpr double kPi = std::numbers::pi;
+
+// Relative L2 error over all channels of a simulation at `step_s` against the
+// reference data, compared at the data's samples (every k-th step).
+double ErrorAgainstReference(double step_s) {
+  const TimeSeries reference = ReferenceData("clean_knl50_T0.1.csv");
+  const CaseSpec spec = ReferenceCase({"time.step=" + ToText(step_s)});
+  const SimulationResult sim = Simulate(spec);
+  EXPECT_TRUE(sim.summary.IsSolutionUsable()) << sim.summary.message;
+  const int every = static_cast<int>(std::lround(reference.step_s() / step_s));
+  EXPECT_EQ((sim.sensors.samples() - 1), (reference.samples() - 1) * every);
+  Eigen::MatrixXd sampled(reference.samples(), reference.channels());
+  for (Eigen::Index i = 0; i < reference.samples(); ++i) sampled.row(i) = sim.sensors.values.row(i * every);
+  return RelativeError(sampled, reference.values);
+}
+
+TEST(NewmarkReferenceTest, MatchesIndependentIntegrationAndConvergesAtSecondOrder) {
+  // Issue 2's acceptance bounds; Newmark's error is its period error, which is
+  // O(dt^2) and grows with frequency (the reference README).
+  constexpr double kBoundAt2e4 = 0.012;
+  constexpr double kBoundAt5e5 = 0.0008;
+  // Second order: each halving divides the error by ~4 (3.6..4.4 allows the
+  // higher-order terms at the coarse step).
+  constexpr double kMinRatio = 3.6, kMaxRatio = 4.4;
+  const double e1 = ErrorAgainstReference(2e-4);
+  const double e2 = ErrorAgainstReference(1e-4);
+  const double e3 = ErrorAgainstReference(5e-5);
+  std::cout << "relative L2 error vs DOP853: dt=2e-4: " << e1 << ", 1e-4: " << e2 << ", 5e-5: " << e3
+            << " (ratios " << e1 / e2 << ", " << e2 / e3 << ")\n";
+  EXPECT_LE(e1, kBoundAt2e4);
+  EXPECT_LE(e3, kBoundAt5e5);
+  EXPECT_GT(e1 / e2, kMinRatio);
+  EXPECT_LT(e1 / e2, kMaxRatio);
+  EXPECT_GT(e2 / e3, kMinRatio);
+  EXPECT_LT(e2 / e3, kMaxRatio);
+}
+
+double CompareIntegrators(const std::vector<std::string>& overrides) {
+  std::vector<std::string> full = overrides, modified = overrides;
+  // Tight Newton tolerance so both land on the same discrete solution.
+  full.push_back("integrator.tolerance=1e-13");
+  modified.push_back("integrator.tolerance=1e-13");
+  full.push_back("integrator.type=\"newmark\"");
+  modified.push_back("integrator.type=\"modified\"");
+  const SimulationResult a = Simulate(ReferenceCase(full));
+  const SimulationResult b = Simulate(ReferenceCase(modified));
+  EXPECT_TRUE(a.summary.IsSolutionUsable()) << a.summary.message;
+  EXPECT_TRUE(b.summary.IsSolutionUsable()) << b.summary.message;
+  EXPECT_EQ(a.summary.integrator, IntegratorType::kNewmark);
+  EXPECT_EQ(b.summary.integrator, IntegratorType::kModifiedNewmark);
+  return RelativeError(b.sensors.values, a.sensors.values);
+}
+
+TEST(NewmarkAgreementTest, CondensedEqualsFullNewtonOnReferenceCase) {
+  // Both solve eq. 23 exactly (eq. 29 is its Schur complement): issue 2 asks 1e-9.
+  constexpr double kRelativeTolerance = 1e-9;
+  const double error = CompareIntegrators({});
+  std::cout << "reference case: condensed vs full Newton relative difference " << error << "\n";
+  EXPECT_LE(error, kRelativeTolerance);
+}
+
+TEST(NewmarkAgreementTest, CondensedEqualsFullNewtonWithTwoElementsAtTwoNodes) {
+  constexpr double kRelativeTolerance = 1e-9;
+  const double error = CompareIntegrators({
+      "nonlinearity.1.type=\"polynomial\"", "nonlinearity.1.node=3", "nonlinearity.1.k1=2000",
+      "nonlinearity.1.k2=1e6", "nonlinearity.1.k3=1e10",  //
+      "nonlinearity.2.type=\"friction\"", "nonlinearity.2.node=5", "nonlinearity.2.mu=0.3",
+      "nonlinearity.2.normal_force=2.0", "nonlinearity.2.velocity_scale=1e-3"});
+  std::cout << "polynomial + friction + cubic: relative difference " << error << "\n";
+  EXPECT_LE(error, kRelativeTolerance);
+}
+
+// A single-dof oscillator m x'' + c x' + k x = f_nl, built from 1 x 1 matrices.
+BeamModel Sdof(double mass, double stiffness, const std::vector<NonlinearitySpec>& elements = {}) {
+  return BeamModel::FromMatrices(Eigen::MatrixXd::Constant(1, 1, mass),
+                                 Eigen::MatrixXd::Constant(1, 1, stiffness), Eigen::MatrixXd::Zero(1, 1),
+                                 elements);
+}
+
+Recording Run(const BeamModel& model, double x0, double step_s, int steps,
+              IntegratorType type = IntegratorType::kModifiedNewmark) {
+  NewmarkOptions options;
+  options.type = type;
+  options.step_s = step_s;
+  options.steps = steps;
+  options.tolerance = 1e-12;
+  const NewmarkIntegrator integrator(model, options);
+  State initial{Eigen::VectorXd::Zero(model.dofs()), Eigen::VectorXd::Zero(model.dofs())};
+  initial.displacement[0] = x0;
+  Recording recording;
+  recording.dofs = {0};
+  recording.record_velocity = true;
+  const SimulationSummary summary = integrator.Run(initial, ExternalLoad{}, &recording);
+  EXPECT_TRUE(summary.IsSolutionUsable()) << summary.message;
+  return recording;
+}
+
+// Mean period from the downward zero crossings (linear interpolation).
+double MeasuredPeriod(const Eigen::VectorXd& x, double step_s) {
+  std::vector<double> crossings;
+  for (Eigen::Index i = 1; i < x.size(); ++i) {
+    if (x[i - 1] > 0 && x[i] <= 0) crossings.push_back((i - 1 + x[i - 1] / (x[i - 1] - x[i])) * step_s);
+  }
+  EXPECT_GE(crossings.size(), 3u);
+  return (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+}
+
+TEST(NewmarkSdofTest, PeriodErrorIsOmegaDtSquaredOverTwelve) {
+  // Average-acceleration Newmark lengthens the period by (omega dt)^2 / 12 to
+  // leading order; issue 2 asks for a 5 % match.
+  constexpr double kRelativeTolerance = 0.05;
+  const double omega = 2 * kPi * 10.0;
+  for (double omega_dt : {0.05, 0.1, 0.2}) {
+    const double dt = omega_dt / omega;
+    const int steps = static_cast<int>(60 * 2 * kPi / omega_dt);  // 60 periods
+    const Recording r = Run(Sdof(1.0, omega * omega), 1.0, dt, steps);
+    const double elongation = MeasuredPeriod(r.displacement.col(0), dt) / (2 * kPi / omega) - 1.0;
+    const double predicted = omega_dt * omega_dt / 12.0;
+    EXPECT_NEAR(elongation / predicted, 1.0, kRelativeTolerance) << "omega dt = " << omega_dt;
+  }
+}
+
+TEST(NewmarkEnergyTest, UndampedLinearBeamKeepsEnergy) {
+  // The trapezoidal rule conserves E = (v'Mv + x'Kx)/2 exactly for a linear
+  // undamped system; what remains is round-off accumulated over 1e4 steps.
+  constexpr double kRelativeTolerance = 1e-10;
+  const CaseSpec spec = ReferenceCase({"damping.type=\"none\"", "nonlinearity.0.k3=0"});
+  const BeamModel model = BeamModel::Build(spec);
+  NewmarkOptions options;
+  options.step_s = 2e-4;
+  options.steps = 10000;
+  const NewmarkIntegrator integrator(model, options);
+  Recording recording;
+  for (int d = 0; d < model.dofs(); ++d) recording.dofs.push_back(d);
+  recording.record_velocity = true;
+  const SimulationSummary summary = integrator.Run(InitialState(spec, model), ExternalLoad{}, &recording);
+  ASSERT_TRUE(summary.IsSolutionUsable()) << summary.message;
+  auto energy = [&](Eigen::Index i) {
+    const Eigen::VectorXd x = recording.displacement.row(i).transpose();
+    const Eigen::VectorXd v = recording.velocity.row(i).transpose();
+    return 0.5 * (v.dot(model.mass() * v) + x.dot(model.stiffness() * x));
+  };
+  const double e0 = energy(0);
+  double worst = 0;
+  for (Eigen::Index i = 0; i < recording.displacement.rows(); ++i)
+    worst = std::max(worst, std::abs(energy(i) / e0 - 1.0));
+  std::cout << "worst relative energy drift over 1e4 steps: " << worst << "\n";
+  EXPECT_LE(worst, kRelativeTolerance);
+}
+
+TEST(NewmarkGapTest, FrequencyBelowAndAboveContact) {
+  // Single dof with a symmetric clearance g and contact stiffness kc.
+  const double m = 1.0, k = std::pow(2 * kPi * 5.0, 2), kc = 3.0 * k, g = 0.01;
+  NonlinearitySpec gap;
+  gap.type = NonlinearType::kGap;
+  gap.node = 1;
+  gap.gap_m = g;
+  gap.contact_stiffness_N_per_m = kc;
+  const BeamModel model = Sdof(m, k, {gap});
+  const double w1 = std::sqrt(k / m), w2 = std::sqrt((k + kc) / m);
+  const double dt = 1e-4;  // omega dt <= 0.0063: Newmark's period error < 4e-6
+  // Matches the closed form to a discretisation error below 1e-4 (period
+  // error plus the contact instant, located within one step).
+  constexpr double kRelativeTolerance = 1e-4;
+
+  // Below contact (amplitude < g): the linear period.
+  const Recording below = Run(model, 0.5 * g, dt, 20000);
+  EXPECT_NEAR(MeasuredPeriod(below.displacement.col(0), dt) * w1 / (2 * kPi), 1.0, kRelativeTolerance);
+
+  // Above contact, released at X0 > g: a quarter period is the time in contact
+  // (harmonic at w2 about x_e = kc g / (k + kc)) plus the free flight to x = 0.
+  const double x0 = 3.0 * g, xe = kc * g / (k + kc);
+  const double t1 = std::acos((g - xe) / (x0 - xe)) / w2;
+  const double v1 = -(x0 - xe) * w2 * std::sin(w2 * t1);
+  const double t2 = std::atan(-g * w1 / v1) / w1;
+  const double period = 4 * (t1 + t2);
+  const Recording above = Run(model, x0, dt, 20000);
+  EXPECT_NEAR(MeasuredPeriod(above.displacement.col(0), dt) / period, 1.0, kRelativeTolerance);
+  // The gap shortens the period noticeably (sanity of the test itself).
+  EXPECT_LT(period, 0.9 * 2 * kPi / w1);
+}
+
+TEST(NewmarkFrictionTest, AmplitudeDecaysLinearlyByFourMuNOverK) {
+  // Coulomb friction: each cycle loses 4 mu N / k of amplitude. The tanh
+  // regularisation (v_reg = 1e-4 of the peak velocity) perturbs it by < 1 %.
+  constexpr double kRelativeTolerance = 0.01;
+  const double m = 1.0, k = std::pow(2 * kPi * 5.0, 2), slip = 2.0;  // mu N = 2 N
+  NonlinearitySpec friction;
+  friction.type = NonlinearType::kFriction;
+  friction.node = 1;
+  friction.friction_coefficient = 0.5;
+  friction.normal_force_N = slip / 0.5;
+  const double x0 = 0.1;
+  friction.regularisation_velocity_m_per_s = 1e-4 * x0 * std::sqrt(k / m);
+  const double dt = 2e-5;
+  const Recording r = Run(Sdof(m, k, {friction}), x0, dt, 50000);
+  // Successive positive peaks.
+  std::vector<double> peaks;
+  const Eigen::VectorXd x = r.displacement.col(0);
+  for (Eigen::Index i = 1; i + 1 < x.size(); ++i)
+    if (x[i] > x[i - 1] && x[i] >= x[i + 1] && x[i] > 0) peaks.push_back(x[i]);
+  ASSERT_GE(peaks.size(), 4u);
+  const double expected = 4 * slip / k;
+  for (std::size_t i = 0; i + 1 < 4; ++i) {
+    EXPECT_NEAR((peaks[i] - peaks[i + 1]) / expected, 1.0, kRelativeTolerance) << "cycle " << i;
+  }
+}
+
+TEST(NewmarkFailureTest, DivergenceIsReportedWithTimeAndKeepsHistory) {
+  // A strongly softening spring: the beam runs away and Newton fails.
+  const CaseSpec spec = ReferenceCase({"nonlinearity.0.type=\"polynomial\"", "nonlinearity.0.k1=0",
+                                       "nonlinearity.0.k2=0", "nonlinearity.0.k3=-2e9",
+                                       "initial.static_tip_force=5"});
+  const SimulationResult sim = Simulate(spec);
+  EXPECT_FALSE(sim.summary.IsSolutionUsable());
+  EXPECT_TRUE(sim.summary.termination == SimulationTermination::kNewtonFailed ||
+              sim.summary.termination == SimulationTermination::kNonFinite);
+  EXPECT_NE(sim.summary.message.find("at t = "), std::string::npos) << sim.summary.message;
+  EXPECT_EQ(sim.sensors.samples(), sim.summary.steps_completed + 1);
+  EXPECT_TRUE(sim.sensors.values.allFinite());
+  std::cout << sim.summary.BriefReport() << "\n" << sim.summary.message << "\n";
+}
+
+TEST(NewmarkOptionsTest, InvalidOptionsAreRejected) {
+  NewmarkOptions options;
+  std::string why;
+  EXPECT_FALSE(options.IsValid(&why));  // step 0
+  EXPECT_NE(why.find("step"), std::string::npos);
+  options.step_s = 1e-3;
+  options.steps = 10;
+  EXPECT_TRUE(options.IsValid(&why));
+  options.beta = 0.0;
+  EXPECT_FALSE(options.IsValid(&why));
+  EXPECT_NE(why.find("expected"), std::string::npos);
+  PODID_EXPECT_THROW_WITH(NewmarkIntegrator(Sdof(1, 1), options), std::invalid_argument, "beta");
+}
+
+}  // namespace
+}  // namespace podid
