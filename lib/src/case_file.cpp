@@ -1,0 +1,1090 @@
+#include "podid/core/case_file.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "podid/core/error.hpp"
+#include "podid/core/io.hpp"
+
+namespace podid {
+namespace {
+
+// ---------------------------------------------------------------------------
+// The schema: every key a case file may hold, in one place. Array indices are
+// written "*". To add a key (e.g. for [identify]), add a row here and read it
+// in ToSpec() or with CaseDocument::GetNumber().
+enum class Kind { kTable, kTableArray, kReal, kInteger, kString, kRealArray, kIntegerArray };
+
+struct SchemaEntry {
+  std::string_view pattern;
+  Kind kind;
+};
+
+constexpr SchemaEntry kSchema[] = {
+    {"beam", Kind::kTable},
+    {"beam.length", Kind::kReal},
+    {"beam.elements", Kind::kInteger},
+    {"beam.youngs_modulus", Kind::kReal},
+    {"beam.density", Kind::kReal},
+    {"beam.area", Kind::kReal},
+    {"beam.width", Kind::kReal},
+    {"beam.height", Kind::kReal},
+    {"damping", Kind::kTable},
+    {"damping.type", Kind::kString},
+    {"damping.modal_ratios", Kind::kRealArray},
+    {"damping.modes", Kind::kIntegerArray},
+    {"damping.alpha", Kind::kReal},
+    {"damping.beta", Kind::kReal},
+    {"nonlinearity", Kind::kTableArray},
+    {"nonlinearity.*.type", Kind::kString},
+    {"nonlinearity.*.node", Kind::kInteger},
+    {"nonlinearity.*.k1", Kind::kReal},
+    {"nonlinearity.*.k2", Kind::kReal},
+    {"nonlinearity.*.k3", Kind::kReal},
+    {"nonlinearity.*.gap", Kind::kReal},
+    {"nonlinearity.*.stiffness", Kind::kReal},
+    {"nonlinearity.*.mu", Kind::kReal},
+    {"nonlinearity.*.normal_force", Kind::kReal},
+    {"nonlinearity.*.velocity_scale", Kind::kReal},
+    {"initial", Kind::kTable},
+    {"initial.static_tip_force", Kind::kReal},
+    {"initial.node", Kind::kInteger},
+    {"initial.displacement", Kind::kRealArray},
+    {"initial.velocity", Kind::kRealArray},
+    {"force", Kind::kTable},
+    {"force.type", Kind::kString},
+    {"force.node", Kind::kInteger},
+    {"force.amplitude", Kind::kReal},
+    {"force.frequency", Kind::kReal},
+    {"force.start_frequency", Kind::kReal},
+    {"force.end_frequency", Kind::kReal},
+    {"force.file", Kind::kString},
+    {"force.column", Kind::kString},
+    {"time", Kind::kTable},
+    {"time.duration", Kind::kReal},
+    {"time.step", Kind::kReal},
+    {"sensors", Kind::kTable},
+    {"sensors.dof", Kind::kString},
+    {"sensors.nodes", Kind::kIntegerArray},
+    {"noise", Kind::kTable},
+    {"noise.relative", Kind::kReal},
+    {"noise.seed", Kind::kInteger},
+    {"integrator", Kind::kTable},
+    {"integrator.type", Kind::kString},
+    {"integrator.gamma", Kind::kReal},
+    {"integrator.beta", Kind::kReal},
+    {"integrator.tolerance", Kind::kReal},
+    {"integrator.max_iterations", Kind::kInteger},
+    {"identify", Kind::kTable},
+    {"identify.parameter", Kind::kTableArray},
+    {"identify.parameter.*.name", Kind::kString},
+    {"identify.parameter.*.key", Kind::kString},
+    {"identify.parameter.*.scale", Kind::kReal},
+    {"identify.parameter.*.start", Kind::kReal},
+    {"identify.parameter.*.lower", Kind::kReal},
+    {"identify.parameter.*.upper", Kind::kReal},
+};
+
+constexpr int kMaxElements = 1000000;  // keeps 2 * elements and mode numbers in int
+constexpr double kMaxSamples = 1e9;    // keeps TimeSpec::samples() in int
+constexpr long long kMaxIterations = 1000000;
+
+bool IsIndex(std::string_view part) {
+  return !part.empty() && part.size() <= 9 &&
+         std::all_of(part.begin(), part.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+std::size_t ToIndex(std::string_view part) {
+  std::size_t value = 0;
+  std::from_chars(part.data(), part.data() + part.size(), value);
+  return value;
+}
+
+std::vector<std::string_view> SplitKey(std::string_view key) {
+  std::vector<std::string_view> parts;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = key.find('.', start);
+    parts.push_back(key.substr(start, dot == std::string_view::npos ? key.npos : dot - start));
+    if (dot == std::string_view::npos) break;
+    start = dot + 1;
+  }
+  return parts;
+}
+
+std::string Join(const std::vector<std::string_view>& parts, std::size_t count, bool pattern) {
+  std::string out;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (i > 0) out += '.';
+    out += (pattern && IsIndex(parts[i])) ? std::string_view("*") : parts[i];
+  }
+  return out;
+}
+
+/// The kind of a pattern ("nonlinearity.*.k3"), including elements of value
+/// arrays ("damping.modal_ratios.*"); nullopt when not in the schema.
+std::optional<Kind> LookupKind(std::string_view pattern) {
+  for (const auto& entry : kSchema) {
+    if (entry.pattern == pattern) return entry.kind;
+  }
+  if (pattern.size() > 2 && pattern.substr(pattern.size() - 2) == ".*") {
+    const auto parent = LookupKind(pattern.substr(0, pattern.size() - 2));
+    if (parent == Kind::kRealArray) return Kind::kReal;
+    if (parent == Kind::kIntegerArray) return Kind::kInteger;
+  }
+  return std::nullopt;
+}
+
+/// Names allowed directly under `parent_pattern` ("" for the top level).
+std::string AllowedChildren(std::string_view parent_pattern) {
+  std::string out;
+  for (const auto& entry : kSchema) {
+    const std::string_view p = entry.pattern;
+    std::string_view rest;
+    if (parent_pattern.empty()) {
+      rest = p;
+    } else if (p.size() > parent_pattern.size() + 1 &&
+               p.substr(0, parent_pattern.size()) == parent_pattern &&
+               p[parent_pattern.size()] == '.') {
+      rest = p.substr(parent_pattern.size() + 1);
+    } else {
+      continue;
+    }
+    if (rest.find('.') != std::string_view::npos) continue;
+    if (!out.empty()) out += ", ";
+    out += rest;
+  }
+  return out;
+}
+
+std::string FormatReal(double value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  return std::string(buffer, result.ptr);
+}
+
+std::string Describe(const toml::node* node) {
+  if (node == nullptr) return "nothing";
+  if (const auto* v = node->as_integer()) return std::to_string(v->get());
+  if (const auto* v = node->as_floating_point()) return FormatReal(v->get());
+  if (const auto* v = node->as_string()) return "\"" + v->get() + "\"";
+  if (const auto* v = node->as_boolean()) return v->get() ? "true" : "false";
+  if (node->is_array()) return "an array";
+  if (node->is_table()) return "a table";
+  return "a date/time";
+}
+
+/// Allowed range of a real value, printed as "a number > 0 (m)".
+struct RealRule {
+  double lower = -std::numeric_limits<double>::infinity();
+  bool lower_open = false;
+  double upper = std::numeric_limits<double>::infinity();
+  bool upper_open = false;
+  std::string_view unit;
+
+  bool Accepts(double x) const {
+    if (!std::isfinite(x)) return false;
+    if (lower_open ? !(x > lower) : !(x >= lower)) return false;
+    if (upper_open ? !(x < upper) : !(x <= upper)) return false;
+    return true;
+  }
+  std::string Text() const {
+    std::string out;
+    const bool has_lower = std::isfinite(lower), has_upper = std::isfinite(upper);
+    if (has_lower && has_upper) {
+      out = "a number in " + std::string(lower_open ? "(" : "[") + FormatReal(lower) + ", " +
+            FormatReal(upper) + (upper_open ? ")" : "]");
+    } else if (has_lower) {
+      out = "a number " + std::string(lower_open ? "> " : ">= ") + FormatReal(lower);
+    } else if (has_upper) {
+      out = "a number " + std::string(upper_open ? "< " : "<= ") + FormatReal(upper);
+    } else {
+      out = "a finite number";
+    }
+    if (!unit.empty()) out += " (" + std::string(unit) + ")";
+    return out;
+  }
+};
+
+RealRule Positive(std::string_view unit) { return {0.0, true, RealRule{}.upper, false, unit}; }
+RealRule NonNegative(std::string_view unit) { return {0.0, false, RealRule{}.upper, false, unit}; }
+RealRule AnyReal(std::string_view unit) { return RealRule{.unit = unit}; }
+
+struct IntRule {
+  long long lower = std::numeric_limits<long long>::min();
+  long long upper = std::numeric_limits<long long>::max();
+  bool Accepts(long long x) const { return x >= lower && x <= upper; }
+  std::string Text() const {
+    const bool has_upper = upper != std::numeric_limits<long long>::max();
+    if (has_upper)
+      return "an integer in [" + std::to_string(lower) + ", " + std::to_string(upper) + "]";
+    return "an integer >= " + std::to_string(lower);
+  }
+};
+
+/// A force file read once per document family (copies share it).
+struct ForceFileCache {
+  std::mutex mutex;
+  std::map<std::string, std::shared_ptr<const TimeSeries>> files;
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+struct CaseDocument::Impl {
+  toml::table root;
+  std::string source;
+  std::string base_directory;
+  /// Line of each key in the source file (toml++ does not copy source
+  /// positions with a node, so they are kept here, shared by copies).
+  std::shared_ptr<const std::map<std::string, int>> lines;
+  /// Keys whose value came from Set()/SetNumber(), with the text for messages.
+  std::map<std::string, std::string, std::less<>> origins;
+  std::shared_ptr<ForceFileCache> force_files;
+
+  std::string Where(std::string_view key) const;
+  [[noreturn]] void Fail(std::string_view key,
+                         std::string_view expected,
+                         std::string_view got) const {
+    ThrowInvalid(Where(key) + ": " + std::string(key), expected, got);
+  }
+};
+
+std::string CaseDocument::Impl::Where(std::string_view key) const {
+  // A value set from outside wins over the file's lines, for the key and for
+  // any table or array that contains it.
+  std::string k(key);
+  while (true) {
+    if (const auto it = origins.find(k); it != origins.end()) return it->second;
+    const auto dot = k.rfind('.');
+    if (dot == std::string::npos) break;
+    k.resize(dot);
+  }
+  k = std::string(key);
+  while (lines) {
+    if (const auto it = lines->find(k); it != lines->end()) {
+      return source + ":" + std::to_string(it->second);
+    }
+    const auto dot = k.rfind('.');
+    if (dot == std::string::npos) break;
+    k.resize(dot);
+  }
+  return source;
+}
+
+namespace {
+
+void RecordLines(const toml::node& node, const std::string& key, std::map<std::string, int>& out) {
+  const auto line = node.source().begin.line;
+  if (!key.empty() && line > 0) out[key] = static_cast<int>(line);
+  if (const auto* table = node.as_table()) {
+    for (const auto& [name, child] : *table) {
+      RecordLines(child,
+                  key.empty() ? std::string(name.str()) : key + "." + std::string(name.str()), out);
+    }
+  } else if (const auto* array = node.as_array()) {
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      RecordLines(*array->get(i), key + "." + std::to_string(i), out);
+    }
+  }
+}
+
+/// Checks that every key is in the schema and that tables and arrays of
+/// tables have the right shape. Scalars are checked where they are read.
+void CheckKnown(const CaseDocument::Impl& doc,
+                const toml::node& node,
+                const std::string& key,
+                const std::string& pattern,
+                Kind kind) {
+  switch (kind) {
+    case Kind::kTable: {
+      const auto* table = node.as_table();
+      if (table == nullptr) doc.Fail(key, "a table", Describe(&node));
+      for (const auto& [name, child] : *table) {
+        const std::string child_key =
+            key.empty() ? std::string(name.str()) : key + "." + std::string(name.str());
+        const std::string child_pattern =
+            pattern.empty() ? std::string(name.str()) : pattern + "." + std::string(name.str());
+        const auto child_kind = LookupKind(child_pattern);
+        if (!child_kind || IsIndex(name.str())) {
+          doc.Fail(child_key,
+                   "a key of the case-file schema (here: " + AllowedChildren(pattern) + ")",
+                   "an unknown key");
+        }
+        CheckKnown(doc, child, child_key, child_pattern, *child_kind);
+      }
+      break;
+    }
+    case Kind::kTableArray: {
+      const auto* array = node.as_array();
+      if (array == nullptr || !array->is_array_of_tables()) {
+        doc.Fail(key, std::string("an array of tables [[") + key + "]]", Describe(&node));
+      }
+      for (std::size_t i = 0; i < array->size(); ++i) {
+        CheckKnown(doc, *array->get(i), key + "." + std::to_string(i), pattern + ".*",
+                   Kind::kTable);
+      }
+      break;
+    }
+    default:
+      break;
+  }
+}
+
+/// A table of the document being validated, e.g. "beam" or "nonlinearity.0".
+class Section {
+ public:
+  Section(const CaseDocument::Impl& doc, const toml::table* table, std::string key)
+      : doc_(doc), table_(table), key_(std::move(key)) {}
+
+  bool present() const { return table_ != nullptr; }
+  const std::string& key() const { return key_; }
+  std::string Full(std::string_view name) const { return key_ + "." + std::string(name); }
+  bool Has(std::string_view name) const { return Node(name) != nullptr; }
+  const toml::node* Node(std::string_view name) const {
+    return table_ ? table_->get(name) : nullptr;
+  }
+  [[noreturn]] void Fail(std::string_view name,
+                         std::string_view expected,
+                         std::string_view got) const {
+    doc_.Fail(Full(name), expected, got);
+  }
+  [[noreturn]] void FailSection(std::string_view expected, std::string_view got) const {
+    doc_.Fail(key_, expected, got);
+  }
+
+  std::optional<double> OptionalReal(std::string_view name, const RealRule& rule) const {
+    const toml::node* node = Node(name);
+    if (node == nullptr) return std::nullopt;
+    return RealValue(node, Full(name), rule);
+  }
+  double Real(std::string_view name, const RealRule& rule) const {
+    const auto value = OptionalReal(name, rule);
+    if (!value) Fail(name, rule.Text(), "nothing (the key is required)");
+    return *value;
+  }
+  double Real(std::string_view name, const RealRule& rule, double fallback) const {
+    return OptionalReal(name, rule).value_or(fallback);
+  }
+
+  std::optional<long long> OptionalInteger(std::string_view name, const IntRule& rule) const {
+    const toml::node* node = Node(name);
+    if (node == nullptr) return std::nullopt;
+    return IntegerValue(node, Full(name), rule);
+  }
+  long long Integer(std::string_view name, const IntRule& rule) const {
+    const auto value = OptionalInteger(name, rule);
+    if (!value) Fail(name, rule.Text(), "nothing (the key is required)");
+    return *value;
+  }
+
+  std::optional<std::string> OptionalString(std::string_view name) const {
+    const toml::node* node = Node(name);
+    if (node == nullptr) return std::nullopt;
+    const auto* s = node->as_string();
+    if (s == nullptr || s->get().empty()) Fail(name, "a non-empty string", Describe(node));
+    return s->get();
+  }
+  std::string String(std::string_view name) const {
+    const auto value = OptionalString(name);
+    if (!value) Fail(name, "a non-empty string", "nothing (the key is required)");
+    return *value;
+  }
+
+  /// One of `choices`; `fallback` when absent (required when fallback is empty).
+  std::string Choice(std::string_view name,
+                     std::initializer_list<std::string_view> choices,
+                     std::string_view fallback = {}) const {
+    std::string expected = "one of";
+    for (const auto c : choices)
+      expected += std::string(c == *choices.begin() ? " " : ", ") + "\"" + std::string(c) + "\"";
+    const toml::node* node = Node(name);
+    if (node == nullptr) {
+      if (fallback.empty()) Fail(name, expected, "nothing (the key is required)");
+      return std::string(fallback);
+    }
+    const auto* s = node->as_string();
+    if (s == nullptr || std::find(choices.begin(), choices.end(), s->get()) == choices.end()) {
+      Fail(name, expected, Describe(node));
+    }
+    return s->get();
+  }
+
+  std::vector<double> RealArray(std::string_view name,
+                                std::size_t size,
+                                const RealRule& rule) const {
+    const auto* array = ArrayNode(name, size, "numbers");
+    std::vector<double> out;
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      out.push_back(RealValue(array->get(i), Full(name) + "." + std::to_string(i), rule));
+    }
+    return out;
+  }
+  /// size 0: any non-empty length.
+  std::vector<long long> IntegerArray(std::string_view name,
+                                      std::size_t size,
+                                      const IntRule& rule) const {
+    const auto* array = ArrayNode(name, size, "integers");
+    std::vector<long long> out;
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      out.push_back(IntegerValue(array->get(i), Full(name) + "." + std::to_string(i), rule));
+    }
+    return out;
+  }
+
+  /// Rejects keys of this table that `type` does not use.
+  void OnlyKeys(std::initializer_list<std::string_view> allowed, std::string_view why) const {
+    if (table_ == nullptr) return;
+    for (const auto& [name, node] : *table_) {
+      if (std::find(allowed.begin(), allowed.end(), name.str()) != allowed.end()) continue;
+      std::string list;
+      for (const auto a : allowed) list += std::string(list.empty() ? "" : ", ") + std::string(a);
+      Fail(name.str(), "only the keys " + list + " " + std::string(why),
+           std::string(name.str()) + " = " + Describe(&node));
+    }
+  }
+
+ private:
+  const toml::array* ArrayNode(std::string_view name,
+                               std::size_t size,
+                               std::string_view what) const {
+    const toml::node* node = Node(name);
+    const std::string expected =
+        size > 0 ? "an array of " + std::to_string(size) + " " + std::string(what)
+                 : "a non-empty array of " + std::string(what);
+    if (node == nullptr) Fail(name, expected, "nothing (the key is required)");
+    const auto* array = node->as_array();
+    if (array == nullptr) Fail(name, expected, Describe(node));
+    if ((size > 0 && array->size() != size) || array->empty()) {
+      Fail(name, expected, "an array of " + std::to_string(array->size()));
+    }
+    return array;
+  }
+  double RealValue(const toml::node* node, const std::string& key, const RealRule& rule) const {
+    double value = 0.0;
+    if (const auto* f = node->as_floating_point()) {
+      value = f->get();
+    } else if (const auto* i = node->as_integer()) {
+      value = static_cast<double>(i->get());
+    } else {
+      doc_.Fail(key, rule.Text(), Describe(node));
+    }
+    if (!rule.Accepts(value)) doc_.Fail(key, rule.Text(), Describe(node));
+    return value;
+  }
+  long long IntegerValue(const toml::node* node,
+                         const std::string& key,
+                         const IntRule& rule) const {
+    const auto* i = node->as_integer();
+    if (i == nullptr || !rule.Accepts(i->get())) doc_.Fail(key, rule.Text(), Describe(node));
+    return i->get();
+  }
+
+  const CaseDocument::Impl& doc_;
+  const toml::table* table_;
+  std::string key_;
+};
+
+Section SubSection(const CaseDocument::Impl& doc, std::string_view name, bool required) {
+  const toml::node* node = doc.root.get(name);
+  if (node == nullptr && required) {
+    doc.Fail(name, "a [" + std::string(name) + "] table", "nothing (the table is required)");
+  }
+  return Section(doc, node ? node->as_table() : nullptr, std::string(name));
+}
+
+// --- the sections ----------------------------------------------------------
+
+BeamSpec ReadBeam(const CaseDocument::Impl& doc) {
+  const Section s = SubSection(doc, "beam", true);
+  BeamSpec beam;
+  beam.length_m = s.Real("length", Positive("m"));
+  beam.elements = static_cast<int>(s.Integer("elements", {1, kMaxElements}));
+  beam.youngs_modulus_Pa = s.Real("youngs_modulus", Positive("Pa"));
+  beam.density_kg_per_m3 = s.Real("density", Positive("kg/m^3"));
+  const auto area = s.OptionalReal("area", Positive("m^2"));
+  const auto width = s.OptionalReal("width", Positive("m"));
+  const auto height = s.OptionalReal("height", Positive("m"));
+  if (area) {
+    if (width || height) {
+      s.Fail(width ? "width" : "height",
+             "either beam.area (square section) or beam.width and beam.height", "both");
+    }
+    beam.area_m2 = *area;
+    beam.second_moment_m4 = *area * *area / 12.0;  // square: side^4 / 12
+  } else if (width && height) {
+    beam.area_m2 = *width * *height;
+    beam.second_moment_m4 = *width * std::pow(*height, 3) / 12.0;
+  } else {
+    s.FailSection("beam.area (square section) or beam.width and beam.height",
+                  width ? "only beam.width" : (height ? "only beam.height" : "neither"));
+  }
+  return beam;
+}
+
+DampingSpec ReadDamping(const CaseDocument::Impl& doc, int dofs) {
+  const Section s = SubSection(doc, "damping", false);
+  DampingSpec damping;
+  if (!s.present()) return damping;
+  const std::string type = s.Choice("type", {"rayleigh", "none"});
+  if (type == "none") {
+    // The other keys are ignored, so that `--set damping.type=none` works.
+    damping.type = DampingType::kNone;
+    return damping;
+  }
+  damping.type = DampingType::kRayleigh;
+  s.OnlyKeys({"type", "modal_ratios", "modes", "alpha", "beta"}, "for type \"rayleigh\"");
+  if (s.Has("modal_ratios")) {
+    if (s.Has("alpha") || s.Has("beta")) {
+      s.Fail(s.Has("alpha") ? "alpha" : "beta", "either damping.modal_ratios or damping.alpha/beta",
+             "both");
+    }
+    damping.from_modal_ratios = true;
+    const auto ratios = s.RealArray("modal_ratios", 2, {0.0, false, 1.0, true, ""});
+    damping.modal_ratios = {ratios[0], ratios[1]};
+    if (s.Has("modes")) {
+      const auto modes = s.IntegerArray("modes", 2, {1, dofs});
+      if (modes[0] == modes[1]) {
+        s.Fail("modes", "two different mode numbers",
+               "[" + std::to_string(modes[0]) + ", " + std::to_string(modes[1]) + "]");
+      }
+      damping.modes = {static_cast<int>(modes[0]), static_cast<int>(modes[1])};
+    }
+  } else if (s.Has("alpha") || s.Has("beta")) {
+    if (s.Has("modes")) s.Fail("modes", "damping.modes only with damping.modal_ratios", "modes");
+    damping.alpha_per_s = s.Real("alpha", NonNegative("1/s"), 0.0);
+    damping.beta_s = s.Real("beta", NonNegative("s"), 0.0);
+  } else {
+    s.FailSection("damping.modal_ratios = [z1, z2] or damping.alpha/beta for type \"rayleigh\"",
+                  "neither");
+  }
+  return damping;
+}
+
+std::vector<NonlinearitySpec> ReadNonlinearities(const CaseDocument::Impl& doc, int elements) {
+  std::vector<NonlinearitySpec> out;
+  const toml::node* node = doc.root.get("nonlinearity");
+  if (node == nullptr) return out;
+  const auto& array = *node->as_array();  // shape checked by CheckKnown
+  for (std::size_t i = 0; i < array.size(); ++i) {
+    const Section s(doc, array.get(i)->as_table(), "nonlinearity." + std::to_string(i));
+    NonlinearitySpec n;
+    const std::string type = s.Choice("type", {"cubic", "polynomial", "gap", "friction"});
+    n.node = static_cast<int>(s.OptionalInteger("node", {1, elements}).value_or(elements));
+    const std::string why = "for type \"" + type + "\"";
+    if (type == "cubic") {
+      s.OnlyKeys({"type", "node", "k3"}, why);
+      n.type = NonlinearType::kCubic;
+      n.k3_N_per_m3 = s.Real("k3", AnyReal("N/m^3"));
+    } else if (type == "polynomial") {
+      s.OnlyKeys({"type", "node", "k1", "k2", "k3"}, why);
+      n.type = NonlinearType::kPolynomial;
+      n.k1_N_per_m = s.Real("k1", AnyReal("N/m"), 0.0);
+      n.k2_N_per_m2 = s.Real("k2", AnyReal("N/m^2"), 0.0);
+      n.k3_N_per_m3 = s.Real("k3", AnyReal("N/m^3"), 0.0);
+    } else if (type == "gap") {
+      s.OnlyKeys({"type", "node", "gap", "stiffness"}, why);
+      n.type = NonlinearType::kGap;
+      n.gap_m = s.Real("gap", NonNegative("m"));
+      n.contact_stiffness_N_per_m = s.Real("stiffness", Positive("N/m"));
+    } else {
+      s.OnlyKeys({"type", "node", "mu", "normal_force", "velocity_scale"}, why);
+      n.type = NonlinearType::kFriction;
+      n.friction_coefficient = s.Real("mu", NonNegative(""));
+      n.normal_force_N = s.Real("normal_force", NonNegative("N"));
+      n.regularisation_velocity_m_per_s = s.Real("velocity_scale", Positive("m/s"));
+    }
+    out.push_back(n);
+  }
+  return out;
+}
+
+InitialSpec ReadInitial(const CaseDocument::Impl& doc, int elements) {
+  const Section s = SubSection(doc, "initial", false);
+  InitialSpec initial;
+  const int dofs = 2 * elements;
+  if (s.Has("static_tip_force")) {
+    if (s.Has("displacement") || s.Has("velocity")) {
+      s.Fail(s.Has("displacement") ? "displacement" : "velocity",
+             "either initial.static_tip_force or initial.displacement/velocity", "both");
+    }
+    initial.type = InitialType::kStaticForce;
+    initial.static_force_N = s.Real("static_tip_force", AnyReal("N"));
+    initial.static_force_node =
+        static_cast<int>(s.OptionalInteger("node", {1, elements}).value_or(elements));
+  } else if (s.Has("displacement") || s.Has("velocity")) {
+    if (s.Has("node")) {
+      s.Fail("node", "initial.node only with initial.static_tip_force", Describe(s.Node("node")));
+    }
+    initial.type = InitialType::kExplicit;
+    initial.displacement = Eigen::VectorXd::Zero(dofs);
+    initial.velocity = Eigen::VectorXd::Zero(dofs);
+    const auto n = static_cast<std::size_t>(dofs);
+    if (s.Has("displacement")) {
+      const auto x = s.RealArray("displacement", n, AnyReal("m and rad, 2 * elements values"));
+      initial.displacement = Eigen::Map<const Eigen::VectorXd>(x.data(), dofs);
+    }
+    if (s.Has("velocity")) {
+      const auto v = s.RealArray("velocity", n, AnyReal("m/s and rad/s, 2 * elements values"));
+      initial.velocity = Eigen::Map<const Eigen::VectorXd>(v.data(), dofs);
+    }
+  } else if (s.Has("node")) {
+    s.Fail("node", "initial.node only with initial.static_tip_force", Describe(s.Node("node")));
+  }
+  return initial;
+}
+
+std::string ResolvePath(const CaseDocument::Impl& doc, const std::string& file) {
+  const std::filesystem::path p(file);
+  if (p.is_absolute() || doc.base_directory.empty()) return p.lexically_normal().string();
+  return (std::filesystem::path(doc.base_directory) / p).lexically_normal().string();
+}
+
+ForceSpec ReadForce(const CaseDocument::Impl& doc, int elements) {
+  const Section s = SubSection(doc, "force", false);
+  ForceSpec force;
+  if (!s.present()) return force;
+  const std::string type = s.Choice("type", {"none", "harmonic", "sweep", "file"});
+  const std::string why = "for type \"" + type + "\"";
+  if (type == "none") return force;  // other keys ignored, as for damping
+  force.node = static_cast<int>(s.OptionalInteger("node", {1, elements}).value_or(elements));
+  if (type == "harmonic") {
+    s.OnlyKeys({"type", "node", "amplitude", "frequency"}, why);
+    force.type = ForceType::kHarmonic;
+    force.amplitude_N = s.Real("amplitude", AnyReal("N"));
+    force.frequency_Hz = s.Real("frequency", Positive("Hz"));
+  } else if (type == "sweep") {
+    s.OnlyKeys({"type", "node", "amplitude", "start_frequency", "end_frequency"}, why);
+    force.type = ForceType::kSweep;
+    force.amplitude_N = s.Real("amplitude", AnyReal("N"));
+    force.start_frequency_Hz = s.Real("start_frequency", Positive("Hz"));
+    force.end_frequency_Hz = s.Real("end_frequency", Positive("Hz"));
+  } else {
+    s.OnlyKeys({"type", "node", "file", "column"}, why);
+    force.type = ForceType::kFile;
+    force.file = s.String("file");
+    force.column = s.String("column");
+    const std::string path = ResolvePath(doc, force.file);
+    std::shared_ptr<const TimeSeries> series;
+    {
+      std::lock_guard<std::mutex> lock(doc.force_files->mutex);
+      auto& cached = doc.force_files->files[path];
+      if (!cached) {
+        try {
+          cached = std::make_shared<const TimeSeries>(ReadCsv(path));
+        } catch (const std::exception& e) {
+          doc.force_files->files.erase(path);
+          throw std::invalid_argument(doc.Where(s.Full("file")) + ": " + s.Full("file") + ": " +
+                                      e.what());
+        }
+      }
+      series = cached;
+    }
+    const int column = series->ChannelIndex(force.column);
+    if (column < 0) {
+      std::string names;
+      for (const auto& n : series->channel_names) names += (names.empty() ? "" : ", ") + n;
+      s.Fail("column", "a column of " + path + " (" + names + ")", "\"" + force.column + "\"");
+    }
+    force.file_time_s = series->time_s;
+    force.file_force_N = series->values.col(column);
+  }
+  return force;
+}
+
+TimeSpec ReadTime(const CaseDocument::Impl& doc) {
+  const Section s = SubSection(doc, "time", true);
+  TimeSpec time;
+  time.duration_s = s.Real("duration", Positive("s"));
+  time.step_s = s.Real("step", Positive("s"));
+  if (time.step_s > time.duration_s) {
+    s.Fail("step", "a step <= time.duration = " + FormatReal(time.duration_s) + " s",
+           FormatReal(time.step_s));
+  }
+  if (time.duration_s / time.step_s > kMaxSamples) {
+    s.Fail("step", "at most 1e9 steps (duration / step)",
+           FormatReal(time.duration_s / time.step_s) + " steps");
+  }
+  return time;
+}
+
+SensorSpec ReadSensors(const CaseDocument::Impl& doc, int elements) {
+  const Section s = SubSection(doc, "sensors", false);
+  SensorSpec sensors;
+  sensors.dof = s.Choice("dof", {"w", "theta"}, "w") == "w" ? SensorDof::kW : SensorDof::kTheta;
+  if (s.Has("nodes")) {
+    const auto nodes = s.IntegerArray("nodes", 0, {1, elements});
+    std::set<long long> seen;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      if (!seen.insert(nodes[i]).second) {
+        s.Fail("nodes", "distinct node numbers", "node " + std::to_string(nodes[i]) + " twice");
+      }
+      sensors.nodes.push_back(static_cast<int>(nodes[i]));
+    }
+  } else {
+    for (int i = 1; i <= elements; ++i) sensors.nodes.push_back(i);
+  }
+  return sensors;
+}
+
+NoiseSpec ReadNoise(const CaseDocument::Impl& doc) {
+  const Section s = SubSection(doc, "noise", false);
+  NoiseSpec noise;
+  noise.relative = s.Real("relative", NonNegative(""), 0.0);
+  noise.seed = static_cast<unsigned long long>(s.OptionalInteger("seed", {0}).value_or(1));
+  return noise;
+}
+
+IntegratorSpec ReadIntegrator(const CaseDocument::Impl& doc) {
+  const Section s = SubSection(doc, "integrator", false);
+  IntegratorSpec integrator;
+  integrator.type = s.Choice("type", {"modified", "newmark"}, "modified") == "modified"
+                        ? IntegratorType::kModifiedNewmark
+                        : IntegratorType::kNewmark;
+  integrator.gamma = s.Real("gamma", {0.5, false, 1.0, false, ""}, integrator.gamma);
+  integrator.beta = s.Real("beta", {0.0, true, 0.5, false, ""}, integrator.beta);
+  integrator.tolerance = s.Real("tolerance", Positive(""), integrator.tolerance);
+  integrator.max_iterations = static_cast<int>(
+      s.OptionalInteger("max_iterations", {1, kMaxIterations}).value_or(integrator.max_iterations));
+  return integrator;
+}
+
+/// True when every array index in `key` addresses an existing element.
+bool IndicesExist(const toml::table& root, std::string_view key) {
+  const toml::node* node = &root;
+  for (const auto part : SplitKey(key)) {
+    if (node == nullptr) return true;  // a missing table: its keys take defaults
+    if (const auto* array = node->as_array()) {
+      if (!IsIndex(part) || ToIndex(part) >= array->size()) return false;
+      node = array->get(ToIndex(part));
+    } else if (const auto* table = node->as_table()) {
+      node = table->get(part);
+    } else {
+      return false;
+    }
+  }
+  return true;
+}
+
+std::vector<ParameterSpec> ReadParameters(const CaseDocument::Impl& doc) {
+  std::vector<ParameterSpec> out;
+  const toml::node* identify = doc.root.get("identify");
+  if (identify == nullptr) return out;
+  const toml::node* node = identify->as_table()->get("parameter");
+  if (node == nullptr) return out;
+  const auto& array = *node->as_array();
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < array.size(); ++i) {
+    const Section s(doc, array.get(i)->as_table(), "identify.parameter." + std::to_string(i));
+    ParameterSpec p;
+    p.name = s.String("name");
+    if (!names.insert(p.name).second) {
+      s.Fail("name", "a name no other identify.parameter has", "\"" + p.name + "\" again");
+    }
+    p.key = s.String("key");
+    if (!CaseDocument::IsNumericKey(p.key) || !IndicesExist(doc.root, p.key)) {
+      s.Fail("key",
+             "a real-valued key of this case (e.g. \"nonlinearity.0.k3\", with existing array "
+             "indices)",
+             "\"" + p.key + "\"");
+    }
+    p.scale = s.Real("scale", AnyReal(""), 1.0);
+    if (p.scale == 0.0) s.Fail("scale", "a number != 0", "0");
+    p.lower = s.Real("lower", AnyReal(""));
+    p.upper = s.Real("upper", AnyReal(""));
+    if (!(p.lower < p.upper)) {
+      s.Fail("upper", "a number > lower = " + FormatReal(p.lower), FormatReal(p.upper));
+    }
+    p.start = s.Real("start", {p.lower, false, p.upper, false, "between lower and upper"});
+    out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+CaseDocument::CaseDocument(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+CaseDocument::CaseDocument(const CaseDocument& other)
+    : impl_(std::make_unique<Impl>(*other.impl_)) {}
+CaseDocument& CaseDocument::operator=(const CaseDocument& other) {
+  if (this != &other) impl_ = std::make_unique<Impl>(*other.impl_);
+  return *this;
+}
+CaseDocument::CaseDocument(CaseDocument&& other) noexcept = default;
+CaseDocument& CaseDocument::operator=(CaseDocument&& other) noexcept = default;
+CaseDocument::~CaseDocument() = default;
+
+const std::string& CaseDocument::source_name() const { return impl_->source; }
+
+CaseDocument CaseDocument::Load(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) ThrowInvalid(path, "a readable case file", "a file that cannot be opened");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) ThrowInvalid(path, "a readable case file", "a read error");
+  std::string base = std::filesystem::path(path).parent_path().string();
+  return Parse(text.str(), path, std::move(base));
+}
+
+CaseDocument CaseDocument::Parse(std::string_view text,
+                                 std::string source_name,
+                                 std::string base_directory) {
+  auto impl = std::make_unique<Impl>();
+  try {
+    impl->root = toml::parse(text, source_name);
+  } catch (const toml::parse_error& e) {
+    const auto& begin = e.source().begin;
+    ThrowInvalid(
+        source_name + ":" + std::to_string(begin.line) + ":" + std::to_string(begin.column),
+        "valid TOML", std::string(e.description()));
+  }
+  auto lines = std::make_shared<std::map<std::string, int>>();
+  RecordLines(impl->root, "", *lines);
+  impl->lines = std::move(lines);
+  impl->source = std::move(source_name);
+  impl->base_directory = std::move(base_directory);
+  impl->force_files = std::make_shared<ForceFileCache>();
+  return CaseDocument(std::move(impl));
+}
+
+bool CaseDocument::IsNumericKey(std::string_view key) {
+  if (key.empty()) return false;
+  const auto parts = SplitKey(key);
+  for (const auto p : parts) {
+    if (p.empty()) return false;
+  }
+  return LookupKind(Join(parts, parts.size(), true)) == Kind::kReal;
+}
+
+namespace {
+
+/// Finds or creates the container and slot for `parts` in `root`, then calls
+/// assign(table*, key) or assign(array*, index) for the last part. `origin`
+/// names the change in messages.
+template <typename AssignInTable, typename AssignInArray>
+void Navigate(toml::table& root,
+              const std::vector<std::string_view>& parts,
+              const std::string& origin,
+              const AssignInTable& assign_in_table,
+              const AssignInArray& assign_in_array) {
+  toml::node* node = &root;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const bool last = i + 1 == parts.size();
+    const std::string prefix = Join(parts, i + 1, false);
+    if (auto* table = node->as_table()) {
+      if (last) {
+        assign_in_table(*table, parts[i]);
+        return;
+      }
+      toml::node* child = table->get(parts[i]);
+      if (child == nullptr) {
+        const auto kind = LookupKind(Join(parts, i + 1, true));
+        if (kind == Kind::kTable) {
+          child = table->insert_or_assign(parts[i], toml::table{}).first->second.as_table();
+        } else {
+          child = table->insert_or_assign(parts[i], toml::array{}).first->second.as_array();
+        }
+      }
+      node = child;
+    } else if (auto* array = node->as_array()) {
+      const std::size_t index = ToIndex(parts[i]);
+      if (!IsIndex(parts[i]) || index > array->size()) {
+        ThrowInvalid(origin,
+                     "an index <= " + std::to_string(array->size()) + " into " +
+                         Join(parts, i, false) + " (which has " + std::to_string(array->size()) +
+                         " elements; the next index appends)",
+                     "\"" + std::string(parts[i]) + "\"");
+      }
+      if (last) {
+        assign_in_array(*array, index);
+        return;
+      }
+      if (index == array->size()) array->push_back(toml::table{});
+      node = array->get(index);
+    } else {
+      ThrowInvalid(origin, "a table or an array at " + Join(parts, i, false), Describe(node));
+    }
+  }
+}
+
+void CheckSchemaKey(const std::vector<std::string_view>& parts,
+                    std::string_view key,
+                    const std::string& origin) {
+  for (const auto p : parts) {
+    if (p.empty())
+      ThrowInvalid(origin, "a dotted key such as beam.length", "\"" + std::string(key) + "\"");
+  }
+  if (!LookupKind(Join(parts, parts.size(), true))) {
+    ThrowInvalid(origin,
+                 "a key of the case-file schema (docs/case-file.md; array elements by index, "
+                 "e.g. nonlinearity.0.k3)",
+                 "the unknown key \"" + std::string(key) + "\"");
+  }
+}
+
+}  // namespace
+
+void CaseDocument::Set(std::string_view key, std::string_view value_text) {
+  const std::string origin = "--set " + std::string(key) + "=" + std::string(value_text);
+  const auto parts = SplitKey(key);
+  CheckSchemaKey(parts, key, origin);
+  const Kind kind = *LookupKind(Join(parts, parts.size(), true));
+
+  toml::table parsed;
+  bool ok = false;
+  try {
+    parsed = toml::parse("v = " + std::string(value_text) + "\n", origin);
+    ok = parsed.size() == 1 && parsed.contains("v");
+  } catch (const toml::parse_error&) {
+    ok = false;
+  }
+  if (!ok) {
+    const bool bare_word =
+        !value_text.empty() && value_text.find_first_of("\"'=[]{}#\n\r") == std::string_view::npos;
+    if (kind == Kind::kString && bare_word) {
+      parsed = toml::table{};
+      parsed.insert_or_assign("v", std::string(value_text));
+    } else {
+      ThrowInvalid(origin, "a TOML value (a number, \"text\", [a, b], true or false)",
+                   "\"" + std::string(value_text) + "\"");
+    }
+  }
+  toml::node& value = *parsed.get("v");
+  Navigate(
+      impl_->root, parts, origin,
+      [&](toml::table& table, std::string_view name) {
+        value.visit([&](auto&& v) { table.insert_or_assign(name, std::move(v)); });
+      },
+      [&](toml::array& array, std::size_t index) {
+        value.visit([&](auto&& v) {
+          if (index == array.size()) {
+            array.push_back(std::move(v));
+          } else {
+            array.replace(array.cbegin() + static_cast<std::ptrdiff_t>(index), std::move(v));
+          }
+        });
+      });
+  impl_->origins[std::string(key)] = origin;
+}
+
+void CaseDocument::SetNumber(std::string_view key, double value) {
+  if (!IsNumericKey(key)) {
+    ThrowInvalid("SetNumber(" + std::string(key) + ")", "a real-valued key of the case-file schema",
+                 "\"" + std::string(key) + "\"");
+  }
+  const auto parts = SplitKey(key);
+  auto it = impl_->origins.find(key);
+  if (it == impl_->origins.end()) {
+    it = impl_->origins
+             .emplace(std::string(key),
+                      impl_->source + " (" + std::string(key) + " set by the program)")
+             .first;
+  }
+  Navigate(
+      impl_->root, parts, it->second,
+      [&](toml::table& table, std::string_view name) {
+        if (auto* f = table.get_as<double>(name)) {
+          *f = value;  // the common case: no allocation
+        } else {
+          table.insert_or_assign(name, value);
+        }
+      },
+      [&](toml::array& array, std::size_t index) {
+        if (index == array.size()) {
+          array.push_back(value);
+        } else if (auto* f = array.get_as<double>(index)) {
+          *f = value;
+        } else {
+          array.replace(array.cbegin() + static_cast<std::ptrdiff_t>(index), value);
+        }
+      });
+}
+
+namespace {
+const toml::node* Find(const toml::table& root, std::string_view key) {
+  const toml::node* node = &root;
+  for (const auto part : SplitKey(key)) {
+    if (const auto* table = node->as_table()) {
+      node = table->get(part);
+    } else if (const auto* array = node->as_array()) {
+      node = IsIndex(part) ? array->get(ToIndex(part)) : nullptr;
+    } else {
+      node = nullptr;
+    }
+    if (node == nullptr) return nullptr;
+  }
+  return node;
+}
+}  // namespace
+
+bool CaseDocument::Has(std::string_view key) const { return Find(impl_->root, key) != nullptr; }
+
+double CaseDocument::GetNumber(std::string_view key) const {
+  const toml::node* node = Find(impl_->root, key);
+  if (node != nullptr) {
+    if (const auto* f = node->as_floating_point()) return f->get();
+    if (const auto* i = node->as_integer()) return static_cast<double>(i->get());
+  }
+  impl_->Fail(key, "a number", Describe(node));
+}
+
+CaseSpec CaseDocument::ToSpec() const {
+  const Impl& doc = *impl_;
+  CheckKnown(doc, doc.root, "", "", Kind::kTable);
+  CaseSpec spec;
+  spec.source = doc.source;
+  spec.beam = ReadBeam(doc);
+  const int elements = spec.beam.elements;
+  spec.damping = ReadDamping(doc, 2 * elements);
+  spec.nonlinearities = ReadNonlinearities(doc, elements);
+  spec.initial = ReadInitial(doc, elements);
+  spec.force = ReadForce(doc, elements);
+  spec.time = ReadTime(doc);
+  spec.sensors = ReadSensors(doc, elements);
+  spec.noise = ReadNoise(doc);
+  spec.integrator = ReadIntegrator(doc);
+  spec.parameters = ReadParameters(doc);
+  return spec;
+}
+
+std::vector<std::pair<std::string, std::string>> ParseSetArguments(
+    const std::vector<std::string>& arguments) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& argument : arguments) {
+    const auto eq = argument.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      ThrowInvalid("--set " + argument, "key=value (e.g. time.duration=1.0)",
+                   "\"" + argument + "\"");
+    }
+    auto trim = [](std::string s) {
+      const auto b = s.find_first_not_of(" \t");
+      const auto e = s.find_last_not_of(" \t");
+      return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+    };
+    std::string key = trim(argument.substr(0, eq));
+    if (key.empty()) {
+      ThrowInvalid("--set " + argument, "key=value (e.g. time.duration=1.0)",
+                   "\"" + argument + "\"");
+    }
+    out.emplace_back(std::move(key), trim(argument.substr(eq + 1)));
+  }
+  return out;
+}
+
+void ApplySetArguments(CaseDocument& document, const std::vector<std::string>& arguments) {
+  for (const auto& [key, value] : ParseSetArguments(arguments)) document.Set(key, value);
+}
+
+}  // namespace podid

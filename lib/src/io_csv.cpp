@@ -1,0 +1,305 @@
+// CSV time series: a streaming reader (std::from_chars, bounded line length)
+// and a writer in the reference data's %.12e format.
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <ostream>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io_internal.hpp"
+#include "podid/core/error.hpp"
+#include "podid/core/io.hpp"
+
+namespace podid {
+namespace {
+
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+
+/// Hands out the file's lines one at a time from a fixed buffer of
+/// kMaxCsvLineBytes + 1 bytes; a longer line is an error.
+class LineReader {
+ public:
+  LineReader(std::FILE* file, std::string path)
+      : file_(file), path_(std::move(path)), buffer_(kMaxCsvLineBytes + 1) {}
+
+  /// The next line without its '\n' (and '\r'), or false at the end.
+  bool Next(std::string_view& line) {
+    while (true) {
+      const char* begin = buffer_.data() + begin_;
+      const auto* newline = static_cast<const char*>(std::memchr(begin, '\n', end_ - begin_));
+      if (newline != nullptr) {
+        line = std::string_view(begin, static_cast<std::size_t>(newline - begin));
+        begin_ += line.size() + 1;
+        break;
+      }
+      if (eof_) {
+        if (begin_ == end_) return false;
+        line = std::string_view(begin, end_ - begin_);
+        begin_ = end_;
+        break;
+      }
+      if (end_ - begin_ == buffer_.size()) {
+        ThrowInvalid(path_ + ":" + std::to_string(line_number_ + 1) + ":1",
+                     "a line of at most " + std::to_string(kMaxCsvLineBytes) + " bytes",
+                     "a longer line");
+      }
+      Refill();
+    }
+    ++line_number_;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    return true;
+  }
+  long long line_number() const { return line_number_; }
+
+ private:
+  void Refill() {
+    if (begin_ > 0) {
+      std::memmove(buffer_.data(), buffer_.data() + begin_, end_ - begin_);
+      end_ -= begin_;
+      begin_ = 0;
+    }
+    const std::size_t got = std::fread(buffer_.data() + end_, 1, buffer_.size() - end_, file_);
+    end_ += got;
+    if (got == 0) {
+      if (std::ferror(file_)) {
+        ThrowInvalid(path_ + ":" + std::to_string(line_number_ + 1), "a readable file",
+                     std::string("a read error: ") + std::strerror(errno));
+      }
+      eof_ = true;
+    }
+  }
+
+  std::FILE* file_;
+  std::string path_;
+  std::vector<char> buffer_;
+  std::size_t begin_ = 0, end_ = 0;
+  bool eof_ = false;
+  long long line_number_ = 0;
+};
+
+std::string_view Trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+std::string Quote(std::string_view cell) {
+  constexpr std::size_t kShown = 40;
+  std::string out = "\"" + std::string(cell.substr(0, kShown));
+  if (cell.size() > kShown) out += "...";
+  return out + "\"";
+}
+
+bool IsBlank(std::string_view line) { return Trim(line).empty(); }
+
+}  // namespace
+
+TimeSeries ReadCsv(const std::string& path) {
+  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
+  if (!file) {
+    ThrowInvalid(path, "a readable CSV file", std::string("\"") + std::strerror(errno) + "\"");
+  }
+  LineReader reader(file.get(), path);
+  auto where = [&](long long line, std::size_t column) {
+    return path + ":" + std::to_string(line) + ":" + std::to_string(column);
+  };
+
+  // Header.
+  std::string_view line;
+  bool have_line = false;
+  while ((have_line = reader.Next(line)) && IsBlank(line)) {
+  }
+  if (!have_line) ThrowInvalid(where(1, 1), "a header line such as \"t,w1,w2\"", "an empty file");
+  std::vector<std::string> names;
+  {
+    std::set<std::string_view> seen;
+    std::size_t start = 0;
+    while (true) {
+      const std::size_t comma = line.find(',', start);
+      const std::string_view cell =
+          Trim(line.substr(start, comma == line.npos ? line.npos : comma - start));
+      double number = 0.0;
+      const auto [ptr, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), number);
+      if (cell.empty()) {
+        ThrowInvalid(where(reader.line_number(), start + 1), "a header line such as \"t,w1,w2\"",
+                     "an empty column name");
+      }
+      if (ec == std::errc() && ptr == cell.data() + cell.size()) {
+        ThrowInvalid(where(reader.line_number(), start + 1), "a header line such as \"t,w1,w2\"",
+                     "a row of numbers (the header is missing)");
+      }
+      if (names.empty() && cell != "t" && cell != "time") {
+        ThrowInvalid(where(reader.line_number(), start + 1),
+                     "a header line whose first name is \"t\" or \"time\"", Quote(cell));
+      }
+      if (!seen.insert(cell).second) {
+        ThrowInvalid(where(reader.line_number(), start + 1), "distinct column names",
+                     Quote(cell) + " twice");
+      }
+      names.emplace_back(cell);
+      if (comma == line.npos) break;
+      start = comma + 1;
+    }
+    if (names.size() < 2) {
+      ThrowInvalid(where(reader.line_number(), line.size() + 1),
+                   "a time column and at least one channel in the header", "only " + names[0]);
+    }
+  }
+  const std::size_t columns = names.size();
+
+  // Rows, stored row-major; the size is estimated from the file size.
+  std::vector<double> data;
+  bool reserved = false;
+  std::size_t rows = 0;
+  double t_first = 0.0, t_previous = 0.0, step = 0.0;
+  while (reader.Next(line)) {
+    if (IsBlank(line)) continue;
+    if (!reserved) {
+      struct stat info {};
+      if (::fstat(::fileno(file.get()), &info) == 0 && info.st_size > 0) {
+        const auto estimate = static_cast<std::size_t>(info.st_size) / (line.size() + 1) + 16;
+        data.reserve(std::min(estimate, std::size_t{1} << 28) * columns);
+      }
+      reserved = true;
+    }
+    const long long line_number = reader.line_number();
+    std::size_t position = 0;
+    for (std::size_t c = 0; c < columns; ++c) {
+      if (c > 0) {
+        if (position >= line.size() || line[position] != ',') {
+          ThrowInvalid(where(line_number, position + 1),
+                       std::to_string(columns) + " cells as in the header",
+                       std::to_string(c) + " cells (a ragged row)");
+        }
+        ++position;
+      }
+      std::size_t cell_end = line.find(',', position);
+      if (cell_end == line.npos) cell_end = line.size();
+      const std::string_view raw = line.substr(position, cell_end - position);
+      std::string_view cell = Trim(raw);
+      const std::size_t column = position + 1 + static_cast<std::size_t>(cell.data() - raw.data());
+      if (!cell.empty() && cell.front() == '+') cell.remove_prefix(1);
+      double value = 0.0;
+      const auto [ptr, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), value);
+      if (cell.empty()) {
+        ThrowInvalid(where(line_number, column), "a number in column " + names[c], "an empty cell");
+      }
+      if (ptr != cell.data() + cell.size() ||
+          (ec != std::errc() && ec != std::errc::result_out_of_range)) {
+        ThrowInvalid(where(line_number, column), "a number in column " + names[c], Quote(cell));
+      }
+      if (ec == std::errc::result_out_of_range || !std::isfinite(value)) {
+        ThrowInvalid(where(line_number, column), "a finite number in column " + names[c],
+                     Quote(cell));
+      }
+      data.push_back(value);
+      position = cell_end;
+    }
+    if (position < line.size()) {
+      ThrowInvalid(where(line_number, position + 1),
+                   std::to_string(columns) + " cells as in the header",
+                   "more cells (a ragged row)");
+    }
+    // The time column: increasing and uniform.
+    const double t = data[rows * columns];
+    if (rows > 0) {
+      const double d = t - t_previous;
+      if (!(d > 0.0)) {
+        ThrowInvalid(where(line_number, 1),
+                     "an increasing time (after t = " + ToText(t_previous) + ")", ToText(t));
+      }
+      if (rows == 1) {
+        step = d;
+      } else if (!internal::IsUniformStep(d, step, t)) {
+        ThrowInvalid(where(line_number, 1),
+                     "a uniform time step " + ToText(step) + " s (relative tolerance " +
+                         ToText(kTimeStepRelativeTolerance) + ")",
+                     "a step of " + ToText(d) + " s");
+      }
+    } else {
+      t_first = t;
+    }
+    t_previous = t;
+    ++rows;
+  }
+  (void)t_first;
+  if (rows < 2) {
+    ThrowInvalid(where(reader.line_number() + 1, 1), "at least 2 samples", std::to_string(rows));
+  }
+
+  TimeSeries series;
+  series.channel_names.assign(names.begin() + 1, names.end());
+  series.time_s.resize(static_cast<Eigen::Index>(rows));
+  series.values.resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(columns - 1));
+  for (std::size_t i = 0; i < rows; ++i) {
+    series.time_s(static_cast<Eigen::Index>(i)) = data[i * columns];
+  }
+  for (std::size_t c = 1; c < columns; ++c) {
+    double* out = series.values.col(static_cast<Eigen::Index>(c - 1)).data();
+    for (std::size_t i = 0; i < rows; ++i) out[i] = data[i * columns + c];
+  }
+  return series;
+}
+
+void WriteCsv(const std::string& path, const TimeSeries& series) {
+  const auto rows = series.values.rows();
+  const auto cols = series.values.cols();
+  if (series.time_s.size() != rows) {
+    ThrowInvalid("WriteCsv(" + path + ")", std::to_string(rows) + " times (one per sample)",
+                 std::to_string(series.time_s.size()));
+  }
+  if (static_cast<Eigen::Index>(series.channel_names.size()) != cols) {
+    ThrowInvalid("WriteCsv(" + path + ")", std::to_string(cols) + " channel names",
+                 std::to_string(series.channel_names.size()));
+  }
+  for (const auto& name : series.channel_names) {
+    if (name.empty() || name.find_first_of(",\"\r\n") != std::string::npos) {
+      ThrowInvalid("WriteCsv(" + path + ")",
+                   "channel names without ',', '\"' or line breaks, not empty", Quote(name));
+    }
+  }
+  WriteFileAtomically(path, [&](std::ostream& os) {
+    std::string header = "t";
+    for (const auto& name : series.channel_names) header += "," + name;
+    header += '\n';
+    os.write(header.data(), static_cast<std::streamsize>(header.size()));
+    // One row per line: 13 significant digits, as printf("%.12e").
+    std::vector<char> buffer(static_cast<std::size_t>(cols + 1) * 32 + 1);
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      char* p = buffer.data();
+      char* const end = buffer.data() + buffer.size();
+      for (Eigen::Index j = -1; j < cols; ++j) {
+        if (j >= 0) *p++ = ',';
+        const double v = j < 0 ? series.time_s(i) : series.values(i, j);
+        p = std::to_chars(p, end, v, std::chars_format::scientific, 12).ptr;
+      }
+      *p++ = '\n';
+      os.write(buffer.data(), p - buffer.data());
+    }
+  });
+}
+
+TimeSeries ReadTimeSeries(const std::string& path) {
+  auto ends_with = [&](std::string_view suffix) {
+    if (path.size() < suffix.size()) return false;
+    return std::equal(suffix.rbegin(), suffix.rend(), path.rbegin(), [](char a, char b) {
+      return a == static_cast<char>(std::tolower(static_cast<unsigned char>(b)));
+    });
+  };
+  if (ends_with(".csv")) return ReadCsv(path);
+  if (ends_with(".mat")) return ReadMat(path);
+  ThrowInvalid(path, "a time-series file ending in .csv or .mat", "\"" + path + "\"");
+}
+
+}  // namespace podid
