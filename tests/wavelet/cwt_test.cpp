@@ -1,0 +1,304 @@
+// Tests of podid/wavelet/cwt.hpp against references: closed-form Morlet
+// facts, and a direct time-domain convolution with the same padding.
+#include "podid/wavelet/cwt.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <thread>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace podid::wavelet {
+namespace {
+
+using podid::testing::ExpectMatricesNear;
+using Complex = std::complex<double>;
+constexpr double kPi = std::numbers::pi;
+
+// A test signal with content over the whole grid: two tones, a chirp and a
+// deterministic pseudo-random wobble (no exact symmetries to hide errors).
+Eigen::VectorXd MixedSignal(Eigen::Index n, double step_s) {
+  Eigen::VectorXd x(n);
+  unsigned state = 12345u;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) * step_s;
+    state = state * 1664525u + 1013904223u;
+    const double r = static_cast<double>(state >> 8) / static_cast<double>(1u << 24) - 0.5;
+    x(i) = std::cos(2 * kPi * 21.0 * t + 0.3) +
+           0.5 * std::sin(2 * kPi * (40.0 * t + 30.0 * t * t)) + 0.2 * r + 0.7;
+  }
+  return x;
+}
+
+// The padded sequence the header documents (treated as periodic).
+Eigen::VectorXd Pad(const Eigen::VectorXd& x, Padding padding, Eigen::Index p) {
+  const Eigen::Index n = x.size();
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(p);
+  out.head(n) = x;
+  if (padding == Padding::kReflect) {
+    for (Eigen::Index j = 0; j < n - 2; ++j) out(n + j) = x(n - 2 - j);
+  }
+  return out;
+}
+
+// W(s, t_n) = c(s) sum_m xpad_m conj(psi((t_m - t_n) / s)) step, summed over
+// the periodic images of the padded sequence; psi from its closed form.
+Eigen::MatrixXcd DirectCwt(const Eigen::VectorXd& padded,
+                           Eigen::Index n,
+                           double step_s,
+                           const Eigen::VectorXd& scales_s,
+                           const MorletWavelet& wavelet) {
+  const Eigen::Index p = padded.size();
+  const bool energy = wavelet.normalisation == Normalisation::kEnergy;
+  const double k_norm = energy ? std::pow(kPi, -0.25) : std::sqrt(2.0 / kPi);
+  const double c =
+      wavelet.admissibility_correction ? std::exp(-0.5 * wavelet.omega0 * wavelet.omega0) : 0.0;
+  Eigen::MatrixXcd w(n, scales_s.size());
+  for (Eigen::Index k = 0; k < scales_s.size(); ++k) {
+    const double s = scales_s(k);
+    const double gain = step_s * (energy ? 1.0 / std::sqrt(s) : 1.0 / s);
+    // kernel(d) = sum over images of conj(psi((d + l P) step / s)), d = 0 .. P-1.
+    Eigen::VectorXcd kernel = Eigen::VectorXcd::Zero(p);
+    for (Eigen::Index d = 0; d < p; ++d) {
+      for (int l = -6; l <= 6; ++l) {
+        const double u = static_cast<double>(d + l * p) * step_s / s;
+        if (std::abs(u) > 40.0) continue;
+        const Complex psi =
+            k_norm * (std::polar(1.0, wavelet.omega0 * u) - c) * std::exp(-0.5 * u * u);
+        kernel(d) += std::conj(psi);
+      }
+    }
+    for (Eigen::Index i = 0; i < n; ++i) {
+      Complex sum = 0.0;
+      for (Eigen::Index m = 0; m < p; ++m) sum += padded(m) * kernel((m - i + p) % p);
+      w(i, k) = gain * sum;
+    }
+  }
+  return w;
+}
+
+TEST(MorletWavelet, RidgeAngularFrequencyMatchesClosedForms) {
+  // Closed forms: kappa = omega0 (L1), (omega0 + sqrt(omega0^2 + 2)) / 2 (L2,
+  // Torrence & Compo 1998 table 1); the bisection is good to rounding.
+  constexpr double kTolerance = 1e-14;
+  MorletWavelet w;
+  EXPECT_NEAR(w.RidgeAngularFrequency(), 6.0, kTolerance);
+  w.normalisation = Normalisation::kEnergy;
+  EXPECT_NEAR(w.RidgeAngularFrequency(), 0.5 * (6.0 + std::sqrt(38.0)), kTolerance);
+  EXPECT_NEAR(w.ScaleToFrequency_Hz(w.FrequencyToScale_s(33.0)), 33.0, 1e-12);
+}
+
+TEST(MorletWavelet, CorrectedRidgeIsTheMaximumOfTheFilter) {
+  // With the correction there is no closed form: check kappa maximises
+  // n(u) psi^(u) against neighbours 1e-6 away (a relative 1e-12 is well
+  // above rounding of psi^ ~ 1 and well below its curvature 1e-12 / 2).
+  for (Normalisation norm : {Normalisation::kAmplitude, Normalisation::kEnergy}) {
+    MorletWavelet w;
+    w.omega0 = 3.0;
+    w.admissibility_correction = true;
+    w.normalisation = norm;
+    ASSERT_TRUE(w.IsValid(nullptr));
+    const double kappa = w.RidgeAngularFrequency();
+    const auto g = [&](double u) {
+      return (norm == Normalisation::kEnergy ? std::sqrt(u) : 1.0) * w.FourierTransform(u);
+    };
+    EXPECT_GT(g(kappa), g(kappa - 1e-6));
+    EXPECT_GT(g(kappa), g(kappa + 1e-6));
+    EXPECT_NEAR(w.FourierTransform(0.0), 0.0, 1e-15);  // admissible: psi^(0) = 0
+  }
+}
+
+TEST(Cwt, UnitCosineMagnitudeUnderEachNormalisation) {
+  // A 33 Hz cosine, 1 s at 5 kHz (33 whole periods, so the reflect padding is
+  // the cosine itself): on the ridge s w = kappa, |W| = 1 (L1) and
+  // pi^(1/4) sqrt(s/2) exp(-(kappa - omega0)^2 / 2) (L2).
+  // The grid holds 33 Hz exactly (min frequency). 1e-9 covers the 1e-12 band
+  // truncation and the negative-frequency term exp(-72).
+  constexpr double kTolerance = 1e-9;
+  const double step = 1.0 / 5000.0;
+  Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(5001, 0.0, 1.0);
+  Eigen::VectorXd x = (2 * kPi * 33.0 * t).array().cos();
+  for (Normalisation norm : {Normalisation::kAmplitude, Normalisation::kEnergy}) {
+    CwtOptions o;
+    o.wavelet.normalisation = norm;
+    o.frequencies.min_frequency_Hz = 33.0;
+    o.frequencies.max_frequency_Hz = 66.0;
+    o.frequencies.voices_per_octave = 4;
+    const Scalogram sg = Cwt(x, step, o);
+    const double s = sg.scales_s(0);
+    const double kappa = o.wavelet.RidgeAngularFrequency();
+    const double expected = norm == Normalisation::kAmplitude
+                                ? 1.0
+                                : std::pow(kPi, 0.25) * std::sqrt(s / 2.0) *
+                                      std::exp(-0.5 * (kappa - 6.0) * (kappa - 6.0));
+    EXPECT_NEAR(expected, o.wavelet.UnitCosineMagnitude(s), 1e-14);
+    for (Eigen::Index j = 0; j < sg.times(); j += 97) {
+      EXPECT_NEAR(std::abs(sg.coefficients(j, 0)), expected, kTolerance * expected) << j;
+    }
+  }
+}
+
+TEST(Cwt, FftPathEqualsDirectConvolution) {
+  // The FFT path and the closed-form time-domain convolution on the same
+  // padded (periodic) sequence agree to rounding plus the 1e-12 band
+  // truncation; 1e-10 of max |W| is the acceptance figure.
+  constexpr double kRelativeTolerance = 1e-10;
+  const double step = 1e-3;
+  const Eigen::VectorXd x = MixedSignal(301, step);
+  for (Padding padding : {Padding::kReflect, Padding::kZero, Padding::kPeriodic}) {
+    for (Normalisation norm : {Normalisation::kAmplitude, Normalisation::kEnergy}) {
+      for (bool corrected : {false, true}) {
+        CwtOptions o;
+        o.padding = padding;
+        o.remove_mean = false;
+        o.wavelet.normalisation = norm;
+        o.wavelet.admissibility_correction = corrected;
+        o.frequencies.min_frequency_Hz = 8.0;
+        o.frequencies.max_frequency_Hz = 200.0;  // psi^ negligible at Nyquist (see header)
+        o.frequencies.voices_per_octave = 1;
+        CwtTransform transform(o);
+        Scalogram sg;
+        transform.Compute(x, step, &sg);
+        const Eigen::MatrixXcd direct = DirectCwt(Pad(x, padding, transform.padded_length()),
+                                                  x.size(), step, sg.scales_s, o.wavelet);
+        const double scale = direct.cwiseAbs().maxCoeff();
+        EXPECT_TRUE(
+            ExpectMatricesNear(sg.coefficients.real(), direct.real(), kRelativeTolerance * scale))
+            << ToString(padding) << " " << ToString(norm) << " corrected " << corrected;
+        EXPECT_TRUE(
+            ExpectMatricesNear(sg.coefficients.imag(), direct.imag(), kRelativeTolerance * scale))
+            << ToString(padding) << " " << ToString(norm) << " corrected " << corrected;
+      }
+    }
+  }
+}
+
+TEST(Cwt, MeanRemovalEqualsTransformOfCentredSignal) {
+  // Removing the mean is the same as transforming x - mean(x) (rounding only).
+  constexpr double kTolerance = 1e-13;
+  const Eigen::VectorXd x = MixedSignal(500, 1e-3);
+  CwtOptions with, without;
+  without.remove_mean = false;
+  const Eigen::VectorXd centred = x.array() - x.mean();
+  const Scalogram a = Cwt(x, 1e-3, with), b = Cwt(centred, 1e-3, without);
+  EXPECT_TRUE(ExpectMatricesNear(a.coefficients.real(), b.coefficients.real(), kTolerance));
+  EXPECT_TRUE(ExpectMatricesNear(a.coefficients.imag(), b.coefficients.imag(), kTolerance));
+}
+
+TEST(Cwt, BandLimitedModeIsTheDecimatedFullTransform) {
+  // Decimation is exact (no interpolation): the band-limited output at time j
+  // is the full output at sample j D, to the band truncation (1e-12) and
+  // rounding of length-P vs length-M FFTs.
+  constexpr double kTolerance = 1e-11;
+  const double step = 2e-4;
+  const Eigen::VectorXd x = MixedSignal(5001, step);
+  CwtOptions full;
+  CwtOptions band = full;
+  band.band_limited = true;
+  CwtTransform tb(band);
+  Scalogram b;
+  tb.Compute(x, step, &b);
+  const Scalogram f = Cwt(x, step, full);
+  EXPECT_EQ(tb.padded_length(), 10000);
+  EXPECT_EQ(tb.inverse_length(), 625);  // widest band (120 Hz) needs 594 bins
+  ASSERT_EQ(b.decimation, 16);
+  ASSERT_EQ(b.times(), 313);
+  const double scale = f.coefficients.cwiseAbs().maxCoeff();
+  for (Eigen::Index j = 0; j < b.times(); ++j) {
+    EXPECT_DOUBLE_EQ(b.time_s(j), f.time_s(16 * j));
+    for (Eigen::Index k = 0; k < b.frequencies(); ++k) {
+      ASSERT_LE(std::abs(b.coefficients(j, k) - f.coefficients(16 * j, k)), kTolerance * scale)
+          << j << " " << k;
+    }
+    EXPECT_EQ(b.coi_frequency_Hz(j), f.coi_frequency_Hz(16 * j));
+  }
+}
+
+TEST(Cwt, FrequencyGridAndConeOfInfluence) {
+  FrequencyGrid g;  // 10 .. 120 Hz, 32 voices: 3.585 octaves -> 115 frequencies
+  const Eigen::VectorXd f = g.Frequencies_Hz();
+  ASSERT_EQ(f.size(), 115);
+  EXPECT_DOUBLE_EQ(f(0), 10.0);
+  EXPECT_NEAR(f(32), 20.0, 1e-12);
+  EXPECT_LE(f(114), 120.0);
+  g.spacing = FrequencySpacing::kLinear;
+  g.bins = 12;
+  EXPECT_NEAR(g.Frequencies_Hz()(11), 120.0, 1e-12);
+  EXPECT_NEAR(g.Frequencies_Hz()(1), 20.0, 1e-12);
+
+  // COI at t = 0.25 s of a 1 s record: sqrt(2) s = 0.25 s <=> f = 6 sqrt(2) / (2 pi 0.25).
+  const Eigen::VectorXd x = MixedSignal(1001, 1e-3);
+  const Scalogram sg = Cwt(x, 1e-3);
+  EXPECT_NEAR(sg.coi_frequency_Hz(250), 6.0 * std::sqrt(2.0) / (2 * kPi * 0.25), 1e-12);
+  EXPECT_NEAR(sg.coi_frequency_Hz(750), sg.coi_frequency_Hz(250), 1e-9);
+  EXPECT_TRUE(std::isinf(sg.coi_frequency_Hz(0)));
+  EXPECT_FALSE(sg.InsideCoi(0, sg.frequencies() - 1));
+  EXPECT_TRUE(sg.InsideCoi(500, 0));  // 10 Hz: sqrt(2) s = 0.135 s < 0.5 s
+}
+
+TEST(Cwt, ParallelTransformsMatchSerial) {
+  // Plans are shared across threads (planning under a mutex); each thread
+  // owns its CwtTransform. Identical inputs give bitwise identical outputs.
+  const double step = 1e-3;
+  std::vector<Eigen::VectorXd> inputs;
+  for (int i = 0; i < 4; ++i) inputs.push_back(MixedSignal(700 + 37 * i, step));
+  std::vector<Scalogram> serial, parallel(inputs.size());
+  for (const auto& x : inputs) serial.push_back(Cwt(x, step));
+  std::vector<std::thread> threads;
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    threads.emplace_back([&, i] {
+      CwtTransform t(CwtOptions{});
+      for (int r = 0; r < 3; ++r) t.Compute(inputs[i], step, &parallel[i]);
+    });
+  }
+  for (auto& th : threads) th.join();
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    EXPECT_TRUE(serial[i].coefficients == parallel[i].coefficients) << i;
+  }
+}
+
+TEST(Cwt, BadInputNamesWhatWasExpected) {
+  const Eigen::VectorXd x = MixedSignal(100, 1e-3);
+  PODID_EXPECT_THROW_WITH(Cwt(Eigen::VectorXd(), 1e-3), std::invalid_argument,
+                          "expected at least 4 samples");
+  PODID_EXPECT_THROW_WITH(Cwt(Eigen::VectorXd::Constant(50, 2.0), 1e-3), std::invalid_argument,
+                          "expected a non-constant signal");
+  Eigen::VectorXd bad = x;
+  bad(3) = std::nan("");
+  PODID_EXPECT_THROW_WITH(Cwt(bad, 1e-3), std::invalid_argument, "expected finite values");
+  bad(3) = INFINITY;
+  PODID_EXPECT_THROW_WITH(Cwt(bad, 1e-3), std::invalid_argument, "expected finite values");
+  PODID_EXPECT_THROW_WITH(Cwt(x, 0.0), std::invalid_argument,
+                          "step_s: expected a finite value > 0");
+  PODID_EXPECT_THROW_WITH(Cwt(x, -1e-3), std::invalid_argument, "step_s");
+  PODID_EXPECT_THROW_WITH(Cwt(x, 0.01), std::invalid_argument,
+                          "expected <= the Nyquist frequency");  // 120 Hz > 50 Hz
+  CwtOptions o;
+  o.wavelet.omega0 = 4.0;
+  PODID_EXPECT_THROW_WITH(Cwt(x, 1e-3, o), std::invalid_argument,
+                          "omega0: expected >= 5 (or admissibility_correction = true), got 4");
+  o.wavelet.admissibility_correction = true;
+  EXPECT_NO_THROW(Cwt(x, 1e-3, o));
+  o = CwtOptions{};
+  o.frequencies.min_frequency_Hz = 0.0;
+  PODID_EXPECT_THROW_WITH(Cwt(x, 1e-3, o), std::invalid_argument,
+                          "min_frequency_Hz: expected a finite value > 0, got 0");
+  o = CwtOptions{};
+  o.frequencies.max_frequency_Hz = -5.0;
+  PODID_EXPECT_THROW_WITH(CwtTransform{o}, std::invalid_argument, "max_frequency_Hz: expected");
+  o = CwtOptions{};
+  o.frequencies.voices_per_octave = 0;
+  PODID_EXPECT_THROW_WITH(CwtTransform{o}, std::invalid_argument, "voices_per_octave");
+  o = CwtOptions{};
+  o.band_tolerance = 0.5;
+  PODID_EXPECT_THROW_WITH(CwtTransform{o}, std::invalid_argument, "band_tolerance");
+  PODID_EXPECT_THROW_WITH(ParsePadding("mirror"), std::invalid_argument,
+                          "expected one of reflect, zero, periodic");
+}
+
+}  // namespace
+}  // namespace podid::wavelet

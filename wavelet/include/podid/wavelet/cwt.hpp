@@ -1,0 +1,210 @@
+#pragma once
+// Continuous wavelet transform with the complex Morlet wavelet, computed with
+// FFTW. Units are SI: times and scales in s, frequencies in Hz unless a name
+// says _rad_per_s. The module knows nothing of beams or POD: it transforms any
+// uniformly sampled real signal.
+//
+// The wavelet (omega0 = options.omega0, c = 1 with the admissibility
+// correction, else 0):
+//   time       psi(t)     = K (exp(i omega0 t) - c exp(-omega0^2 / 2)) exp(-t^2 / 2)
+//   frequency  psi^(w)    = K sqrt(2 pi) (exp(-(w - omega0)^2 / 2)
+//                                          - c exp(-(w^2 + omega0^2) / 2))
+// with psi^(w) = integral psi(t) exp(-i w t) dt. psi^ is real and is taken on
+// every frequency, so the wavelet is analytic up to its negative-frequency
+// tail, psi^(w < 0) <= K sqrt(2 pi) exp(-omega0^2 / 2) (1.5e-8 of the peak for
+// omega0 = 6). This keeps a closed form in time: the FFT path equals a direct
+// time-domain convolution with psi (tests/wavelet/cwt_test.cpp).
+//
+// The transform of x(t) at scale s (s) and time t (s):
+//   kAmplitude (L1):  W(s, t) = (1 / s)       integral x(tau) conj(psi((tau - t) / s)) dtau,
+//                     K = sqrt(2 / pi), so psi^(omega0) = 2;
+//   kEnergy (L2):     W(s, t) = (1 / sqrt(s)) integral x(tau) conj(psi((tau - t) / s)) dtau,
+//                     K = pi^(-1/4), so integral |psi|^2 dt = 1 (c = 0).
+// In frequency: W^(s, w) = X(w) n(s) psi^(s w), n = 1 (L1) or sqrt(s) (L2).
+// For x = cos(2 pi f t) (unit amplitude, omega = 2 pi f) and c = 0:
+//   kAmplitude: |W(s, t)| = exp(-(s omega - omega0)^2 / 2), exactly 1 on the ridge
+//               s omega = omega0 (so |W| reads directly as the amplitude);
+//   kEnergy:    |W(s, t)| = pi^(1/4) sqrt(s / 2) exp(-(s omega - omega0)^2 / 2),
+//               in signal units times s^(1/2); the ridge is where sqrt(s) psi^(s omega)
+//               peaks, s omega = (omega0 + sqrt(omega0^2 + 2)) / 2 (Torrence & Compo 1998).
+// (Both up to the negative-frequency term, below exp(-omega0^2 / 2).)
+//
+// Scale <-> frequency (exact for the chosen omega0, normalisation and
+// correction): kappa = argmax_u n(u) psi^(u) is the ridge's s omega for a pure
+// tone, and f_Hz = kappa / (2 pi s). A tone at f therefore peaks exactly at
+// s = kappa / (2 pi f); kappa = omega0 for kAmplitude without correction.
+//
+// Cone of influence: the e-folding time of the Morlet wavelet at scale s is
+// sqrt(2) s (Torrence & Compo 1998, sec. 3g). A coefficient at time t is
+// inside the cone when sqrt(2) s <= min(t - t_first, t_last - t); per time
+// sample this is a lowest frequency, Scalogram::coi_frequency_Hz. There an
+// edge's influence (a jump, or a kink from reflect padding) on |W| has only
+// fallen to exp(-1); CwtOptions::coi_factor widens the cone for IF work
+// (coi_factor = 4: exp(-16), which the 1e-6 tone test needs).
+//
+// Algorithm: the signal (optionally minus its mean) is padded to length P, one
+// real forward FFT gives X_k, and each scale costs one inverse FFT of
+// X_k n(s) psi^(s w_k) over the bins where psi^ exceeds band_tolerance times
+// its peak. Padding (the padded sequence is treated as periodic, length P):
+//   kReflect  (default) x_0 .. x_{N-1}, x_{N-2} .. x_1: the even extension,
+//             P = 2N - 2, with no jump anywhere (mirror at the end samples);
+//   kZero     x_0 .. x_{N-1} followed by zeros, P >= 2N (a 2,3,5,7-smooth size);
+//   kPeriodic x_0 .. x_{N-1}, P = N.
+// Band-limited mode: each scale's product is nonzero only in a band of B_k
+// bins, so its inverse FFT can have length M >= max_k B_k with M dividing P;
+// that gives W exactly (to band_tolerance) at every D-th sample, D = P / M.
+// Identification uses it for ridges: 5001 samples at 10-120 Hz need M = 625.
+//
+// FFTW plans are made once per length and cached process-wide; making them is
+// serialised by a mutex and executing them is thread-safe. A CwtTransform holds
+// buffers for one signal at a time: use one object per thread.
+
+#include <Eigen/Core>
+#include <complex>
+#include <limits>
+#include <memory>
+#include <string>
+#include <string_view>
+
+namespace podid::wavelet {
+
+enum class Normalisation {
+  kAmplitude,  ///< L1: |W| of a unit cosine is 1 on its ridge
+  kEnergy,     ///< L2: unit-energy wavelet, |W| grows like sqrt(s)
+};
+enum class Padding { kReflect, kZero, kPeriodic };
+enum class FrequencySpacing {
+  kLog,     ///< voices_per_octave frequencies per octave, from min_frequency_Hz up
+  kLinear,  ///< bins frequencies evenly from min_frequency_Hz to max_frequency_Hz
+};
+
+/// "amplitude" / "energy", "reflect" / "zero" / "periodic", "log" / "linear".
+const char* ToString(Normalisation normalisation);
+const char* ToString(Padding padding);
+const char* ToString(FrequencySpacing spacing);
+/// Inverses of ToString; throw std::invalid_argument naming the choices.
+Normalisation ParseNormalisation(std::string_view name);
+Padding ParsePadding(std::string_view name);
+
+/// The complex Morlet mother wavelet (formulas at the top of this file).
+struct MorletWavelet {
+  double omega0 = 6.0;  ///< centre angular frequency (dimensionless), >= 5 unless corrected
+  bool admissibility_correction = false;  ///< subtract exp(-omega0^2/2): psi^(0) = 0
+  Normalisation normalisation = Normalisation::kAmplitude;
+
+  bool IsValid(std::string* why) const;
+  /// n(s) psi^(s w) at u = s w (dimensionless), without the n(s) factor: psi^(u).
+  double FourierTransform(double u) const;
+  /// kappa = argmax_u n(u) psi^(u): the s omega of a pure tone's ridge.
+  double RidgeAngularFrequency() const;
+  /// f = kappa / (2 pi s).
+  double ScaleToFrequency_Hz(double scale_s) const;
+  /// s = kappa / (2 pi f).
+  double FrequencyToScale_s(double frequency_Hz) const;
+  /// |W| of a unit-amplitude cosine at scale s on its ridge (frequency
+  /// ScaleToFrequency_Hz(scale_s)): 1 for kAmplitude without correction.
+  double UnitCosineMagnitude(double scale_s) const;
+  /// e-folding time of the cone of influence, sqrt(2) s.
+  static double ConeOfInfluence_s(double scale_s);
+};
+
+/// Analysis frequencies in Hz, ascending.
+struct FrequencyGrid {
+  double min_frequency_Hz = 10.0;   ///< > 0
+  double max_frequency_Hz = 120.0;  ///< > min, <= Nyquist of the signal
+  FrequencySpacing spacing = FrequencySpacing::kLog;
+  /// kLog: f_j = min 2^(j / voices) for j = 0 .. floor(voices log2(max / min) + 1e-9);
+  /// the top frequency is <= max_frequency_Hz.
+  int voices_per_octave = 32;
+  /// kLinear: f_j = min + j (max - min) / (bins - 1), j = 0 .. bins - 1 (bins >= 2).
+  int bins = 200;
+
+  bool IsValid(std::string* why) const;
+  /// (dim n_frequencies) ascending; throws std::invalid_argument if !IsValid.
+  Eigen::VectorXd Frequencies_Hz() const;
+};
+
+struct CwtOptions {
+  MorletWavelet wavelet;
+  FrequencyGrid frequencies;
+  Padding padding = Padding::kReflect;
+  bool remove_mean = true;  ///< subtract the signal's mean before padding
+  /// The cone's half-width is coi_factor * sqrt(2) s, >= 0. 1 is Torrence &
+  /// Compo's e-folding time, where an edge's influence on |W| has fallen only
+  /// to exp(-1); with coi_factor = c it is exp(-c^2) (c = 4: 1e-7).
+  double coi_factor = 1.0;
+  /// Output only every D-th sample, D = P / M (see the top of this file).
+  bool band_limited = false;
+  /// Filter values below band_tolerance times the filter's peak are dropped
+  /// (both modes), in (0, 1e-3]. 1e-12 keeps W to about 1e-12 relative.
+  double band_tolerance = 1e-12;
+
+  bool IsValid(std::string* why) const;
+};
+
+/// The transform of one signal. Row j of `coefficients` is output time
+/// time_s(j) = start_time_s + j * step_s; column k is frequency k.
+struct Scalogram {
+  MorletWavelet wavelet;           ///< the wavelet it was computed with
+  Eigen::VectorXd frequencies_Hz;  ///< (dim n_freq) ascending
+  Eigen::VectorXd scales_s;        ///< (dim n_freq) s_k = kappa / (2 pi f_k), descending
+  Eigen::VectorXd time_s;          ///< (dim n_times) output sample times
+  double step_s = 0.0;             ///< output time step: input step * decimation
+  int decimation = 1;              ///< D: output sample j is input sample j * D
+  Eigen::Index input_samples = 0;  ///< N of the transformed signal
+  Eigen::MatrixXcd coefficients;   ///< (n_times x n_freq) W, units: see the normalisation
+  /// (dim n_times) lowest frequency inside the cone of influence at each output
+  /// time, coi_factor kappa sqrt(2) / (2 pi distance_to_nearest_edge_s); +inf at the edges.
+  Eigen::VectorXd coi_frequency_Hz;
+
+  Eigen::Index times() const { return coefficients.rows(); }
+  Eigen::Index frequencies() const { return coefficients.cols(); }
+  bool InsideCoi(Eigen::Index time, Eigen::Index frequency) const {
+    return frequencies_Hz(frequency) >= coi_frequency_Hz(time);
+  }
+};
+
+/// Reusable transform state: plans, the padded signal's spectrum, the filters
+/// (rebuilt only when the signal length or step changes) and work buffers.
+/// Not shareable between threads; use one per thread.
+class CwtTransform {
+ public:
+  /// Throws std::invalid_argument if !options.IsValid().
+  explicit CwtTransform(const CwtOptions& options);
+  ~CwtTransform();
+  CwtTransform(CwtTransform&&) noexcept;
+  CwtTransform& operator=(CwtTransform&&) noexcept;
+  CwtTransform(const CwtTransform&) = delete;
+  CwtTransform& operator=(const CwtTransform&) = delete;
+
+  const CwtOptions& options() const;
+
+  /// Transforms `signal` (dim N >= 4), sampled every step_s from start_time_s,
+  /// into *out (resized as needed, so a reused Scalogram does not reallocate).
+  /// Throws std::invalid_argument for NaN/Inf, a constant signal, step_s <= 0,
+  /// or a frequency above Nyquist 1 / (2 step_s).
+  void Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
+               double step_s,
+               Scalogram* out,
+               double start_time_s = 0.0);
+
+  /// dW/dt (units of W per s) at frequency index k of the last Compute(), at
+  /// the same output times (dim n_times); computed spectrally (i w X_k), so it
+  /// is exact to band_tolerance. One extra inverse FFT.
+  void TimeDerivative(Eigen::Index frequency_index, Eigen::VectorXcd* out) const;
+
+  /// Padded length P and inverse-FFT length M of the last Compute() (0 before).
+  Eigen::Index padded_length() const;
+  Eigen::Index inverse_length() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// One-shot convenience: CwtTransform(options).Compute(...).
+Scalogram Cwt(const Eigen::Ref<const Eigen::VectorXd>& signal,
+              double step_s,
+              const CwtOptions& options = {});
+
+}  // namespace podid::wavelet

@@ -1,0 +1,137 @@
+#pragma once
+// Ridges of a Morlet scalogram, and the instantaneous frequency (IF) and
+// amplitude along them. Units are SI: s and Hz.
+//
+// Ridge extraction (a path k_j, one frequency index per output time j):
+//   kMaximum   k_j = argmax_k |W(j, k)|, sample by sample;
+//   kPenalised the path over the whole record maximising
+//                 sum_j log|W(j, k_j)| - (penalty_s / step_s) sum_j (ln f_{k_j} - ln f_{k_{j-1}})^2
+//              by dynamic programming (Carmona, Hwang & Torresani 1999, "Characterization
+//              of signals by the ridges of their wavelet transforms"; Iatsenko, McClintock &
+//              Stefanovska 2016, "Extraction of instantaneous frequencies from ridges in
+//              time-frequency representations of signals", scheme I). The max over
+//              the previous frequency is a lower envelope of parabolas in ln f
+//              (Felzenszwalb & Huttenlocher 2012), so a step costs O(n_freq), not
+//              O(n_freq^2). penalty_s is in seconds, independent of the sampling: a
+//              jump of one e-fold in frequency costs as much as holding a log-amplitude
+//              advantage of 1 (neper) for penalty_s seconds.
+// Several ridges: after each ridge, its peak (at each time, the frequencies on
+// both flanks down to where |W| rises again) and at least separation_octaves
+// either side are excluded, and the next ridge is extracted.
+//
+// Along a ridge:
+//   kPhase (default)  f = Im(conj(W) dW/dt) / (2 pi |W|^2), the phase
+//                     derivative of W, with dW/dt computed spectrally (exact
+//                     for a pure tone at any scale). With parabolic_refinement
+//                     it is interpolated linearly in s from the ridge's grid
+//                     scale to the vertex scale s* below (a chirp's phase IF
+//                     drifts with the offset from its ridge; a tone's does not);
+//   kScale            f = f_{k_j}, or with parabolic refinement the vertex of
+//                     the parabola through log|W| at the scales s_{k-1}, s_k,
+//                     s_{k+1} mapped by f = kappa / (2 pi s) (exact for a pure
+//                     tone with the kAmplitude wavelet, whose log|W| is
+//                     quadratic in s).
+//   amplitude         exp(that parabola's peak) / UnitCosineMagnitude(s*), the
+//                     amplitude of the cosine the ridge stands for, in signal
+//                     units (|W| / UnitCosineMagnitude(s_k) at the grid's ends).
+
+#include <Eigen/Core>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "podid/wavelet/cwt.hpp"
+
+namespace podid::wavelet {
+
+enum class RidgeMethod { kMaximum, kPenalised };
+enum class FrequencyEstimator { kPhase, kScale };
+
+/// "max" / "penalised", "phase" / "scale".
+const char* ToString(RidgeMethod method);
+const char* ToString(FrequencyEstimator estimator);
+/// Inverses of ToString; throw std::invalid_argument naming the choices.
+RidgeMethod ParseRidgeMethod(std::string_view name);
+FrequencyEstimator ParseFrequencyEstimator(std::string_view name);
+
+struct RidgeOptions {
+  RidgeMethod method = RidgeMethod::kPenalised;
+  double penalty_s = 0.05;          ///< kPenalised, >= 0 (0 gives kMaximum's path)
+  int ridges = 1;                   ///< how many ridges, 1..16
+  double separation_octaves = 0.5;  ///< exclusion half-width around a found ridge, > 0
+  FrequencyEstimator estimator = FrequencyEstimator::kPhase;
+  bool parabolic_refinement = true;  ///< refine between grid scales (both estimators)
+
+  bool IsValid(std::string* why) const;
+};
+
+/// One ridge, at the scalogram's output times.
+struct RidgeTrack {
+  Eigen::VectorXd time_s;             ///< (dim n_times)
+  Eigen::VectorXi frequency_index;    ///< (dim n_times) k_j, index into Scalogram::frequencies_Hz
+  Eigen::VectorXd grid_frequency_Hz;  ///< (dim n_times) f_{k_j}, the ridge's grid frequency
+  Eigen::VectorXd frequency_Hz;       ///< (dim n_times) instantaneous frequency
+  Eigen::VectorXd amplitude;          ///< (dim n_times) instantaneous amplitude, signal units
+  /// (dim n_times) whether (j, k_j) is inside the cone of influence.
+  Eigen::Array<bool, Eigen::Dynamic, 1> inside_coi;
+
+  Eigen::Index size() const { return time_s.size(); }
+  Eigen::Index InsideCoiCount() const { return inside_coi.count(); }
+};
+
+/// Ridge paths (frequency index per output time), strongest first.
+/// Throws std::invalid_argument if !options.IsValid() or the scalogram is empty.
+std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeOptions& options);
+
+/// IF and amplitude along `path`. `transform` must be the one that computed
+/// `scalogram` (kPhase uses its TimeDerivative); it may be null for kScale.
+RidgeTrack TrackRidge(const Scalogram& scalogram,
+                      const Eigen::VectorXi& path,
+                      const RidgeOptions& options,
+                      const CwtTransform* transform);
+
+// ------------------------------------------------------------------------
+// The identification entry point: the IF of one signal along its main ridge.
+
+struct RidgeFrequencyOptions {
+  /// Defaults: 10-120 Hz, 32 voices per octave, reflect padding, band-limited.
+  CwtOptions cwt = [] {
+    CwtOptions o;
+    o.band_limited = true;
+    return o;
+  }();
+  RidgeOptions ridge;  ///< ridges is ignored (one ridge)
+
+  bool IsValid(std::string* why) const;
+};
+
+/// Reusable state for RidgeFrequency: construct once, call Estimate() once
+/// per objective evaluation. Buffers and filters are kept between calls with
+/// the same length and step, so repeated calls do not re-plan or re-filter.
+/// One object per thread (distinct objects run in parallel safely).
+class RidgeFrequencyEstimator {
+ public:
+  /// Throws std::invalid_argument if !options.IsValid().
+  explicit RidgeFrequencyEstimator(const RidgeFrequencyOptions& options = {});
+
+  /// The main ridge of `signal` (dim N >= 4, step step_s). The returned
+  /// reference stays valid until the next call. Bad input: std::invalid_argument.
+  const RidgeTrack& Estimate(const Eigen::Ref<const Eigen::VectorXd>& signal, double step_s);
+
+  /// The scalogram of the last Estimate() (decimated in band-limited mode).
+  const Scalogram& scalogram() const { return scalogram_; }
+
+ private:
+  RidgeFrequencyOptions options_;
+  CwtTransform transform_;
+  Scalogram scalogram_;
+  RidgeTrack track_;
+};
+
+/// One-shot convenience (builds an estimator per call; reuse a
+/// RidgeFrequencyEstimator in loops). Thread-safe.
+RidgeTrack RidgeFrequency(const Eigen::Ref<const Eigen::VectorXd>& signal,
+                          double step_s,
+                          const RidgeFrequencyOptions& options = {});
+
+}  // namespace podid::wavelet
