@@ -350,10 +350,11 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
     ThrowInvalid("Cwt: start_time_s", "a finite value", ToText(start_time_s));
   }
   const double nyquist_Hz = 0.5 / step_s;
-  if (s.frequencies_Hz(s.frequencies_Hz.size() - 1) > nyquist_Hz * (1.0 + 1e-12)) {
+  const double max_Hz = s.options.frequencies.max_frequency_Hz;
+  if (max_Hz > nyquist_Hz * (1.0 + 1e-12)) {
     ThrowInvalid("Cwt: frequencies.max_frequency_Hz",
                  "<= the Nyquist frequency 1 / (2 step_s) = " + ToText(nyquist_Hz) + " Hz",
-                 ToText(s.frequencies_Hz(s.frequencies_Hz.size() - 1)) + " Hz");
+                 ToText(max_Hz) + " Hz");
   }
   if (n != s.n || step_s != s.step_s) s.Layout(n, step_s);
 

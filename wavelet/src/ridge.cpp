@@ -156,12 +156,8 @@ std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeO
                  ToText(times) + " x " + ToText(freqs) + " coefficients");
   }
   // cost(k, j) = -log|W(j, k)|, frequency-major for the per-time sweeps.
-  Eigen::MatrixXd cost(freqs, times);
-  for (Eigen::Index k = 0; k < freqs; ++k) {
-    for (Eigen::Index j = 0; j < times; ++j) {
-      cost(k, j) = -0.5 * std::log(std::max(std::norm(scalogram.coefficients(j, k)), 1e-300));
-    }
-  }
+  Eigen::MatrixXd cost =
+      (-0.5 * scalogram.coefficients.cwiseAbs2().cwiseMax(1e-300).array().log()).transpose();
   const Eigen::VectorXd x = scalogram.frequencies_Hz.array().log();
   const double lambda = options.penalty_s / scalogram.step_s;
   const double half_width = options.separation_octaves * std::numbers::ln2;

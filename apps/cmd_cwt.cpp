@@ -1,0 +1,245 @@
+// podid cwt: Morlet wavelet transform of one channel (or one POD time mode),
+// its ridge, and the instantaneous frequency along it (docs/wavelet.md).
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "commands.hpp"
+#include "plot.hpp"
+#include "podid/core/error.hpp"
+#include "podid/core/io.hpp"
+#include "podid/pod/pod.hpp"
+#include "podid/wavelet/cwt.hpp"
+#include "podid/wavelet/ridge.hpp"
+
+namespace podid::cli {
+namespace {
+
+struct CwtArguments {
+  std::string data;
+  std::string channel;
+  int pom = 0;
+  double fmin_Hz = 10.0;
+  double fmax_Hz = 120.0;
+  int voices = 32;
+  int bins = 0;
+  std::string ridge = "penalised";
+  double penalty_s = 0.05;
+  double omega0 = 6.0;
+  std::string padding = "reflect";
+  std::string normalisation = "amplitude";
+  double coi_factor = 1.0;
+  bool band_limited = false;
+  std::string output;
+  std::string scalogram;
+  std::string plot;
+};
+
+// The analysed signal and a label for it.
+Eigen::VectorXd SelectSignal(const CwtArguments& a, const TimeSeries& series, std::string* label) {
+  if (!a.channel.empty()) {
+    const int index = series.ChannelIndex(a.channel);
+    if (index < 0) {
+      std::string names;
+      for (const auto& n : series.channel_names) names += (names.empty() ? "" : ", ") + n;
+      ThrowInvalid("cwt --channel", "one of " + names, "\"" + a.channel + "\"");
+    }
+    *label = a.channel;
+    return series.values.col(index);
+  }
+  // --pom k: the k-th right-singular vector (time mode) of the POD of all channels.
+  PodOptions options;
+  options.max_modes = a.pom;
+  const PodResult pod = ComputePod(series, options);
+  if (pod.modes() < a.pom) {
+    ThrowInvalid("cwt --pom", "1.." + ToText(pod.modes()) + " (the data's POD modes)",
+                 ToText(a.pom));
+  }
+  *label = "POM " + ToText(a.pom) + " time mode (V column, energy " +
+           ToText(std::round(1000.0 * pod.energy_fraction(a.pom - 1)) / 10.0) + " %)";
+  return pod.time_modes.col(a.pom - 1);
+}
+
+void Run(const CwtArguments& a) {
+  const TimeSeries series = ReadTimeSeries(a.data);
+  std::string label;
+  const Eigen::VectorXd signal = SelectSignal(a, series, &label);
+  const double step_s = series.step_s();
+
+  wavelet::RidgeFrequencyOptions options;
+  wavelet::CwtOptions& cwt = options.cwt;
+  cwt.band_limited = a.band_limited;
+  cwt.wavelet.omega0 = a.omega0;
+  cwt.wavelet.normalisation = wavelet::ParseNormalisation(a.normalisation);
+  cwt.padding = wavelet::ParsePadding(a.padding);
+  cwt.coi_factor = a.coi_factor;
+  cwt.frequencies.min_frequency_Hz = a.fmin_Hz;
+  cwt.frequencies.max_frequency_Hz = a.fmax_Hz;
+  if (a.bins > 0) {
+    cwt.frequencies.spacing = wavelet::FrequencySpacing::kLinear;
+    cwt.frequencies.bins = a.bins;
+  } else {
+    cwt.frequencies.voices_per_octave = a.voices;
+  }
+  options.ridge.method = wavelet::ParseRidgeMethod(a.ridge);
+  options.ridge.penalty_s = a.penalty_s;
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument("cwt: " + why);
+
+  wavelet::RidgeFrequencyEstimator estimator(options);
+  const wavelet::RidgeTrack& track = estimator.Estimate(signal, step_s);
+  const wavelet::Scalogram& sg = estimator.scalogram();
+
+  // IF statistics inside the cone of influence.
+  double sum = 0.0, sum2 = 0.0, lo = INFINITY, hi = -INFINITY;
+  Eigen::Index first = -1, last = -1, inside = 0;
+  for (Eigen::Index j = 0; j < track.size(); ++j) {
+    if (!track.inside_coi(j) || !std::isfinite(track.frequency_Hz(j))) continue;
+    const double f = track.frequency_Hz(j);
+    sum += f;
+    sum2 += f * f;
+    lo = std::min(lo, f);
+    hi = std::max(hi, f);
+    if (first < 0) first = j;
+    last = j;
+    ++inside;
+  }
+  std::printf("podid cwt: %s of %s: %ld samples, step %.6g s (fs %.6g Hz)\n", label.c_str(),
+              a.data.c_str(), static_cast<long>(signal.size()), step_s, 1.0 / step_s);
+  std::printf("Morlet omega0 %.6g (%s), %ld frequencies %.6g-%.6g Hz (%s), %s padding%s\n",
+              cwt.wavelet.omega0, wavelet::ToString(cwt.wavelet.normalisation),
+              static_cast<long>(sg.frequencies()), sg.frequencies_Hz(0),
+              sg.frequencies_Hz(sg.frequencies() - 1),
+              a.bins > 0 ? "linear" : (ToText(a.voices) + " voices/octave").c_str(),
+              wavelet::ToString(cwt.padding),
+              a.band_limited
+                  ? (", band-limited: every " + ToText(sg.decimation) + "th sample").c_str()
+                  : "");
+  std::printf("ridge: %s%s, IF from the phase derivative\n",
+              wavelet::ToString(options.ridge.method),
+              options.ridge.method == wavelet::RidgeMethod::kPenalised
+                  ? (" (penalty " + ToText(a.penalty_s) + " s)").c_str()
+                  : "");
+  if (inside == 0) {
+    std::printf("no ridge sample inside the cone of influence (coi_factor %.6g)\n", a.coi_factor);
+  } else {
+    const double mean = sum / static_cast<double>(inside);
+    const double sd = std::sqrt(std::max(0.0, sum2 / static_cast<double>(inside) - mean * mean));
+    std::printf("IF inside the cone of influence (%ld of %ld samples, t = %.4g-%.4g s):\n",
+                static_cast<long>(inside), static_cast<long>(track.size()), track.time_s(first),
+                track.time_s(last));
+    std::printf("  mean %.6g Hz, std %.4g Hz, min %.6g Hz, max %.6g Hz\n", mean, sd, lo, hi);
+    std::printf("  first %.6g Hz (amplitude %.4g), last %.6g Hz (amplitude %.4g)\n",
+                track.frequency_Hz(first), track.amplitude(first), track.frequency_Hz(last),
+                track.amplitude(last));
+  }
+
+  if (!a.output.empty()) {
+    TimeSeries ridge;
+    ridge.time_s = track.time_s;
+    ridge.channel_names = {"f_Hz", "amplitude", "inside_coi"};
+    ridge.values.resize(track.size(), 3);
+    ridge.values.col(0) = track.frequency_Hz;
+    ridge.values.col(1) = track.amplitude;
+    ridge.values.col(2) = track.inside_coi.cast<double>();
+    WriteCsv(a.output, ridge);
+    std::printf("ridge -> %s\n", a.output.c_str());
+  }
+  if (!a.scalogram.empty()) {
+    TimeSeries magnitude;
+    magnitude.time_s = sg.time_s;
+    for (Eigen::Index k = 0; k < sg.frequencies(); ++k) {
+      char name[32];
+      std::snprintf(name, sizeof name, "%.6gHz", sg.frequencies_Hz(k));
+      magnitude.channel_names.push_back(name);
+    }
+    magnitude.values = sg.coefficients.cwiseAbs();
+    WriteCsv(a.scalogram, magnitude);
+    std::printf("|W| -> %s\n", a.scalogram.c_str());
+  }
+  if (!a.plot.empty()) {
+    // At most ~1000 time columns keep the PNG quick to draw.
+    const Eigen::Index stride = std::max<Eigen::Index>(1, sg.times() / 1000);
+    const Eigen::Index columns = (sg.times() + stride - 1) / stride;
+    Eigen::VectorXd t(columns);
+    Eigen::MatrixXd z(columns, sg.frequencies());
+    for (Eigen::Index i = 0; i < columns; ++i) {
+      t(i) = sg.time_s(i * stride);
+      z.row(i) = sg.coefficients.row(i * stride).cwiseAbs();
+    }
+    Eigen::VectorXd coi = sg.coi_frequency_Hz;
+    for (Eigen::Index j = 0; j < coi.size(); ++j) {
+      if (!(coi(j) <= sg.frequencies_Hz(sg.frequencies() - 1))) coi(j) = NAN;
+    }
+    Eigen::VectorXd ridge_f = track.frequency_Hz;
+    for (Eigen::Index j = 0; j < ridge_f.size(); ++j) {
+      if (!track.inside_coi(j)) ridge_f(j) = NAN;
+    }
+    Axes axes;
+    axes.title = "|W| of " + label + " (Morlet, omega0 " + ToText(a.omega0) + ")";
+    axes.x_label = "t (s)";
+    axes.y_label = "f (Hz)";
+    axes.log_y = a.bins == 0;
+    const PlotOutcome outcome = PlotHeatMap(
+        a.plot, axes, "|W|", t, sg.frequencies_Hz, z,
+        {{"ridge IF (inside cone)", track.time_s, ridge_f}, {"cone of influence", sg.time_s, coi}});
+    if (outcome == PlotOutcome::kWritten) std::printf("plot -> %s\n", a.plot.c_str());
+  }
+}
+
+}  // namespace
+
+void AddCwtCommand(CLI::App& app) {
+  auto a = std::make_shared<CwtArguments>();
+  CLI::App* command = app.add_subcommand(
+      "cwt",
+      "Morlet wavelet transform of one channel (--channel) or POD time mode (--pom):\n"
+      "prints the instantaneous frequency (IF) along the ridge inside the cone of\n"
+      "influence and writes the ridge (t, f_Hz, amplitude, inside_coi). docs/wavelet.md");
+  command->add_option("data", a->data, "Time series (.csv with t,<channels> or .mat)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  auto* channel = command->add_option("--channel", a->channel, "Channel name, e.g. w6");
+  auto* pom =
+      command->add_option("--pom", a->pom, "Analyse the k-th POD time mode (right-singular vector)")
+          ->check(CLI::PositiveNumber);
+  channel->excludes(pom);
+  pom->excludes(channel);
+  command->add_option("--fmin", a->fmin_Hz, "Lowest analysis frequency (Hz)")
+      ->capture_default_str();
+  command->add_option("--fmax", a->fmax_Hz, "Highest analysis frequency (Hz), <= Nyquist")
+      ->capture_default_str();
+  auto* voices = command->add_option("--voices", a->voices, "Log grid: frequencies per octave")
+                     ->capture_default_str();
+  auto* bins = command->add_option("--bins", a->bins, "Linear grid of this many frequencies");
+  voices->excludes(bins);
+  bins->excludes(voices);
+  command->add_option("--ridge", a->ridge, "Ridge method: max or penalised")->capture_default_str();
+  command
+      ->add_option("--penalty", a->penalty_s,
+                   "Penalised ridge: cost (s) of a jump of one e-fold in frequency")
+      ->capture_default_str();
+  command->add_option("--omega0", a->omega0, "Morlet centre frequency (>= 5)")
+      ->capture_default_str();
+  command->add_option("--padding", a->padding, "reflect, zero or periodic")->capture_default_str();
+  command->add_option("--normalisation", a->normalisation, "amplitude (L1) or energy (L2)")
+      ->capture_default_str();
+  command
+      ->add_option("--coi-factor", a->coi_factor,
+                   "Widen the cone of influence (1 = Torrence & Compo)")
+      ->capture_default_str();
+  command->add_flag("--band-limited", a->band_limited,
+                    "Decimated output (what identification uses); IF values are unchanged");
+  command->add_option("-o,--output", a->output, "Ridge CSV: t,f_Hz,amplitude,inside_coi");
+  command->add_option("--scalogram", a->scalogram, "|W| CSV: t, one column per frequency");
+  command->add_option("--plot", a->plot, "Scalogram PNG with the ridge (needs gnuplot)");
+  command->callback([a] {
+    if (a->channel.empty() && a->pom == 0) {
+      ThrowInvalid("cwt", "--channel NAME or --pom K", "neither");
+    }
+    Run(*a);
+  });
+}
+
+}  // namespace podid::cli

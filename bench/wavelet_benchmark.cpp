@@ -1,0 +1,81 @@
+// Wavelet benchmarks (issue 4). One core; sizes of the identification's call:
+// a 5001-sample record at 5 kHz. Run: bench/README.md, "Wavelet".
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "podid/wavelet/cwt.hpp"
+#include "podid/wavelet/denoise.hpp"
+#include "podid/wavelet/ridge.hpp"
+
+namespace {
+
+using namespace podid::wavelet;
+constexpr double kStep = 1.0 / 5000.0;
+
+// A decaying, slightly hardening 33 Hz mode plus a weak 207 Hz one.
+Eigen::VectorXd Signal(Eigen::Index n) {
+  Eigen::VectorXd x(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) * kStep;
+    const double phase = 2 * std::numbers::pi * (33.0 * t + 0.5 * std::exp(-2.0 * t));
+    x(i) = std::exp(-2.0 * t) * std::cos(phase) + 0.1 * std::sin(2 * std::numbers::pi * 207.0 * t);
+  }
+  return x;
+}
+
+// Full time resolution, `scales` linear frequencies over 10-120 Hz.
+void BM_CwtFull(benchmark::State& state) {
+  const Eigen::VectorXd x = Signal(state.range(0));
+  CwtOptions o;
+  o.frequencies.spacing = FrequencySpacing::kLinear;
+  o.frequencies.bins = static_cast<int>(state.range(1));
+  CwtTransform transform(o);
+  Scalogram out;
+  transform.Compute(x, kStep, &out);  // plans and filters
+  for (auto _ : state) {
+    transform.Compute(x, kStep, &out);
+    benchmark::DoNotOptimize(out.coefficients.data());
+  }
+  state.counters["padded"] = static_cast<double>(transform.padded_length());
+}
+BENCHMARK(BM_CwtFull)->Args({5001, 64})->Unit(benchmark::kMillisecond);
+
+// The identification's call: main ridge + phase IF over 10-120 Hz, 32 voices
+// per octave (115 frequencies), band-limited (M = 625, every 16th sample).
+void BM_RidgeFrequencyBandLimited(benchmark::State& state) {
+  const Eigen::VectorXd x = Signal(state.range(0));
+  RidgeFrequencyEstimator estimator;
+  estimator.Estimate(x, kStep);
+  for (auto _ : state) {
+    const RidgeTrack& track = estimator.Estimate(x, kStep);
+    benchmark::DoNotOptimize(track.frequency_Hz.data());
+  }
+}
+BENCHMARK(BM_RidgeFrequencyBandLimited)->Arg(5001)->Unit(benchmark::kMillisecond);
+
+// The same at full time resolution, for comparison.
+void BM_RidgeFrequencyFull(benchmark::State& state) {
+  const Eigen::VectorXd x = Signal(state.range(0));
+  RidgeFrequencyOptions o;
+  o.cwt.band_limited = false;
+  RidgeFrequencyEstimator estimator(o);
+  estimator.Estimate(x, kStep);
+  for (auto _ : state) {
+    const RidgeTrack& track = estimator.Estimate(x, kStep);
+    benchmark::DoNotOptimize(track.frequency_Hz.data());
+  }
+}
+BENCHMARK(BM_RidgeFrequencyFull)->Arg(5001)->Unit(benchmark::kMillisecond);
+
+void BM_Denoise(benchmark::State& state) {
+  const Eigen::VectorXd x = Signal(state.range(0));
+  for (auto _ : state) {
+    Eigen::VectorXd y = Denoise(x);
+    benchmark::DoNotOptimize(y.data());
+  }
+}
+BENCHMARK(BM_Denoise)->Arg(5001)->Unit(benchmark::kMillisecond);
+
+}  // namespace
