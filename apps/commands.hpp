@@ -24,5 +24,6 @@ class CommandFailed : public std::runtime_error {
 
 void AddModesCommand(CLI::App& app);
 void AddSimulateCommand(CLI::App& app);
+void AddCwtCommand(CLI::App& app);
 
 }  // namespace podid::cli
