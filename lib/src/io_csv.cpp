@@ -1,7 +1,5 @@
 // CSV time series: a streaming reader (std::from_chars, bounded line length)
 // and a writer in the reference data's %.12e format.
-#include <sys/stat.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
@@ -158,21 +156,20 @@ TimeSeries ReadCsv(const std::string& path) {
   }
   const std::size_t columns = names.size();
 
-  // Rows, stored row-major; the size is estimated from the file size.
-  std::vector<double> data;
-  bool reserved = false;
+  // Rows, stored row-major in blocks of kBlockRows rows: the blocks are freed
+  // one by one while the result is filled, so the peak memory is about the
+  // result's size plus one block (no reallocation of one growing buffer).
+  constexpr std::size_t kBlockRows = 16384;
+  std::vector<std::unique_ptr<double[]>> blocks;
+  double* row_out = nullptr;
   std::size_t rows = 0;
-  double t_first = 0.0, t_previous = 0.0, step = 0.0;
+  double t_previous = 0.0, step = 0.0;
   while (reader.Next(line)) {
     if (IsBlank(line)) continue;
-    if (!reserved) {
-      struct stat info {};
-      if (::fstat(::fileno(file.get()), &info) == 0 && info.st_size > 0) {
-        const auto estimate = static_cast<std::size_t>(info.st_size) / (line.size() + 1) + 16;
-        data.reserve(std::min(estimate, std::size_t{1} << 28) * columns);
-      }
-      reserved = true;
+    if (rows % kBlockRows == 0) {
+      blocks.push_back(std::make_unique_for_overwrite<double[]>(kBlockRows * columns));
     }
+    row_out = blocks.back().get() + (rows % kBlockRows) * columns;
     const long long line_number = reader.line_number();
     std::size_t position = 0;
     for (std::size_t c = 0; c < columns; ++c) {
@@ -203,7 +200,7 @@ TimeSeries ReadCsv(const std::string& path) {
         ThrowInvalid(where(line_number, column), "a finite number in column " + names[c],
                      Quote(cell));
       }
-      data.push_back(value);
+      row_out[c] = value;
       position = cell_end;
     }
     if (position < line.size()) {
@@ -212,7 +209,7 @@ TimeSeries ReadCsv(const std::string& path) {
                    "more cells (a ragged row)");
     }
     // The time column: increasing and uniform.
-    const double t = data[rows * columns];
+    const double t = row_out[0];
     if (rows > 0) {
       const double d = t - t_previous;
       if (!(d > 0.0)) {
@@ -227,13 +224,10 @@ TimeSeries ReadCsv(const std::string& path) {
                          ToText(kTimeStepRelativeTolerance) + ")",
                      "a step of " + ToText(d) + " s");
       }
-    } else {
-      t_first = t;
     }
     t_previous = t;
     ++rows;
   }
-  (void)t_first;
   if (rows < 2) {
     ThrowInvalid(where(reader.line_number() + 1, 1), "at least 2 samples", std::to_string(rows));
   }
@@ -242,12 +236,19 @@ TimeSeries ReadCsv(const std::string& path) {
   series.channel_names.assign(names.begin() + 1, names.end());
   series.time_s.resize(static_cast<Eigen::Index>(rows));
   series.values.resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(columns - 1));
-  for (std::size_t i = 0; i < rows; ++i) {
-    series.time_s(static_cast<Eigen::Index>(i)) = data[i * columns];
-  }
-  for (std::size_t c = 1; c < columns; ++c) {
-    double* out = series.values.col(static_cast<Eigen::Index>(c - 1)).data();
-    for (std::size_t i = 0; i < rows; ++i) out[i] = data[i * columns + c];
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const double* block = blocks[b].get();
+    const std::size_t first = b * kBlockRows;
+    const std::size_t count = std::min(kBlockRows, rows - first);
+    for (std::size_t i = 0; i < count; ++i) {
+      const double* row = block + i * columns;
+      const auto r = static_cast<Eigen::Index>(first + i);
+      series.time_s(r) = row[0];
+      for (std::size_t c = 1; c < columns; ++c) {
+        series.values(r, static_cast<Eigen::Index>(c - 1)) = row[c];
+      }
+    }
+    blocks[b].reset();
   }
   return series;
 }

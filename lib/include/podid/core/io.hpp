@@ -27,7 +27,7 @@ inline constexpr double kTimeStepRelativeTolerance = 1e-6;
 /// samples, or a time column that is not increasing and uniform (relative
 /// tolerance 1e-6 on the step).
 /// The file is streamed in 1 MiB blocks and parsed with std::from_chars: memory
-/// is the result plus about one copy of it. Cells may be surrounded by spaces;
+/// is the result plus one block of 16384 rows. Cells may be surrounded by spaces;
 /// CRLF line ends and empty lines are accepted. The first column is the time
 /// (named "t" or "time"); the others become channels.
 TimeSeries ReadCsv(const std::string& path);
