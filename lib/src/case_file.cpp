@@ -1040,8 +1040,9 @@ double CaseDocument::GetNumber(std::string_view key) const {
   impl_->Fail(key, "a number", Describe(node));
 }
 
-CaseSpec CaseDocument::ToSpec() const {
-  const Impl& doc = *impl_;
+namespace {
+/// Everything but [identify]: the model, its start, its time and its output.
+CaseSpec ReadModel(const CaseDocument::Impl& doc) {
   CheckKnown(doc, doc.root, "", "", Kind::kTable);
   CaseSpec spec;
   spec.source = doc.source;
@@ -1055,7 +1056,29 @@ CaseSpec CaseDocument::ToSpec() const {
   spec.sensors = ReadSensors(doc, elements);
   spec.noise = ReadNoise(doc);
   spec.integrator = ReadIntegrator(doc);
-  spec.parameters = ReadParameters(doc);
+  return spec;
+}
+}  // namespace
+
+CaseSpec CaseDocument::ToSpec() const {
+  CaseSpec spec = ReadModel(*impl_);
+  spec.parameters = ReadParameters(*impl_);
+  // A parameter whose key is absent from the file must be one this case can
+  // take (nonlinearity.0.gap is no use to a cubic element): try it at start.
+  for (std::size_t i = 0; i < spec.parameters.size(); ++i) {
+    const ParameterSpec& p = spec.parameters[i];
+    if (Has(p.key)) continue;
+    CaseDocument trial(*this);
+    trial.SetNumber(p.key, p.scale * p.start);
+    try {
+      (void)ReadModel(*trial.impl_);
+    } catch (const std::invalid_argument& e) {
+      impl_->Fail("identify.parameter." + std::to_string(i) + ".key",
+                  "a key this case can take at scale * start (setting it gives: " +
+                      std::string(e.what()) + ")",
+                  "\"" + p.key + "\"");
+    }
+  }
   return spec;
 }
 

@@ -632,6 +632,11 @@ TEST(CaseFileRejects, IdentifyParameters) {
                         "upper = 2\n",
                     "case.toml:39: identify.parameter.1.name: expected a name no other "
                     "identify.parameter has, got \"knl\" again");
+  EXPECT_CASE_ERROR(Edit("key = \"nonlinearity.0.k3\"", "key = \"nonlinearity.0.gap\""),
+                    "case.toml:33: identify.parameter.0.key: expected a key this case can take at "
+                    "scale * start (setting it gives: case.toml (nonlinearity.0.gap set by the "
+                    "program): nonlinearity.0.gap: expected only the keys type, node, k3 for type "
+                    "\"cubic\", got gap = 4e+09), got \"nonlinearity.0.gap\"");
   // A key absent from the file but in the schema may be identified.
   const CaseSpec spec = SpecOf(std::string(kBase) +
                                "[[identify.parameter]]\nname = \"zeta2\"\n"
