@@ -3,7 +3,11 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <fstream>
 #include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "podid/wavelet/cwt.hpp"
 #include "podid/wavelet/denoise.hpp"
@@ -68,6 +72,39 @@ void BM_RidgeFrequencyFull(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_RidgeFrequencyFull)->Arg(5001)->Unit(benchmark::kMillisecond);
+
+// The PyWavelets comparison's case (bench/compare_pywt.py): w6 of the
+// reference record, 64 linear frequencies 10-120 Hz, zero padding, full rate.
+Eigen::VectorXd ReferenceW6() {
+  std::ifstream in(std::string(PODID_TEST_DATA_DIR) + "/measured_knl50_T1.0.csv");
+  std::string line;
+  std::getline(in, line);
+  std::vector<double> values;
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::string cell;
+    for (int c = 0; c <= 6; ++c) std::getline(row, cell, ',');
+    values.push_back(std::stod(cell));
+  }
+  return Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+}
+
+void BM_CwtPywtCase(benchmark::State& state) {
+  const Eigen::VectorXd x = ReferenceW6();
+  CwtOptions o;
+  o.padding = Padding::kZero;
+  o.frequencies.spacing = FrequencySpacing::kLinear;
+  o.frequencies.bins = 64;
+  CwtTransform transform(o);
+  Scalogram out;
+  transform.Compute(x, kStep, &out);
+  for (auto _ : state) {
+    transform.Compute(x, kStep, &out);
+    benchmark::DoNotOptimize(out.coefficients.data());
+  }
+  state.counters["samples"] = static_cast<double>(x.size());
+}
+BENCHMARK(BM_CwtPywtCase)->Unit(benchmark::kMillisecond);
 
 void BM_Denoise(benchmark::State& state) {
   const Eigen::VectorXd x = Signal(state.range(0));
