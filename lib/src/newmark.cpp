@@ -119,6 +119,11 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
   damping_ = permute(model.damping());
   stiffness_ = permute(model.stiffness());
   s_ = a0_ * mass_ + a1_ * damping_ + stiffness_;
+  // rhs = M (a0 x + a2 x' + a3 x'') + C (a1 x + (g/b - 1) x' + dt (g/(2b) - 1) x'').
+  rhs_matrix_.resize(n_, 3 * n_);
+  rhs_matrix_.leftCols(n_) = a0_ * mass_ + a1_ * damping_;
+  rhs_matrix_.middleCols(n_, n_) = a2_ * mass_ + (g / b - 1.0) * damping_;
+  rhs_matrix_.rightCols(n_) = a3_ * mass_ + dt * (g / (2.0 * b) - 1.0) * damping_;
   mass_inverse_ = mass_.llt().solve(Eigen::MatrixXd::Identity(n_, n_));
 
   // The `a` dofs are 0..na-1 in the permuted order, so the elements' local
@@ -135,13 +140,18 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     sab_ = s_.topRightCorner(na_, nb_);
     h_ = sbb_inv_ * s_.bottomLeftCorner(nb_, na_);
     shat_ = s_.topLeftCorner(na_, na_) - sab_ * h_;
+    y_matrix_ = sbb_inv_ * rhs_matrix_.bottomRows(nb_);
+    bhat_matrix_ = rhs_matrix_.topRows(na_) - sab_ * y_matrix_;
   }
 }
 
 NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
   const int n = integrator.n_, na = integrator.na_;
-  for (Eigen::VectorXd* v : {&x, &v, &acc, &x_new, &p, &q, &rhs, &y, &r, &dx}) v->setZero(n);
-  for (Eigen::VectorXd* v : {&xa, &xa_n, &va, &fa, &ka, &ca, &ra, &dxa, &xa_trial, &fa_trial})
+  z.setZero(3 * n);
+  for (Eigen::VectorXd* v : {&x_new, &acc_new, &rhs, &r, &dx}) v->setZero(n);
+  y.setZero(integrator.nb_);
+  load_y.setZero(integrator.nb_);
+  for (Eigen::VectorXd* v : {&xa, &xa_n, &va, &fa, &ka, &ca, &ra, &dxa, &xa_trial, &load_bhat})
     v->setZero(na);
   jac.setZero(n, n);
   jac_a.setZero(na, na);
@@ -154,21 +164,23 @@ NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
 // Velocity of the `a` dofs implied by the trial displacement w.xa (Newmark relations).
 void NewmarkIntegrator::NonlinearVelocity(NewmarkWorkspace& w) const {
   const double dt = options_.step_s, g = options_.gamma, b = options_.beta;
-  w.va = a1_ * (w.xa - w.xa_n) + (1.0 - g / b) * w.v.head(na_) +
-         dt * (1.0 - g / (2.0 * b)) * w.acc.head(na_);
+  w.va = a1_ * (w.xa - w.xa_n) + (1.0 - g / b) * w.z.segment(n_, na_) +
+         dt * (1.0 - g / (2.0 * b)) * w.z.segment(2 * n_, na_);
 }
 
-bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, double load, int load_dof,
-                                     int* iterations, double* residual) const {
-  // y = S_b^-1 r_b;  bhat = rhs_a - S_ab y  (the right side of eq. 29 at x_b = y).
-  if (load_dof >= 0) w.rhs[load_dof] += load;
-  w.y.tail(nb_).noalias() = sbb_inv_ * w.rhs.tail(nb_);
+bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, double load, int* iterations,
+                                     double* residual) const {
+  // y = S_b^-1 rhs_b and bhat = rhs_a - S_ab y (the right side of eq. 29 at
+  // x_b = y), straight from the state with the precomputed maps.
+  w.y.noalias() = y_matrix_ * w.z;
+  if (load != 0.0) w.y += load * w.load_y;
   *iterations = 0;
   *residual = 0.0;
   if (na_ > 0) {
-    w.ra = w.rhs.head(na_);
-    w.ra.noalias() -= sab_ * w.y.tail(nb_);  // ra holds bhat during the iterations
-    w.xa_n = w.x.head(na_);
+    w.ra.noalias() = bhat_matrix_ * w.z;  // ra holds bhat during the iterations
+    if (load != 0.0) w.ra += load * w.load_bhat;
+    if (na_ == 1) return SolveScalar(w, iterations, residual);
+    w.xa_n = w.z.head(na_);
     w.xa = w.xa_n;
     bool converged = false;
     for (int it = 0; it <= options_.max_iterations; ++it) {
@@ -187,32 +199,58 @@ bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, double load, int load_
       }
       if (it == options_.max_iterations) break;
       // Tangent of eq. 29: Shat + K_t + a1 C_t on the `a` dofs.
-      if (na_ == 1) {
-        const double j = shat_(0, 0) + w.ka[0] + a1_ * w.ca[0];
-        w.xa[0] -= w.dxa[0] / j;
-      } else {
-        w.jac_a = shat_;
-        w.jac_a.diagonal() += w.ka + a1_ * w.ca;
-        w.lu_a.compute(w.jac_a);
-        w.xa_trial = w.lu_a.solve(w.dxa);
-        w.xa -= w.xa_trial;
-      }
+      w.jac_a = shat_;
+      w.jac_a.diagonal() += w.ka + a1_ * w.ca;
+      w.lu_a.compute(w.jac_a);
+      w.xa_trial = w.lu_a.solve(w.dxa);
+      w.xa -= w.xa_trial;
       ++*iterations;
     }
     if (!converged) return false;
     w.x_new.head(na_) = w.xa;
   }
-  // eq. 28: x_b = S_b^-1 (r_b - S_ba x_a).
-  w.x_new.tail(nb_) = w.y.tail(nb_);
+  // eq. 28: x_b = S_b^-1 (rhs_b - S_ba x_a) = y - H x_a.
+  w.x_new.tail(nb_) = w.y;
   if (na_ > 0) w.x_new.tail(nb_).noalias() -= h_ * w.xa;
   return true;
 }
 
+// eq. 29 for a single nonlinear dof, in scalars; then eq. 28 for x_b.
+bool NewmarkIntegrator::SolveScalar(NewmarkWorkspace& w, int* iterations, double* residual) const {
+  const double dt = options_.step_s, g = options_.gamma, b = options_.beta;
+  const double x_n = w.z[0], v_n = w.z[n_], a_n = w.z[2 * n_];
+  const double shat = shat_(0, 0), bhat = w.ra[0];
+  // The velocity implied by a trial x (Newmark relations): v = a1 (x - x_n) + v0.
+  const double v0 = (1.0 - g / b) * v_n + dt * (1.0 - g / (2.0 * b)) * a_n;
+  // Start from the Taylor predictor x_n + dt v_n + dt^2 a_n / 2.
+  double x = x_n + dt * (v_n + 0.5 * dt * a_n), f = 0.0, k = 0.0, c = 0.0;
+  for (int it = 0; it <= options_.max_iterations; ++it) {
+    nonlinear_.EvaluateScalar(x, a1_ * (x - x_n) + v0, &f, &k, &c);
+    const double sx = shat * x;
+    const double scale = std::max({std::abs(sx), std::abs(bhat), std::abs(f), 1e-300});
+    const double r = sx - bhat - f;
+    *residual = std::abs(r) / scale;
+    if (!std::isfinite(*residual)) return false;
+    if (*residual <= options_.tolerance) {
+      w.xa[0] = x;
+      w.x_new[0] = x;
+      w.x_new.tail(nb_) = w.y;
+      w.x_new.tail(nb_).noalias() -= h_.col(0) * x;
+      return true;
+    }
+    if (it == options_.max_iterations) break;
+    x -= r / (shat + k + a1_ * c);
+    ++*iterations;
+  }
+  return false;
+}
+
 bool NewmarkIntegrator::StepFull(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
                                  double* residual) const {
+  w.rhs.noalias() = rhs_matrix_ * w.z;
   if (load_dof >= 0) w.rhs[load_dof] += load;
-  w.x_new = w.x;
-  w.xa_n = w.x.head(na_);
+  w.x_new = w.z.head(n_);
+  w.xa_n = w.z.head(na_);
   *iterations = 0;
   for (int it = 0; it <= options_.max_iterations; ++it) {
     w.xa = w.x_new.head(na_);
@@ -274,20 +312,34 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
   if (recording->record_velocity) recording->velocity.resize(steps + 1, n_rec);
 
   NewmarkWorkspace& w = *workspace;
+  auto x = w.z.head(n_);
+  auto v = w.z.segment(n_, n_);
+  auto acc = w.z.tail(n_);
   for (int k = 0; k < n_; ++k) {
-    w.x[k] = initial.displacement[perm_[k]];
-    w.v[k] = initial.velocity[perm_[k]];
+    x[k] = initial.displacement[perm_[k]];
+    v[k] = initial.velocity[perm_[k]];
   }
   // Initial acceleration from the equation of motion at t = 0.
-  w.xa = w.x.head(na_);
-  w.va = w.v.head(na_);
+  w.xa = x.head(na_);
+  w.va = v.head(na_);
   nonlinear_.Evaluate(w.xa, w.va, w.fa, w.ka, w.ca);
   w.rhs.setZero();
   w.rhs.head(na_) = w.fa;
   if (has_load) w.rhs[load_dof] += load.values_N[0];
-  w.rhs.noalias() -= stiffness_ * w.x;
-  w.rhs.noalias() -= damping_ * w.v;
-  w.acc.noalias() = mass_inverse_ * w.rhs;
+  w.rhs.noalias() -= stiffness_ * x;
+  w.rhs.noalias() -= damping_ * v;
+  acc.noalias() = mass_inverse_ * w.rhs;
+  // How a unit load on load_dof enters y and bhat (modified method).
+  w.load_y.setZero();
+  w.load_bhat.setZero();
+  if (has_load && options_.type == IntegratorType::kModifiedNewmark) {
+    if (load_dof < na_) {
+      w.load_bhat[load_dof] = 1.0;
+    } else {
+      w.load_y = sbb_inv_.col(load_dof - na_);
+      w.load_bhat.noalias() -= sab_ * w.load_y;
+    }
+  }
 
   SimulationSummary summary;
   summary.integrator = options_.type;
@@ -295,26 +347,21 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
   summary.nonlinear_dofs = na_;
   summary.steps_requested = steps;
   auto record = [&](int row) {
-    for (int k = 0; k < n_rec; ++k) recording->displacement(row, k) = w.x[rec[k]];
+    for (int k = 0; k < n_rec; ++k) recording->displacement(row, k) = x[rec[k]];
     if (recording->record_velocity)
-      for (int k = 0; k < n_rec; ++k) recording->velocity(row, k) = w.v[rec[k]];
+      for (int k = 0; k < n_rec; ++k) recording->velocity(row, k) = v[rec[k]];
   };
   record(0);
 
-  const double dt = options_.step_s, g = options_.gamma, b = options_.beta;
+  const double dt = options_.step_s, g = options_.gamma;
   summary.termination = SimulationTermination::kCompleted;
   SetMallocAllowed(false);
   for (int step = 1; step <= steps; ++step) {
-    // Known part of the right side: rhs = M (a0 x + a2 v + a3 a) + C (a1 x + (g/b - 1) v + dt (g/(2b) - 1) a).
-    w.p = a0_ * w.x + a2_ * w.v + a3_ * w.acc;
-    w.q = a1_ * w.x + (g / b - 1.0) * w.v + dt * (g / (2.0 * b) - 1.0) * w.acc;
-    w.rhs.noalias() = mass_ * w.p;
-    w.rhs.noalias() += damping_ * w.q;
     int iterations = 0;
     double residual = 0.0;
     const double load_value = has_load ? load.values_N[step] : 0.0;
     const bool ok = options_.type == IntegratorType::kModifiedNewmark
-                        ? StepModified(w, load_value, load_dof, &iterations, &residual)
+                        ? StepModified(w, load_value, &iterations, &residual)
                         : StepFull(w, load_value, load_dof, &iterations, &residual);
     summary.newton_iterations += iterations;
     if (iterations > summary.max_step_iterations) {
@@ -334,10 +381,10 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
       break;
     }
     // Newmark updates of acceleration and velocity.
-    w.p = a0_ * (w.x_new - w.x) - a2_ * w.v - a3_ * w.acc;  // new acceleration
-    w.v += dt * ((1.0 - g) * w.acc + g * w.p);
-    w.acc = w.p;
-    w.x = w.x_new;
+    w.acc_new = a0_ * (w.x_new - x) - a2_ * v - a3_ * acc;
+    v += dt * ((1.0 - g) * acc + g * w.acc_new);
+    acc = w.acc_new;
+    x = w.x_new;
     summary.steps_completed = step;
     record(step);
   }

@@ -105,8 +105,9 @@ class NewmarkWorkspace {
 
  private:
   friend class NewmarkIntegrator;
-  Eigen::VectorXd x, v, acc, x_new, p, q, rhs, y, r, dx;
-  Eigen::VectorXd xa, xa_n, va, fa, ka, ca, ra, dxa, xa_trial, fa_trial;
+  Eigen::VectorXd z;  ///< state (dim 3 n): x, x', x'' in the permuted order
+  Eigen::VectorXd x_new, acc_new, rhs, y, r, dx, load_y;
+  Eigen::VectorXd xa, xa_n, va, fa, ka, ca, ra, dxa, xa_trial, load_bhat;
   Eigen::MatrixXd jac, jac_a;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu, lu_a;
 };
@@ -131,8 +132,8 @@ class NewmarkIntegrator {
 
  private:
   friend class NewmarkWorkspace;
-  bool StepModified(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
-                    double* residual) const;
+  bool StepModified(NewmarkWorkspace& w, double load, int* iterations, double* residual) const;
+  bool SolveScalar(NewmarkWorkspace& w, int* iterations, double* residual) const;
   bool StepFull(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
                 double* residual) const;
   void NonlinearVelocity(NewmarkWorkspace& w) const;
@@ -144,7 +145,12 @@ class NewmarkIntegrator {
   std::vector<int> perm_;      ///< perm_[k] = original dof of permuted index k
   std::vector<int> inv_perm_;  ///< inverse of perm_
   Eigen::MatrixXd mass_, damping_, stiffness_, s_;
-  Eigen::MatrixXd sbb_inv_, sab_, h_, shat_;
+  /// rhs = A [x; x'; x''] (n x 3n): the known part of S x_{n+1} = rhs + g + f_nl.
+  Eigen::MatrixXd rhs_matrix_;
+  // Condensation (modified method): S_b^-1, S_ab, H = S_b^-1 S_ba,
+  // Shat = S_a - S_ab S_b^-1 S_ba, and the state-to-(y, bhat) maps
+  // y = S_b^-1 rhs_b = Y [x; x'; x''], bhat = rhs_a - S_ab y = B [x; x'; x''].
+  Eigen::MatrixXd sbb_inv_, sab_, h_, shat_, y_matrix_, bhat_matrix_;
   Eigen::MatrixXd mass_inverse_;
   NonlinearForces nonlinear_;  ///< with `local` indices = permuted indices
 };

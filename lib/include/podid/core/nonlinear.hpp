@@ -42,6 +42,10 @@ class NonlinearForces {
                 Eigen::Ref<Eigen::VectorXd> stiffness_a,
                 Eigen::Ref<Eigen::VectorXd> damping_a) const;
 
+  /// The same for a single `a` dof (n_a = 1): the hot path of the condensed
+  /// integrator, without vector overhead.
+  void EvaluateScalar(double w, double v, double* f, double* stiffness, double* damping) const;
+
  private:
   std::vector<NonlinearElement> elements_;
   std::vector<int> dofs_;
