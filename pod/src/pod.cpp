@@ -1,0 +1,481 @@
+#include "podid/pod/pod.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "podid/core/error.hpp"
+
+namespace podid {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+// JacobiSVD (QR-preconditioned) beats BDCSVD up to this min(M, N); measured in
+// bench/pod_benchmark.cpp (BDCSVD itself switches to Jacobi below 16).
+constexpr Eigen::Index kJacobiSvdMaxSize = 16;
+// Sign convention: components within this relative margin of the largest
+// magnitude count as tied; the first of them is made positive.
+constexpr double kSignTieMargin = 1e-8;
+// A weighting matrix is symmetric when max |W - W^T| <= this * max |W|.
+constexpr double kSymmetryTolerance = 1e-10;
+
+std::string Shape(Eigen::Index rows, Eigen::Index cols) {
+  return std::to_string(rows) + " x " + std::to_string(cols);
+}
+
+}  // namespace
+
+const char* ToString(PodMethod method) {
+  switch (method) {
+    case PodMethod::kAuto:
+      return "auto";
+    case PodMethod::kSvd:
+      return "svd";
+    case PodMethod::kDirect:
+      return "direct";
+    case PodMethod::kSnapshot:
+      return "snapshot";
+  }
+  return "unknown";
+}
+
+PodMethod ParsePodMethod(std::string_view name) {
+  for (PodMethod m :
+       {PodMethod::kAuto, PodMethod::kSvd, PodMethod::kDirect, PodMethod::kSnapshot}) {
+    if (name == ToString(m)) return m;
+  }
+  ThrowInvalid("POD method", "one of auto, svd, direct, snapshot", "\"" + std::string(name) + "\"");
+}
+
+bool PodOptions::IsValid(std::string* why) const {
+  auto fail = [why](const std::string& message) {
+    if (why != nullptr) *why = message;
+    return false;
+  };
+  switch (method) {
+    case PodMethod::kAuto:
+    case PodMethod::kSvd:
+    case PodMethod::kDirect:
+    case PodMethod::kSnapshot:
+      break;
+    default:
+      return fail("PodOptions.method: expected auto, svd, direct or snapshot, got " +
+                  std::to_string(static_cast<int>(method)));
+  }
+  if (max_modes < 0) {
+    return fail("PodOptions.max_modes: expected >= 0 (0 = all), got " + std::to_string(max_modes));
+  }
+  if (!(energy_fraction > 0.0 && energy_fraction <= 1.0)) {
+    return fail("PodOptions.energy_fraction: expected a fraction in (0, 1], got " +
+                ToText(energy_fraction));
+  }
+  if (!(sigma_threshold >= 0.0 && std::isfinite(sigma_threshold))) {
+    return fail("PodOptions.sigma_threshold: expected a finite value >= 0, got " +
+                ToText(sigma_threshold));
+  }
+  if (weighting.size() != 0) {
+    if (weighting.rows() != weighting.cols()) {
+      return fail("PodOptions.weighting: expected a square (M x M) matrix, got " +
+                  Shape(weighting.rows(), weighting.cols()));
+    }
+    if (!weighting.allFinite()) {
+      return fail("PodOptions.weighting: expected finite values, got NaN or Inf");
+    }
+    const double scale = weighting.cwiseAbs().maxCoeff();
+    const double asymmetry = (weighting - weighting.transpose()).cwiseAbs().maxCoeff();
+    if (asymmetry > kSymmetryTolerance * scale) {
+      return fail("PodOptions.weighting: expected a symmetric matrix, got max |W - W^T| = " +
+                  ToText(asymmetry));
+    }
+  }
+  return true;
+}
+
+double NoiseSigmaThreshold(double noise_std, Eigen::Index sensors, Eigen::Index samples) {
+  if (!(noise_std >= 0.0 && std::isfinite(noise_std))) {
+    ThrowInvalid("NoiseSigmaThreshold: noise_std", "a finite value >= 0", ToText(noise_std));
+  }
+  return noise_std *
+         (std::sqrt(static_cast<double>(sensors)) + std::sqrt(static_cast<double>(samples)));
+}
+
+// Every buffer a Compute() needs; sized on the first call of a shape.
+struct PodSolver::Workspace {
+  bool weighted = false;
+  Eigen::MatrixXd upper;         // L^T (M x M), W = L L^T
+  Eigen::MatrixXd y;             // centred, weighted data Y (M x N)
+  Eigen::MatrixXd weighted_y;    // L^T (X - mean) before the swap into y (M x N)
+  Eigen::MatrixXd coefficients;  // kSnapshot: the kept A_k (N x k)
+  Eigen::MatrixXd gram;          // Y Y^T (M x M) or Y^T Y (N x N)
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen;
+  Eigen::VectorXd sigma_all;  // all min(M, N) singular values, descending
+  Eigen::JacobiSVD<Eigen::MatrixXd, Eigen::ColPivHouseholderQRPreconditioner> jacobi;
+  Eigen::BDCSVD<Eigen::MatrixXd> bdc;
+};
+
+PodSolver::PodSolver(PodOptions options)
+    : options_(std::move(options)), workspace_(std::make_unique<Workspace>()) {
+  std::string why;
+  if (!options_.IsValid(&why)) throw std::invalid_argument(why);
+  if (options_.weighting.size() != 0) {
+    Eigen::LLT<Eigen::MatrixXd> llt(options_.weighting);
+    if (llt.info() != Eigen::Success) {
+      ThrowInvalid("PodOptions.weighting", "a symmetric positive definite matrix",
+                   "a matrix whose Cholesky factorisation fails");
+    }
+    workspace_->weighted = true;
+    workspace_->upper = llt.matrixU();
+  }
+}
+
+PodSolver::~PodSolver() = default;
+PodSolver::PodSolver(PodSolver&&) noexcept = default;
+PodSolver& PodSolver::operator=(PodSolver&&) noexcept = default;
+
+const PodResult& PodSolver::Compute(const Eigen::Ref<const Eigen::MatrixXd>& x) {
+  return ComputeImpl(x);
+}
+
+const PodResult& PodSolver::Compute(const TimeSeries& series) {
+  return ComputeImpl(series.values.transpose());
+}
+
+template <typename Derived>
+const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& x) {
+  using Eigen::Index;
+  Workspace& w = *workspace_;
+  PodResult& r = result_;
+  const Index m = x.rows();
+  const Index n = x.cols();
+  if (m == 0 || n == 0) {
+    ThrowInvalid("POD data", "a non-empty snapshot matrix (M sensors x N samples)", Shape(m, n));
+  }
+  if (w.weighted && w.upper.rows() != m) {
+    ThrowInvalid("PodOptions.weighting",
+                 "an M x M matrix for M = " + std::to_string(m) + " sensors",
+                 Shape(w.upper.rows(), w.upper.cols()));
+  }
+  const Index available = std::min(m, n);
+  if (options_.max_modes > available) {
+    ThrowInvalid("PodOptions.max_modes", "<= min(M, N) = " + std::to_string(available),
+                 std::to_string(options_.max_modes));
+  }
+
+  // eq. 1: v = u - U, U the time mean of each sensor.
+  w.y.resize(m, n);
+  w.y.noalias() = x;
+  r.mean.resize(m);
+  if (options_.remove_mean) {
+    r.mean.noalias() = w.y.rowwise().mean();
+    w.y.colwise() -= r.mean;
+  } else {
+    r.mean.setZero();
+  }
+  if (w.weighted) {
+    w.weighted_y.resize(m, n);
+    w.weighted_y.noalias() = w.upper.triangularView<Eigen::Upper>() * w.y;
+    w.y.swap(w.weighted_y);
+  }
+  const double energy = w.y.squaredNorm();  // ||Y||_F^2 = sum of all sigma^2
+  if (!std::isfinite(energy)) {
+    for (Index j = 0; j < n; ++j) {
+      for (Index i = 0; i < m; ++i) {
+        if (!std::isfinite(x(i, j))) {
+          ThrowInvalid("POD data", "finite values",
+                       ToText(x(i, j)) + " at sensor " + std::to_string(i) + ", sample " +
+                           std::to_string(j));
+        }
+      }
+    }
+    ThrowInvalid("POD data", "values whose squares sum to a finite number", "an overflow");
+  }
+
+  PodMethod method = options_.method;
+  if (method == PodMethod::kAuto) method = m <= n ? PodMethod::kDirect : PodMethod::kSnapshot;
+  const Index gram_size = method == PodMethod::kDirect ? m : n;
+  if (method != PodMethod::kSvd && gram_size > kMaxGramDimension) {
+    if (options_.method != PodMethod::kAuto) {
+      ThrowInvalid(std::string("POD method ") + ToString(method),
+                   "a Gram matrix side <= " + std::to_string(kMaxGramDimension),
+                   std::to_string(gram_size) + " (use svd)");
+    }
+    method = PodMethod::kSvd;
+  }
+
+  // Number of modes kept from the singular values, all min(M, N) of them.
+  auto kept_modes = [&](const Eigen::VectorXd& sigma) {
+    Index k = options_.max_modes == 0 ? available : options_.max_modes;
+    if (options_.energy_fraction < 1.0 && energy > 0.0) {
+      double cumulative = 0.0;
+      for (Index j = 0; j < k; ++j) {
+        cumulative += sigma(j) * sigma(j) / energy;
+        if (cumulative >= options_.energy_fraction * (1.0 - 4 * kEps)) {
+          k = j + 1;
+          break;
+        }
+      }
+    }
+    Index above = 0;
+    while (above < k && sigma(above) > options_.sigma_threshold) ++above;
+    if (options_.sigma_threshold > 0.0) k = above;
+    return k;
+  };
+
+  Index k = 0;
+  Index rank = 0;
+  const double size_eps = static_cast<double>(std::max(m, n)) * kEps;
+  bool done = false;
+  if (method == PodMethod::kDirect || method == PodMethod::kSnapshot) {
+    const bool direct = method == PodMethod::kDirect;
+    w.gram.resize(gram_size, gram_size);
+    w.gram.setZero();
+    if (direct) {
+      w.gram.selfadjointView<Eigen::Lower>().rankUpdate(w.y);  // Y Y^T, eqs. 7-8 (times N)
+    } else {
+      w.gram.selfadjointView<Eigen::Lower>().rankUpdate(w.y.transpose());  // C*, eq. 14
+    }
+    w.eigen.compute(w.gram, Eigen::ComputeEigenvectors);
+    PODID_CHECK_MSG(w.eigen.info() == Eigen::Success, "Gram eigensolver did not converge");
+    const Eigen::VectorXd& values = w.eigen.eigenvalues();  // ascending, = sigma^2
+    const double largest = std::max(values(gram_size - 1), 0.0);
+    w.sigma_all.resize(available);
+    for (Index j = 0; j < available; ++j) {
+      const double value = values(gram_size - 1 - j);
+      const bool nonzero = largest > 0.0 && value > size_eps * largest;
+      w.sigma_all(j) = nonzero ? std::sqrt(value) : 0.0;
+      rank += nonzero ? 1 : 0;
+    }
+    k = kept_modes(w.sigma_all);
+    bool accurate = true;
+    for (Index j = 0; j < k; ++j) {
+      const double value = w.sigma_all(j) * w.sigma_all(j);
+      if (value > 0.0 && value < kAutoGramRatio * largest) accurate = false;
+    }
+    if (accurate || options_.method != PodMethod::kAuto) {
+      const auto& vectors = w.eigen.eigenvectors();
+      r.poms.resize(m, k);
+      r.time_modes.resize(options_.compute_time_modes ? n : 0, options_.compute_time_modes ? k : 0);
+      if (direct) {
+        for (Index j = 0; j < k; ++j) r.poms.col(j) = vectors.col(m - 1 - j);
+        if (options_.compute_time_modes) r.time_modes.noalias() = w.y.transpose() * r.poms;
+      } else {
+        // eq. 10: phi_k = sum_j a_kj v_j; V = A.
+        w.coefficients.resize(n, k);
+        for (Index j = 0; j < k; ++j) w.coefficients.col(j) = vectors.col(n - 1 - j);
+        r.poms.noalias() = w.y * w.coefficients;
+        if (options_.compute_time_modes) r.time_modes = w.coefficients;
+      }
+      for (Index j = 0; j < k; ++j) {
+        const double s = w.sigma_all(j);
+        if (s == 0.0) {
+          r.poms.col(j).setZero();
+          if (options_.compute_time_modes) r.time_modes.col(j).setZero();
+        } else if (direct) {
+          if (options_.compute_time_modes) r.time_modes.col(j) /= s;
+        } else {
+          r.poms.col(j) /= s;
+        }
+      }
+      done = true;
+    } else {
+      method = PodMethod::kSvd;  // kAuto: a kept mode is below the Gram accuracy
+      rank = 0;
+    }
+  }
+  if (!done) {
+    const unsigned int what = options_.compute_time_modes
+                                  ? (Eigen::ComputeThinU | Eigen::ComputeThinV)
+                                  : Eigen::ComputeThinU;
+    const bool jacobi = available <= kJacobiSvdMaxSize;
+    if (jacobi) {
+      w.jacobi.compute(w.y, what);
+    } else {
+      w.bdc.compute(w.y, what);
+    }
+    const Eigen::VectorXd& sigma = jacobi ? w.jacobi.singularValues() : w.bdc.singularValues();
+    w.sigma_all.resize(available);
+    for (Index j = 0; j < available; ++j) {
+      const bool nonzero = sigma(0) > 0.0 && sigma(j) > size_eps * sigma(0);
+      w.sigma_all(j) = nonzero ? sigma(j) : 0.0;
+      rank += nonzero ? 1 : 0;
+    }
+    k = kept_modes(w.sigma_all);
+    r.poms = (jacobi ? w.jacobi.matrixU() : w.bdc.matrixU()).leftCols(k);
+    if (options_.compute_time_modes) {
+      r.time_modes = (jacobi ? w.jacobi.matrixV() : w.bdc.matrixV()).leftCols(k);
+    } else {
+      r.time_modes.resize(0, 0);
+    }
+    for (Index j = 0; j < k; ++j) {
+      if (w.sigma_all(j) == 0.0) {
+        r.poms.col(j).setZero();
+        if (options_.compute_time_modes) r.time_modes.col(j).setZero();
+      }
+    }
+  }
+
+  // U = L^{-T} Psi: back to physical coordinates, W-orthonormal.
+  if (w.weighted) w.upper.triangularView<Eigen::Upper>().solveInPlace(r.poms);
+
+  // Deterministic signs (header): first near-largest component positive.
+  for (Index j = 0; j < k; ++j) {
+    if (w.sigma_all(j) == 0.0) continue;
+    const double largest = r.poms.col(j).cwiseAbs().maxCoeff();
+    for (Index i = 0; i < m; ++i) {
+      if (std::abs(r.poms(i, j)) >= largest * (1.0 - kSignTieMargin)) {
+        if (r.poms(i, j) < 0.0) {
+          r.poms.col(j) *= -1.0;
+          if (options_.compute_time_modes) r.time_modes.col(j) *= -1.0;
+        }
+        break;
+      }
+    }
+  }
+
+  r.method = method;
+  r.sensors = m;
+  r.samples = n;
+  r.singular_values = w.sigma_all.head(k);
+  const double samples = static_cast<double>(n);
+  r.proper_orthogonal_values = r.singular_values.array().square() / samples;  // lambda = sigma^2/N
+  r.total_energy = energy / samples;
+  r.energy_fraction.resize(k);
+  r.cumulative_energy.resize(k);
+  double cumulative = 0.0;
+  for (Index j = 0; j < k; ++j) {
+    r.energy_fraction(j) =
+        energy > 0.0 ? r.singular_values(j) * r.singular_values(j) / energy : 0.0;
+    cumulative += r.energy_fraction(j);
+    r.cumulative_energy(j) = cumulative;
+  }
+  r.numerical_rank = static_cast<int>(rank);
+  return r;
+}
+
+PodResult ComputePod(const Eigen::Ref<const Eigen::MatrixXd>& x, const PodOptions& options) {
+  PodSolver solver(options);
+  return solver.Compute(x);
+}
+
+PodResult ComputePod(const TimeSeries& series, const PodOptions& options) {
+  PodSolver solver(options);
+  return solver.Compute(series);
+}
+
+Eigen::MatrixXd ModalAssuranceCriterion(const Eigen::Ref<const Eigen::MatrixXd>& a,
+                                        const Eigen::Ref<const Eigen::MatrixXd>& b) {
+  if (a.rows() != b.rows()) {
+    ThrowInvalid("ModalAssuranceCriterion", "mode shapes of the same length (rows)",
+                 Shape(a.rows(), a.cols()) + " and " + Shape(b.rows(), b.cols()));
+  }
+  Eigen::MatrixXd mac = (a.transpose() * b).array().square().matrix();
+  const Eigen::VectorXd na = a.colwise().squaredNorm().transpose();
+  const Eigen::VectorXd nb = b.colwise().squaredNorm().transpose();
+  for (Eigen::Index j = 0; j < mac.cols(); ++j) {
+    for (Eigen::Index i = 0; i < mac.rows(); ++i) {
+      const double d = na(i) * nb(j);
+      mac(i, j) = d > 0.0 ? std::min(mac(i, j) / d, 1.0) : 0.0;
+    }
+  }
+  return mac;
+}
+
+PodAlignment AlignToReference(const PodResult& reference, PodResult* result) {
+  PODID_CHECK(result != nullptr);
+  using Eigen::Index;
+  const Index kr = reference.modes();
+  const Index k = result->modes();
+  if (reference.poms.rows() != result->poms.rows()) {
+    ThrowInvalid("AlignToReference", "POMs of the same length M (rows)",
+                 Shape(reference.poms.rows(), kr) + " and " + Shape(result->poms.rows(), k));
+  }
+  if (k < kr) {
+    ThrowInvalid("AlignToReference",
+                 "at least as many modes as the reference (" + std::to_string(kr) + ")",
+                 std::to_string(k));
+  }
+  PodAlignment alignment;
+  alignment.mac = ModalAssuranceCriterion(reference.poms, result->poms);
+
+  // Greedy matching: the largest remaining MAC first.
+  std::vector<int> match(static_cast<std::size_t>(kr), -1);
+  std::vector<bool> used(static_cast<std::size_t>(k), false);
+  for (Index step = 0; step < kr; ++step) {
+    double best = -1.0;
+    Index bi = 0, bj = 0;
+    for (Index i = 0; i < kr; ++i) {
+      if (match[static_cast<std::size_t>(i)] >= 0) continue;
+      for (Index j = 0; j < k; ++j) {
+        if (used[static_cast<std::size_t>(j)]) continue;
+        // Ties (e.g. zero modes, MAC 0) go to the lowest indices.
+        if (alignment.mac(i, j) > best) {
+          best = alignment.mac(i, j);
+          bi = i;
+          bj = j;
+        }
+      }
+    }
+    match[static_cast<std::size_t>(bi)] = static_cast<int>(bj);
+    used[static_cast<std::size_t>(bj)] = true;
+  }
+  alignment.order = match;
+  for (Index j = 0; j < k; ++j) {
+    if (!used[static_cast<std::size_t>(j)]) alignment.order.push_back(static_cast<int>(j));
+  }
+
+  PodResult& r = *result;
+  const PodResult original = r;
+  const bool has_v = r.time_modes.cols() == k;
+  alignment.sign.assign(static_cast<std::size_t>(k), 1);
+  double cumulative = 0.0;
+  for (Index i = 0; i < k; ++i) {
+    const Index j = alignment.order[static_cast<std::size_t>(i)];
+    double s = 1.0;
+    if (i < kr && reference.poms.col(i).dot(original.poms.col(j)) < 0.0) s = -1.0;
+    alignment.sign[static_cast<std::size_t>(i)] = static_cast<int>(s);
+    r.poms.col(i) = s * original.poms.col(j);
+    if (has_v) r.time_modes.col(i) = s * original.time_modes.col(j);
+    r.singular_values(i) = original.singular_values(j);
+    r.proper_orthogonal_values(i) = original.proper_orthogonal_values(j);
+    r.energy_fraction(i) = original.energy_fraction(j);
+    cumulative += r.energy_fraction(i);
+    r.cumulative_energy(i) = cumulative;
+  }
+  return alignment;
+}
+
+Eigen::MatrixXd Reconstruct(const PodResult& result, int modes) {
+  if (modes < 0 || modes > result.modes()) {
+    ThrowInvalid("Reconstruct: modes", "0 <= modes <= " + std::to_string(result.modes()),
+                 std::to_string(modes));
+  }
+  if (result.time_modes.cols() != result.modes() || result.time_modes.rows() != result.samples) {
+    ThrowInvalid("Reconstruct", "a PodResult with time modes (compute_time_modes = true)",
+                 "V of " + Shape(result.time_modes.rows(), result.time_modes.cols()));
+  }
+  Eigen::MatrixXd x = result.mean.replicate(1, result.samples);
+  // U Sigma V^T: eq. 6 with a_k(t) = sigma_k V(t, k), truncated to `modes`.
+  x.noalias() += result.poms.leftCols(modes) * result.singular_values.head(modes).asDiagonal() *
+                 result.time_modes.leftCols(modes).transpose();
+  return x;
+}
+
+double ReconstructionError(const PodResult& result,
+                           const Eigen::Ref<const Eigen::MatrixXd>& x,
+                           int modes) {
+  if (x.rows() != result.sensors || x.cols() != result.samples) {
+    ThrowInvalid("ReconstructionError: data",
+                 "the decomposed shape " + Shape(result.sensors, result.samples),
+                 Shape(x.rows(), x.cols()));
+  }
+  const double difference = (x - Reconstruct(result, modes)).norm();
+  const double scale = x.norm();
+  return scale > 0.0 ? difference / scale : difference;
+}
+
+}  // namespace podid
