@@ -18,6 +18,8 @@ int main(int argc, char** argv) {
   podid::cli::AddModesCommand(app);
   podid::cli::AddSimulateCommand(app);
   podid::cli::AddCwtCommand(app);
+  podid::cli::AddIdentifyCommand(app);
+  podid::cli::AddLandscapeCommand(app);
 
   try {
     app.parse(argc, argv);

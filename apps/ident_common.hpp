@@ -1,0 +1,37 @@
+#pragma once
+// Options shared by `podid identify` and `podid landscape`: the measured data,
+// the objective's settings and the parameters' starts.
+
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli_common.hpp"
+#include "podid/ident/objective.hpp"
+
+namespace podid::cli {
+
+struct ObjectiveArguments {
+  CaseArguments input;
+  std::string measured;
+  int modes = 1;
+  bool raw_sigma = false;
+  double fmin_Hz = 10.0;
+  double fmax_Hz = 120.0;
+  double penalty_s = 0.05;
+  std::vector<std::string> starts;  ///< name=value
+
+  void AddTo(CLI::App& command);
+  /// Loads case and data and builds the objective (prints its notes on stderr).
+  /// `needs_ridges` when an objective uses dIF.
+  std::unique_ptr<ident::ObjectiveFunction> Build(bool needs_ridges) const;
+  /// The start vector after --start overrides (throws for unknown names).
+  Eigen::VectorXd Start(const ident::ObjectiveFunction& objective) const;
+};
+
+/// `--objective` presets, or `--terms`/`--weights`.
+ident::ObjectiveWeights WeightsFrom(const std::string& objective, const std::string& terms,
+                                    const std::string& weights);
+
+}  // namespace podid::cli

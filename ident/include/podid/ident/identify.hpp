@@ -1,0 +1,103 @@
+#pragma once
+// Identification: minimise an objective over the parameters' box with NLopt
+// (Ceres-style options and summary). Local derivative-free algorithms start
+// from the parameters' start (and, with multistart > 1, from Latin-hypercube
+// points in the bounds, run in parallel); global ones search the whole box.
+// The best point seen is kept whatever NLopt returns.
+
+#include <Eigen/Core>
+#include <atomic>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "podid/ident/objective.hpp"
+
+namespace podid::ident {
+
+enum class Algorithm {
+  kLnBobyqa,     ///< LN_BOBYQA (default): quadratic trust-region models
+  kLnNelderMead, ///< LN_NELDERMEAD
+  kLnSbplx,      ///< LN_SBPLX (subplex)
+  kLnCobyla,     ///< LN_COBYLA
+  kGnDirectL,    ///< GN_DIRECT_L (global, deterministic)
+  kGnCrs2Lm,     ///< GN_CRS2_LM (global, random, seeded)
+  kGnIsres,      ///< GN_ISRES (global, random, seeded)
+  kGnMlslLds,    ///< GN_MLSL_LDS with a local optimiser (local_algorithm)
+};
+
+/// NLopt's names: "LN_BOBYQA", ... (case-insensitive).
+Algorithm ParseAlgorithm(std::string_view name);
+const char* ToString(Algorithm algorithm);
+bool IsLocal(Algorithm algorithm);
+
+struct IdentifyOptions {
+  Algorithm algorithm = Algorithm::kLnBobyqa;
+  Algorithm local_algorithm = Algorithm::kLnBobyqa;  ///< for GN_MLSL_LDS; must be local
+  ObjectiveWeights weights = ObjectiveWeights::Preset("full");
+  /// Start (dim parameter_count); empty = the parameters' start values.
+  Eigen::VectorXd start;
+  double xtol_rel = 1e-6;   ///< stop when |dx| < xtol_rel |x| (> 0)
+  double ftol_rel = 1e-10;  ///< stop when |df| < ftol_rel |f| (>= 0)
+  int max_evaluations = 500;  ///< per start (>= 1)
+  double max_time_s = 0.0;    ///< per start, 0 = none
+  int multistart = 1;          ///< local algorithms: number of starts (>= 1)
+  std::uint64_t seed = 1;      ///< Latin hypercube and random global algorithms
+  const std::atomic<bool>* cancel = nullptr;  ///< stops the run when it becomes true
+  bool IsValid(int parameter_count, std::string* why) const;
+};
+
+enum class Termination {
+  kNotRun,
+  kConverged,          ///< xtol or ftol reached
+  kMaxEvaluations,     ///< budget exhausted; the best point seen is reported
+  kMaxTime,            ///< time limit; the best point seen is reported
+  kRoundoffLimited,    ///< NLopt stopped on round-off; the best point seen is reported
+  kFailure,            ///< NLopt failed (generic failure, out of memory)
+  kInvalidArguments,   ///< NLopt rejected the problem
+  kInterrupted,        ///< cancelled by the caller
+  kAllEvaluationsFailed,  ///< every simulation failed: no usable point
+};
+
+const char* ToString(Termination termination);
+
+struct IterationRecord {
+  int evaluation = 0;   ///< 1-based, within its start
+  int start = 0;        ///< 0-based start index
+  Eigen::VectorXd parameters;
+  double objective = 0.0;
+  double best_objective = 0.0;  ///< best so far within the start
+  bool failed = false;
+};
+
+struct IdentifySummary {
+  Termination termination = Termination::kNotRun;
+  std::string message = "Identify was not called.";
+  std::string algorithm;
+  std::string objective;  ///< e.g. "dU + dS + dV"
+  std::vector<std::string> parameter_names;
+  Eigen::VectorXd initial_parameters;
+  Eigen::VectorXd parameters;  ///< the best point seen
+  double initial_objective = std::numeric_limits<double>::quiet_NaN();
+  double final_objective = std::numeric_limits<double>::quiet_NaN();
+  TermValues final_terms;
+  int evaluations = 0;
+  int failed_evaluations = 0;
+  int starts = 0;
+  int best_start = 0;
+  double wall_time_s = 0.0;
+  std::vector<IterationRecord> history;  ///< every evaluation, by start
+
+  bool IsSolutionUsable() const;
+  std::string BriefReport() const;
+  std::string FullReport() const;
+};
+
+/// Throws std::invalid_argument for invalid options. Numerical trouble goes
+/// into the summary.
+IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptions& options);
+
+}  // namespace podid::ident

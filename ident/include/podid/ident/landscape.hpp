@@ -1,0 +1,85 @@
+#pragma once
+// Objective landscapes (the paper's figs. 3-6): objective vs one parameter on
+// a grid, or two parameters on a 2-D grid, for several objectives at once (one
+// simulation per grid point feeds every objective). Points run in parallel
+// (OpenMP), one EvaluationWorkspace per thread. Other parameters stay at their
+// start values.
+
+#include <Eigen/Core>
+#include <atomic>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "podid/ident/objective.hpp"
+
+namespace podid::ident {
+
+struct NamedObjective {
+  std::string name;  ///< e.g. "full"
+  ObjectiveWeights weights;
+};
+
+/// A uniform grid lower..upper with `points` values of parameter `parameter`.
+struct LandscapeAxis {
+  int parameter = 0;  ///< index into ObjectiveFunction::parameters()
+  double lower = 0.0;
+  double upper = 1.0;
+  int points = 101;   ///< >= 2
+  Eigen::VectorXd Values() const;
+};
+
+struct LandscapeOptions {
+  std::vector<NamedObjective> objectives;  ///< >= 1
+  LandscapeAxis x;
+  std::optional<LandscapeAxis> y;          ///< second axis for a 2-D landscape
+  bool progress = false;                   ///< a progress line on stderr
+  /// Checked between points: when it becomes true the run stops early and the
+  /// summary says kInterrupted (values not computed are NaN).
+  const std::atomic<bool>* cancel = nullptr;
+  bool IsValid(int parameter_count, std::string* why) const;
+};
+
+/// Metrics of a 1-D landscape f(x) on its grid, for comparing objectives.
+/// Failed points (the failure value) count as ordinary values.
+struct LandscapeMetrics {
+  /// Grid local minima, the ends included: after merging runs of equal values,
+  /// a point lower than each of its neighbours.
+  int local_minima = 0;
+  double global_minimiser = 0.0;  ///< x of the lowest value (first if tied)
+  double global_minimum = 0.0;
+  /// The basin of attraction of the global minimiser: the interval of grid
+  /// points from which a descent to the lower neighbour reaches it, i.e. f is
+  /// non-increasing towards it on [basin_lower, basin_upper].
+  double basin_lower = 0.0;
+  double basin_upper = 0.0;
+  double basin_fraction = 0.0;  ///< (basin_upper - basin_lower) / (x_max - x_min)
+  /// Total variation / (max - min): 1 for a monotone curve, 2 for a clean valley
+  /// with equal ends, larger the more the curve ripples.
+  double roughness = 0.0;
+};
+
+LandscapeMetrics ComputeMetrics(const Eigen::VectorXd& x, const Eigen::VectorXd& f);
+
+enum class LandscapeTermination { kNotRun, kCompleted, kInterrupted };
+
+struct LandscapeResult {
+  std::vector<std::string> names;      ///< objective names
+  std::vector<std::string> parameter_names;  ///< x (and y) parameter names
+  Eigen::VectorXd x;                   ///< (dim nx) grid
+  Eigen::VectorXd y;                   ///< (dim ny) grid, empty for 1-D
+  std::vector<Eigen::MatrixXd> values; ///< per objective, (nx x max(ny, 1))
+  std::vector<TermValues> terms;       ///< per point, row-major (i * ny + j)
+  std::vector<LandscapeMetrics> metrics;  ///< per objective (1-D landscapes only)
+  LandscapeTermination termination = LandscapeTermination::kNotRun;
+  std::string message = "Landscape was not computed.";
+  int evaluations = 0;
+  int failed_evaluations = 0;
+  double wall_time_s = 0.0;
+  std::string BriefReport() const;
+};
+
+/// Throws std::invalid_argument for invalid options.
+LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const LandscapeOptions& options);
+
+}  // namespace podid::ident

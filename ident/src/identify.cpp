@@ -1,0 +1,349 @@
+#include "podid/ident/identify.hpp"
+
+#include <nlopt.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "podid/core/error.hpp"
+
+namespace podid::ident {
+namespace {
+
+struct AlgorithmName {
+  Algorithm algorithm;
+  const char* name;
+  nlopt_algorithm nlopt;
+};
+
+constexpr AlgorithmName kAlgorithms[] = {
+    {Algorithm::kLnBobyqa, "LN_BOBYQA", NLOPT_LN_BOBYQA},
+    {Algorithm::kLnNelderMead, "LN_NELDERMEAD", NLOPT_LN_NELDERMEAD},
+    {Algorithm::kLnSbplx, "LN_SBPLX", NLOPT_LN_SBPLX},
+    {Algorithm::kLnCobyla, "LN_COBYLA", NLOPT_LN_COBYLA},
+    {Algorithm::kGnDirectL, "GN_DIRECT_L", NLOPT_GN_DIRECT_L},
+    {Algorithm::kGnCrs2Lm, "GN_CRS2_LM", NLOPT_GN_CRS2_LM},
+    {Algorithm::kGnIsres, "GN_ISRES", NLOPT_GN_ISRES},
+    {Algorithm::kGnMlslLds, "GN_MLSL_LDS", NLOPT_G_MLSL_LDS},
+};
+
+nlopt_algorithm ToNlopt(Algorithm a) {
+  for (const AlgorithmName& n : kAlgorithms)
+    if (n.algorithm == a) return n.nlopt;
+  PODID_CHECK(false);
+  return NLOPT_LN_BOBYQA;
+}
+
+Termination FromNlopt(nlopt_result r) {
+  switch (r) {
+    case NLOPT_SUCCESS:
+    case NLOPT_STOPVAL_REACHED:
+    case NLOPT_FTOL_REACHED:
+    case NLOPT_XTOL_REACHED:
+      return Termination::kConverged;
+    case NLOPT_MAXEVAL_REACHED: return Termination::kMaxEvaluations;
+    case NLOPT_MAXTIME_REACHED: return Termination::kMaxTime;
+    case NLOPT_ROUNDOFF_LIMITED: return Termination::kRoundoffLimited;
+    case NLOPT_INVALID_ARGS: return Termination::kInvalidArguments;
+    case NLOPT_FORCED_STOP: return Termination::kInterrupted;
+    case NLOPT_FAILURE:
+    case NLOPT_OUT_OF_MEMORY:
+    default:
+      return Termination::kFailure;
+  }
+}
+
+const char* NloptResultText(nlopt_result r) {
+  switch (r) {
+    case NLOPT_SUCCESS: return "NLOPT_SUCCESS";
+    case NLOPT_STOPVAL_REACHED: return "NLOPT_STOPVAL_REACHED";
+    case NLOPT_FTOL_REACHED: return "NLOPT_FTOL_REACHED (relative change of the objective below ftol_rel)";
+    case NLOPT_XTOL_REACHED: return "NLOPT_XTOL_REACHED (relative step below xtol_rel)";
+    case NLOPT_MAXEVAL_REACHED: return "NLOPT_MAXEVAL_REACHED (evaluation budget exhausted)";
+    case NLOPT_MAXTIME_REACHED: return "NLOPT_MAXTIME_REACHED (time limit)";
+    case NLOPT_FAILURE: return "NLOPT_FAILURE (generic failure)";
+    case NLOPT_INVALID_ARGS: return "NLOPT_INVALID_ARGS";
+    case NLOPT_OUT_OF_MEMORY: return "NLOPT_OUT_OF_MEMORY";
+    case NLOPT_ROUNDOFF_LIMITED: return "NLOPT_ROUNDOFF_LIMITED (round-off limited progress)";
+    case NLOPT_FORCED_STOP: return "NLOPT_FORCED_STOP (cancelled)";
+    default: return "unknown NLopt result";
+  }
+}
+
+struct RunState {
+  const ObjectiveFunction* objective = nullptr;
+  const ObjectiveWeights* weights = nullptr;
+  const std::atomic<bool>* cancel = nullptr;
+  nlopt_opt opt = nullptr;
+  EvaluationWorkspace workspace;
+  Eigen::VectorXd x;
+  int start = 0;
+  int evaluations = 0;
+  int failed = 0;
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::VectorXd best_x;
+  TermValues best_terms;
+  std::vector<IterationRecord> history;
+  nlopt_result result = NLOPT_FAILURE;
+};
+
+double Evaluate(unsigned n, const double* x, double* gradient, void* data) {
+  RunState& s = *static_cast<RunState*>(data);
+  PODID_CHECK(gradient == nullptr);  // derivative-free algorithms only
+  s.x = Eigen::Map<const Eigen::VectorXd>(x, n);
+  const TermValues terms = s.objective->Evaluate(s.x, *s.weights, &s.workspace);
+  const double value = terms.Combine(*s.weights, s.objective->options().failure_value);
+  ++s.evaluations;
+  if (terms.failed) ++s.failed;
+  if (!terms.failed && value < s.best) {
+    s.best = value;
+    s.best_x = s.x;
+    s.best_terms = terms;
+  }
+  IterationRecord record;
+  record.evaluation = s.evaluations;
+  record.start = s.start;
+  record.parameters = s.x;
+  record.objective = value;
+  record.best_objective = s.best;
+  record.failed = terms.failed;
+  s.history.push_back(std::move(record));
+  if (s.cancel && s.cancel->load()) nlopt_force_stop(s.opt);
+  return value;
+}
+
+// Latin hypercube: one point per stratum of each axis, strata shuffled.
+std::vector<Eigen::VectorXd> LatinHypercube(int points, const Eigen::VectorXd& lower,
+                                            const Eigen::VectorXd& upper, std::uint64_t seed) {
+  std::mt19937_64 engine(seed);
+  auto uniform = [&engine] { return static_cast<double>(engine() >> 11) * 0x1.0p-53; };
+  const Eigen::Index d = lower.size();
+  std::vector<Eigen::VectorXd> out(points, Eigen::VectorXd(d));
+  for (Eigen::Index k = 0; k < d; ++k) {
+    std::vector<int> strata(points);
+    for (int i = 0; i < points; ++i) strata[i] = i;
+    for (int i = points - 1; i > 0; --i) std::swap(strata[i], strata[engine() % (i + 1)]);
+    for (int i = 0; i < points; ++i) {
+      out[i][k] = lower[k] + (upper[k] - lower[k]) * (strata[i] + uniform()) / points;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Algorithm ParseAlgorithm(std::string_view name) {
+  std::string upper(name);
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  for (const AlgorithmName& n : kAlgorithms)
+    if (upper == n.name) return n.algorithm;
+  std::string choices;
+  for (const AlgorithmName& n : kAlgorithms) choices += std::string(choices.empty() ? "" : ", ") + n.name;
+  ThrowInvalid("algorithm", "one of " + choices, "\"" + std::string(name) + "\"");
+}
+
+const char* ToString(Algorithm algorithm) {
+  for (const AlgorithmName& n : kAlgorithms)
+    if (n.algorithm == algorithm) return n.name;
+  return "unknown";
+}
+
+bool IsLocal(Algorithm a) {
+  return a == Algorithm::kLnBobyqa || a == Algorithm::kLnNelderMead || a == Algorithm::kLnSbplx ||
+         a == Algorithm::kLnCobyla;
+}
+
+const char* ToString(Termination t) {
+  switch (t) {
+    case Termination::kNotRun: return "not run";
+    case Termination::kConverged: return "converged";
+    case Termination::kMaxEvaluations: return "evaluation budget exhausted";
+    case Termination::kMaxTime: return "time limit reached";
+    case Termination::kRoundoffLimited: return "round-off limited";
+    case Termination::kFailure: return "optimiser failure";
+    case Termination::kInvalidArguments: return "invalid arguments";
+    case Termination::kInterrupted: return "interrupted";
+    case Termination::kAllEvaluationsFailed: return "all evaluations failed";
+  }
+  return "unknown";
+}
+
+bool IdentifyOptions::IsValid(int parameter_count, std::string* why) const {
+  auto fail = [why](const std::string& text) {
+    if (why) *why = text;
+    return false;
+  };
+  if (!IsLocal(local_algorithm))
+    return fail(std::string("local algorithm: expected an LN_ algorithm, got ") + ToString(local_algorithm));
+  if (start.size() != 0 && start.size() != parameter_count)
+    return fail("start: expected " + ToText(parameter_count) + " values, got " + ToText(start.size()));
+  if (!(xtol_rel > 0)) return fail("xtol_rel: expected > 0, got " + ToText(xtol_rel));
+  if (!(ftol_rel >= 0)) return fail("ftol_rel: expected >= 0, got " + ToText(ftol_rel));
+  if (max_evaluations < 1) return fail("max_evaluations: expected >= 1, got " + ToText(max_evaluations));
+  if (!(max_time_s >= 0)) return fail("max_time_s: expected >= 0, got " + ToText(max_time_s));
+  if (multistart < 1) return fail("multistart: expected >= 1, got " + ToText(multistart));
+  return true;
+}
+
+bool IdentifySummary::IsSolutionUsable() const {
+  switch (termination) {
+    case Termination::kConverged:
+    case Termination::kMaxEvaluations:
+    case Termination::kMaxTime:
+    case Termination::kRoundoffLimited:
+      return std::isfinite(final_objective);
+    default:
+      return false;
+  }
+}
+
+std::string IdentifySummary::BriefReport() const {
+  std::ostringstream os;
+  os.precision(6);
+  os << "identify (" << algorithm << ", " << objective << "): " << ToString(termination) << ", ";
+  for (std::size_t i = 0; i < parameter_names.size() && i < static_cast<std::size_t>(parameters.size()); ++i) {
+    os << parameter_names[i] << " = " << parameters[i] << ", ";
+  }
+  os << "F = " << final_objective << " (start " << initial_objective << "), " << evaluations
+     << " evaluations";
+  if (failed_evaluations) os << " (" << failed_evaluations << " failed)";
+  os.precision(3);
+  os << ", " << wall_time_s << " s";
+  return os.str();
+}
+
+std::string IdentifySummary::FullReport() const {
+  std::ostringstream os;
+  os.precision(8);
+  os << "Identification summary\n"
+     << "  algorithm:            " << algorithm << "\n"
+     << "  objective:            " << objective << "\n"
+     << "  starts:               " << starts << " (best: start " << best_start + 1 << ")\n";
+  for (std::size_t i = 0; i < parameter_names.size(); ++i) {
+    os << "  " << parameter_names[i] << ":";
+    for (std::size_t pad = parameter_names[i].size(); pad < 20; ++pad) os << ' ';
+    os << (i < static_cast<std::size_t>(initial_parameters.size()) ? initial_parameters[i] : NAN)
+       << " -> " << (i < static_cast<std::size_t>(parameters.size()) ? parameters[i] : NAN) << "\n";
+  }
+  os << "  initial objective:    " << initial_objective << "\n"
+     << "  final objective:      " << final_objective << "\n"
+     << "  final terms:          dU = " << final_terms.u << ", dS = " << final_terms.s
+     << ", dV = " << final_terms.v << ", dIF = " << final_terms.f << "\n"
+     << "  evaluations:          " << evaluations << " (" << failed_evaluations << " failed)\n"
+     << "  wall time:            " << wall_time_s << " s\n"
+     << "  termination:          " << ToString(termination) << "\n"
+     << "  message:              " << message << "\n";
+  return os.str();
+}
+
+IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptions& options) {
+  const int n = objective.parameter_count();
+  std::string why;
+  if (!options.IsValid(n, &why)) throw std::invalid_argument("identify options: " + why);
+  const auto start_time = std::chrono::steady_clock::now();
+  Eigen::VectorXd lower(n), upper(n);
+  for (int i = 0; i < n; ++i) {
+    lower[i] = objective.parameters()[i].lower;
+    upper[i] = objective.parameters()[i].upper;
+  }
+  const Eigen::VectorXd first = options.start.size() ? options.start : objective.StartValues();
+  for (int i = 0; i < n; ++i) {
+    if (!(first[i] >= lower[i] && first[i] <= upper[i])) {
+      ThrowInvalid("start of " + objective.parameters()[i].name,
+                   "a value in its bounds [" + ToText(lower[i]) + ", " + ToText(upper[i]) + "]",
+                   ToText(first[i]));
+    }
+  }
+  std::vector<Eigen::VectorXd> starts = {first};
+  const bool local = IsLocal(options.algorithm);
+  if (local && options.multistart > 1) {
+    for (const Eigen::VectorXd& p : LatinHypercube(options.multistart - 1, lower, upper, options.seed))
+      starts.push_back(p);
+  }
+  nlopt_srand(options.seed);  // GN_CRS2_LM, GN_ISRES and MLSL draw from NLopt's generator
+
+  std::vector<RunState> runs(starts.size());
+  // Starts run in parallel, each with its own workspace and NLopt object.
+#pragma omp parallel for schedule(dynamic) if (local && starts.size() > 1)
+  for (std::size_t s = 0; s < starts.size(); ++s) {
+    RunState& run = runs[s];
+    run.objective = &objective;
+    run.weights = &options.weights;
+    run.cancel = options.cancel;
+    run.start = static_cast<int>(s);
+    run.opt = nlopt_create(ToNlopt(options.algorithm), static_cast<unsigned>(n));
+    nlopt_opt local_opt = nullptr;
+    if (options.algorithm == Algorithm::kGnMlslLds) {
+      local_opt = nlopt_create(ToNlopt(options.local_algorithm), static_cast<unsigned>(n));
+      nlopt_set_xtol_rel(local_opt, options.xtol_rel);
+      nlopt_set_ftol_rel(local_opt, options.ftol_rel);
+      nlopt_set_local_optimizer(run.opt, local_opt);
+    }
+    nlopt_set_lower_bounds(run.opt, lower.data());
+    nlopt_set_upper_bounds(run.opt, upper.data());
+    nlopt_set_min_objective(run.opt, Evaluate, &run);
+    nlopt_set_xtol_rel(run.opt, options.xtol_rel);
+    nlopt_set_ftol_rel(run.opt, options.ftol_rel);
+    nlopt_set_maxeval(run.opt, options.max_evaluations);
+    if (options.max_time_s > 0) nlopt_set_maxtime(run.opt, options.max_time_s);
+    // A first trust region / simplex of a tenth of the box.
+    const Eigen::VectorXd step = 0.1 * (upper - lower);
+    nlopt_set_initial_step(run.opt, step.data());
+    Eigen::VectorXd x = starts[s];
+    double f = 0.0;
+    run.result = nlopt_optimize(run.opt, x.data(), &f);
+    if (local_opt) nlopt_destroy(local_opt);
+    nlopt_destroy(run.opt);
+    run.opt = nullptr;
+  }
+
+  IdentifySummary summary;
+  summary.algorithm = ToString(options.algorithm);
+  if (options.algorithm == Algorithm::kGnMlslLds)
+    summary.algorithm += std::string(" + ") + ToString(options.local_algorithm);
+  summary.objective = options.weights.ToString();
+  for (const ParameterSpec& p : objective.parameters()) summary.parameter_names.push_back(p.name);
+  summary.initial_parameters = first;
+  summary.starts = static_cast<int>(starts.size());
+  int best = -1;
+  for (std::size_t s = 0; s < runs.size(); ++s) {
+    summary.evaluations += runs[s].evaluations;
+    summary.failed_evaluations += runs[s].failed;
+    summary.history.insert(summary.history.end(), runs[s].history.begin(), runs[s].history.end());
+    if (runs[s].best_x.size() && (best < 0 || runs[s].best < runs[best].best)) best = static_cast<int>(s);
+  }
+  if (!runs.front().history.empty()) summary.initial_objective = runs.front().history.front().objective;
+  if (best < 0) {
+    summary.termination = Termination::kAllEvaluationsFailed;
+    summary.parameters = first;
+    summary.message = "every evaluation failed";
+    for (const RunState& r : runs) {
+      for (const IterationRecord& rec : r.history) {
+        if (rec.failed) {
+          summary.message += "; e.g. at the start: " +
+                             objective.Evaluate(rec.parameters, options.weights).failure;
+          break;
+        }
+      }
+      break;
+    }
+  } else {
+    const RunState& b = runs[best];
+    summary.best_start = best;
+    summary.parameters = b.best_x;
+    summary.final_objective = b.best;
+    summary.final_terms = b.best_terms;
+    summary.termination = FromNlopt(b.result);
+    summary.message = std::string("NLopt returned ") + NloptResultText(b.result) + " after " +
+                      ToText(b.evaluations) + " evaluations; best point seen kept";
+  }
+  summary.wall_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return summary;
+}
+
+}  // namespace podid::ident
