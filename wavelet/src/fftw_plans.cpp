@@ -17,10 +17,17 @@ std::mutex& PlannerMutex() {
   return mutex;
 }
 
-// Plans live for the whole process (reachable from this map, never destroyed).
+// Plans live for the whole process and are destroyed at exit.
+struct PlanCache {
+  std::map<std::pair<Kind, int>, fftw_plan> plans;
+  ~PlanCache() {
+    for (auto& entry : plans) fftw_destroy_plan(entry.second);
+  }
+};
+
 std::map<std::pair<Kind, int>, fftw_plan>& Plans() {
-  static std::map<std::pair<Kind, int>, fftw_plan> plans;
-  return plans;
+  static PlanCache cache;
+  return cache.plans;
 }
 
 fftw_plan GetPlan(Kind kind, int n) {
