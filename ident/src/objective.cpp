@@ -287,7 +287,7 @@ TermValues ObjectiveFunction::Evaluate(const Eigen::VectorXd& values, const Obje
         terms.failure = "no ridge sample of mode " + ToText(mode + 1) + " inside the cone of influence";
         return terms;
       }
-      total += sum / count;
+      total += sum * workspace->ridge->scalogram().decimation;
     }
     terms.f = total;
   }

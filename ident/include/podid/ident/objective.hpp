@@ -5,10 +5,13 @@
 //   dS  = sum_k ((sigma_sim,k - sigma_meas,k) / sigma_meas,k)^2      relative (default)
 //       = sum_k (sigma_sim,k - sigma_meas,k)^2                       raw, as eq. 19
 //   dV  = sum_k sum_n (V_sim(n,k) - V_meas(n,k))^2                   right-singular vectors
-//   dIF = sum_k mean_j ((f_sim,k(t_j) - f_meas,k(t_j)) / f_meas,k(t_j))^2
+//   dIF = sum_k D sum_j ((f_sim,k(t_j) - f_meas,k(t_j)) / f_meas,k(t_j))^2
 //         the instantaneous frequency of V's column k along its Morlet ridge,
 //         over the output times j where both ridges are inside the cone of
-//         influence (sec. 4.3.2: IFs replace V).
+//         influence. Sec. 4.3.2 puts the IFs "in place of the right-singular
+//         vectors": like dV, dIF is a sum over the record's samples (D = the
+//         ridge's decimation, the input samples per output time), of the
+//         relative IF difference (IFs in Hz are not unit vectors).
 // F = w_U dU + w_S dS + w_V dV + w_IF dIF. Presets: full = U + S + V (eq. 19),
 // time-free = U + S (fig. 4), wavelet = U + S + IF (figs. 5-6).
 // Before differencing, the simulated decomposition is aligned to the measured
