@@ -181,8 +181,11 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& x) {
     w.weighted_y.noalias() = w.upper.triangularView<Eigen::Upper>() * w.y;
     w.y.swap(w.weighted_y);
   }
-  const double energy = w.y.squaredNorm();  // ||Y||_F^2 = sum of all sigma^2
-  if (!std::isfinite(energy)) {
+  // ||Y||_F^2 = sum of all sigma^2: the Gram trace for the Gram methods,
+  // else a pass over Y. Non-finite input makes it non-finite.
+  double energy = 0.0;
+  auto check_energy = [&] {
+    if (std::isfinite(energy)) return;
     for (Index j = 0; j < n; ++j) {
       for (Index i = 0; i < m; ++i) {
         if (!std::isfinite(x(i, j))) {
@@ -193,7 +196,7 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& x) {
       }
     }
     ThrowInvalid("POD data", "values whose squares sum to a finite number", "an overflow");
-  }
+  };
 
   PodMethod method = options_.method;
   if (method == PodMethod::kAuto) method = m <= n ? PodMethod::kDirect : PodMethod::kSnapshot;
@@ -239,6 +242,8 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& x) {
     } else {
       w.gram.selfadjointView<Eigen::Lower>().rankUpdate(w.y.transpose());  // C*, eq. 14
     }
+    energy = w.gram.trace();
+    check_energy();
     w.eigen.compute(w.gram, Eigen::ComputeEigenvectors);
     PODID_CHECK_MSG(w.eigen.info() == Eigen::Success, "Gram eigensolver did not converge");
     const Eigen::VectorXd& values = w.eigen.eigenvalues();  // ascending, = sigma^2
@@ -288,6 +293,8 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& x) {
     }
   }
   if (!done) {
+    energy = w.y.squaredNorm();
+    check_energy();
     const unsigned int what = options_.compute_time_modes
                                   ? (Eigen::ComputeThinU | Eigen::ComputeThinV)
                                   : Eigen::ComputeThinU;
