@@ -24,6 +24,7 @@ class CommandFailed : public std::runtime_error {
 
 void AddModesCommand(CLI::App& app);
 void AddSimulateCommand(CLI::App& app);
+void AddPodCommand(CLI::App& app);
 void AddCwtCommand(CLI::App& app);
 void AddIdentifyCommand(CLI::App& app);
 void AddLandscapeCommand(CLI::App& app);

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
 
   podid::cli::AddModesCommand(app);
   podid::cli::AddSimulateCommand(app);
+  podid::cli::AddPodCommand(app);
   podid::cli::AddCwtCommand(app);
   podid::cli::AddIdentifyCommand(app);
   podid::cli::AddLandscapeCommand(app);
