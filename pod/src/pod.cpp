@@ -18,6 +18,9 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 // JacobiSVD (QR-preconditioned) beats BDCSVD up to this min(M, N); measured in
 // bench/pod_benchmark.cpp (BDCSVD itself switches to Jacobi below 16).
 constexpr Eigen::Index kJacobiSvdMaxSize = 16;
+// kDirect forms Y Y^T by dot products of Y^T's columns up to this many
+// sensors, by Eigen's blocked rank update above.
+constexpr Eigen::Index kDotGramMaxSensors = 16;
 // Sign convention: components within this relative margin of the largest
 // magnitude count as tied; the first of them is made positive.
 constexpr double kSignTieMargin = 1e-8;
@@ -108,8 +111,8 @@ double NoiseSigmaThreshold(double noise_std, Eigen::Index sensors, Eigen::Index 
 struct PodSolver::Workspace {
   bool weighted = false;
   Eigen::MatrixXd upper;         // L^T (M x M), W = L L^T
-  Eigen::MatrixXd y;             // centred, weighted data Y (M x N)
-  Eigen::MatrixXd weighted_y;    // L^T (X - mean) before the swap into y (M x N)
+  Eigen::MatrixXd yt;            // centred, weighted data, transposed: Y^T (N x M)
+  Eigen::MatrixXd weighted_yt;   // (X - mean)^T L before the swap into yt (N x M)
   Eigen::MatrixXd coefficients;  // kSnapshot: the kept A_k (N x k)
   Eigen::MatrixXd gram;          // Y Y^T (M x M) or Y^T Y (N x N)
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen;
@@ -138,20 +141,18 @@ PodSolver::PodSolver(PodSolver&&) noexcept = default;
 PodSolver& PodSolver::operator=(PodSolver&&) noexcept = default;
 
 const PodResult& PodSolver::Compute(const Eigen::Ref<const Eigen::MatrixXd>& x) {
-  return ComputeImpl(x);
+  return ComputeImpl(x.transpose());
 }
 
-const PodResult& PodSolver::Compute(const TimeSeries& series) {
-  return ComputeImpl(series.values.transpose());
-}
+const PodResult& PodSolver::Compute(const TimeSeries& series) { return ComputeImpl(series.values); }
 
 template <typename Derived>
-const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& x) {
+const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
   using Eigen::Index;
   Workspace& w = *workspace_;
   PodResult& r = result_;
-  const Index m = x.rows();
-  const Index n = x.cols();
+  const Index m = xt.cols();
+  const Index n = xt.rows();
   if (m == 0 || n == 0) {
     ThrowInvalid("POD data", "a non-empty snapshot matrix (M sensors x N samples)", Shape(m, n));
   }
@@ -167,19 +168,21 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& x) {
   }
 
   // eq. 1: v = u - U, U the time mean of each sensor.
-  w.y.resize(m, n);
-  w.y.noalias() = x;
+  w.yt.resize(n, m);
+  w.yt.noalias() = xt;
   r.mean.resize(m);
   if (options_.remove_mean) {
-    r.mean.noalias() = w.y.rowwise().mean();
-    w.y.colwise() -= r.mean;
+    for (Index i = 0; i < m; ++i) {
+      r.mean(i) = w.yt.col(i).mean();
+      w.yt.col(i).array() -= r.mean(i);
+    }
   } else {
     r.mean.setZero();
   }
   if (w.weighted) {
-    w.weighted_y.resize(m, n);
-    w.weighted_y.noalias() = w.upper.triangularView<Eigen::Upper>() * w.y;
-    w.y.swap(w.weighted_y);
+    w.weighted_yt.resize(n, m);  // Y^T = (X - mean)^T L
+    w.weighted_yt.noalias() = w.yt * w.upper.transpose().triangularView<Eigen::Lower>();
+    w.yt.swap(w.weighted_yt);
   }
   // ||Y||_F^2 = sum of all sigma^2: the Gram trace for the Gram methods,
   // else a pass over Y. Non-finite input makes it non-finite.
@@ -188,9 +191,9 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& x) {
     if (std::isfinite(energy)) return;
     for (Index j = 0; j < n; ++j) {
       for (Index i = 0; i < m; ++i) {
-        if (!std::isfinite(x(i, j))) {
+        if (!std::isfinite(xt(j, i))) {
           ThrowInvalid("POD data", "finite values",
-                       ToText(x(i, j)) + " at sensor " + std::to_string(i) + ", sample " +
+                       ToText(xt(j, i)) + " at sensor " + std::to_string(i) + ", sample " +
                            std::to_string(j));
         }
       }
@@ -238,9 +241,17 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& x) {
     w.gram.resize(gram_size, gram_size);
     w.gram.setZero();
     if (direct) {
-      w.gram.selfadjointView<Eigen::Lower>().rankUpdate(w.y);  // Y Y^T, eqs. 7-8 (times N)
+      // Y Y^T, eqs. 7-8 (times N). For few sensors, dot products of the
+      // contiguous columns of Y^T beat the blocked product (pod_benchmark).
+      if (m <= kDotGramMaxSensors) {
+        for (Index j = 0; j < m; ++j) {
+          for (Index i = j; i < m; ++i) w.gram(i, j) = w.yt.col(i).dot(w.yt.col(j));
+        }
+      } else {
+        w.gram.selfadjointView<Eigen::Lower>().rankUpdate(w.yt.transpose());
+      }
     } else {
-      w.gram.selfadjointView<Eigen::Lower>().rankUpdate(w.y.transpose());  // C*, eq. 14
+      w.gram.selfadjointView<Eigen::Lower>().rankUpdate(w.yt);  // C*, eq. 14
     }
     energy = w.gram.trace();
     check_energy();
@@ -267,12 +278,12 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& x) {
       r.time_modes.resize(options_.compute_time_modes ? n : 0, options_.compute_time_modes ? k : 0);
       if (direct) {
         for (Index j = 0; j < k; ++j) r.poms.col(j) = vectors.col(m - 1 - j);
-        if (options_.compute_time_modes) r.time_modes.noalias() = w.y.transpose() * r.poms;
+        if (options_.compute_time_modes) r.time_modes.noalias() = w.yt * r.poms;
       } else {
         // eq. 10: phi_k = sum_j a_kj v_j; V = A.
         w.coefficients.resize(n, k);
         for (Index j = 0; j < k; ++j) w.coefficients.col(j) = vectors.col(n - 1 - j);
-        r.poms.noalias() = w.y * w.coefficients;
+        r.poms.noalias() = w.yt.transpose() * w.coefficients;
         if (options_.compute_time_modes) r.time_modes = w.coefficients;
       }
       for (Index j = 0; j < k; ++j) {
@@ -293,16 +304,17 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& x) {
     }
   }
   if (!done) {
-    energy = w.y.squaredNorm();
+    energy = w.yt.squaredNorm();
     check_energy();
+    // Y^T = V Sigma Psi^T: Eigen's U of Y^T is V, its V is Psi.
     const unsigned int what = options_.compute_time_modes
                                   ? (Eigen::ComputeThinU | Eigen::ComputeThinV)
-                                  : Eigen::ComputeThinU;
+                                  : Eigen::ComputeThinV;
     const bool jacobi = available <= kJacobiSvdMaxSize;
     if (jacobi) {
-      w.jacobi.compute(w.y, what);
+      w.jacobi.compute(w.yt, what);
     } else {
-      w.bdc.compute(w.y, what);
+      w.bdc.compute(w.yt, what);
     }
     const Eigen::VectorXd& sigma = jacobi ? w.jacobi.singularValues() : w.bdc.singularValues();
     w.sigma_all.resize(available);
@@ -312,9 +324,9 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& x) {
       rank += nonzero ? 1 : 0;
     }
     k = kept_modes(w.sigma_all);
-    r.poms = (jacobi ? w.jacobi.matrixU() : w.bdc.matrixU()).leftCols(k);
+    r.poms = (jacobi ? w.jacobi.matrixV() : w.bdc.matrixV()).leftCols(k);
     if (options_.compute_time_modes) {
-      r.time_modes = (jacobi ? w.jacobi.matrixV() : w.bdc.matrixV()).leftCols(k);
+      r.time_modes = (jacobi ? w.jacobi.matrixU() : w.bdc.matrixU()).leftCols(k);
     } else {
       r.time_modes.resize(0, 0);
     }

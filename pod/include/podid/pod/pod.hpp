@@ -139,7 +139,7 @@ class PodSolver {
  private:
   struct Workspace;
   template <typename Derived>
-  const PodResult& ComputeImpl(const Eigen::MatrixBase<Derived>& x);
+  const PodResult& ComputeImpl(const Eigen::MatrixBase<Derived>& xt);  // xt = X^T (N x M)
 
   PodOptions options_;
   PodResult result_;
