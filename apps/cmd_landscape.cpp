@@ -27,31 +27,34 @@ struct LandscapeArguments {
   std::string output, json, plot;
 };
 
-// "lower:upper:points"
-ident::LandscapeAxis ParseAxis(const ident::ObjectiveFunction& f, const std::string& option,
-                               const std::string& name, const std::string& range) {
+// "lower:upper:points"; the parameter index is resolved later (SetParameter).
+ident::LandscapeAxis ParseRange(const std::string& option, const std::string& range) {
   ident::LandscapeAxis axis;
-  axis.parameter = -1;
-  std::string names;
-  for (int i = 0; i < f.parameter_count(); ++i) {
-    if (f.parameters()[i].name == name) axis.parameter = i;
-    names += (i ? ", " : "") + f.parameters()[i].name;
-  }
-  if (axis.parameter < 0) ThrowInvalid(option, "a parameter of the case (" + names + ")", "\"" + name + "\"");
   double lower = 0, upper = 0;
   int points = 0;
   char c1 = 0, c2 = 0;
   std::istringstream is(range);
   if (!(is >> lower >> c1 >> upper >> c2 >> points) || c1 != ':' || c2 != ':' || !is.eof()) {
-    ThrowInvalid("--range", "LOWER:UPPER:POINTS, e.g. 0:100:201", "\"" + range + "\"");
+    ThrowInvalid(option, "LOWER:UPPER:POINTS, e.g. 0:100:201", "\"" + range + "\"");
   }
   if (!(lower < upper) || points < 2) {
-    ThrowInvalid("--range", "LOWER < UPPER and POINTS >= 2", "\"" + range + "\"");
+    ThrowInvalid(option, "LOWER < UPPER and POINTS >= 2", "\"" + range + "\"");
   }
   axis.lower = lower;
   axis.upper = upper;
   axis.points = points;
   return axis;
+}
+
+void SetParameter(const ident::ObjectiveFunction& f, const std::string& option, const std::string& name,
+                  ident::LandscapeAxis* axis) {
+  axis->parameter = -1;
+  std::string names;
+  for (int i = 0; i < f.parameter_count(); ++i) {
+    if (f.parameters()[i].name == name) axis->parameter = i;
+    names += (i ? ", " : "") + f.parameters()[i].name;
+  }
+  if (axis->parameter < 0) ThrowInvalid(option, "a parameter of the case (" + names + ")", "\"" + name + "\"");
 }
 
 std::vector<ident::NamedObjective> ParseObjectives(const std::string& list) {
@@ -90,11 +93,13 @@ void AddLandscapeCommand(CLI::App& app) {
     if (args->param2.empty() != args->range2.empty()) {
       ThrowInvalid("--param2/--range2", "both or neither", args->param2.empty() ? "--range2 alone" : "--param2 alone");
     }
-    const auto objective = args->objective.Build(ridges);
     ident::LandscapeOptions options;
     options.objectives = objectives;
-    options.x = ParseAxis(*objective, "--param", args->param, args->range);
-    if (!args->param2.empty()) options.y = ParseAxis(*objective, "--param2", args->param2, args->range2);
+    options.x = ParseRange("--range", args->range);
+    if (!args->param2.empty()) options.y = ParseRange("--range2", args->range2);
+    const auto objective = args->objective.Build(ridges);
+    SetParameter(*objective, "--param", args->param, &options.x);
+    if (options.y) SetParameter(*objective, "--param2", args->param2, &*options.y);
     options.progress = true;
     options.cancel = &g_interrupted;
     std::signal(SIGINT, OnInterrupt);
