@@ -74,7 +74,8 @@ void AddLandscapeCommand(CLI::App& app) {
       "landscape",
       "Evaluate objectives over a grid of one parameter (or two) and print, per objective,\n"
       "the number of local minima, the global minimiser, its basin of attraction and a\n"
-      "roughness figure (the paper's figs. 3-6). Ctrl-C stops it without writing files.");
+      "roughness figure (the paper's figs. 3-6). Parameters not on an axis stay at their\n"
+      "start (--start NAME=VALUE). Ctrl-C stops it without writing files (exit 130).");
   args->objective.AddTo(*command);
   command->add_option("--param", args->param, "Parameter on the x axis (a name from [[identify.parameter]])")
       ->required();
@@ -100,6 +101,7 @@ void AddLandscapeCommand(CLI::App& app) {
     const auto objective = args->objective.Build(ridges);
     SetParameter(*objective, "--param", args->param, &options.x);
     if (options.y) SetParameter(*objective, "--param2", args->param2, &*options.y);
+    options.base = args->objective.Start(*objective);  // --start sets the other parameters
     options.progress = true;
     options.cancel = &g_interrupted;
     std::signal(SIGINT, OnInterrupt);

@@ -36,6 +36,8 @@ bool LandscapeOptions::IsValid(int parameter_count, std::string* why) const {
                   ToText(axis->upper));
     if (axis->points < 2) return fail("range: expected >= 2 points, got " + ToText(axis->points));
   }
+  if (base.size() != 0 && base.size() != parameter_count)
+    return fail("base: expected " + ToText(parameter_count) + " values, got " + ToText(base.size()));
   if (y && y->parameter == x.parameter)
     return fail("second parameter: expected a parameter other than the first, got the same");
   return true;
@@ -117,7 +119,7 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
   }
   result.terms.assign(total, TermValues{});
   std::vector<char> done(total, 0);
-  const Eigen::VectorXd base = objective.StartValues();
+  const Eigen::VectorXd base = options.base.size() ? options.base : objective.StartValues();
   const bool progress = options.progress && isatty(STDERR_FILENO);
   int finished = 0;
 

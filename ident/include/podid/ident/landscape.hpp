@@ -2,8 +2,8 @@
 // Objective landscapes (the paper's figs. 3-6): objective vs one parameter on
 // a grid, or two parameters on a 2-D grid, for several objectives at once (one
 // simulation per grid point feeds every objective). Points run in parallel
-// (OpenMP), one EvaluationWorkspace per thread. Other parameters stay at their
-// start values.
+// (OpenMP), one EvaluationWorkspace per thread. Other parameters stay at
+// LandscapeOptions::base (default: their start values).
 
 #include <Eigen/Core>
 #include <atomic>
@@ -33,6 +33,9 @@ struct LandscapeOptions {
   std::vector<NamedObjective> objectives;  ///< >= 1
   LandscapeAxis x;
   std::optional<LandscapeAxis> y;          ///< second axis for a 2-D landscape
+  /// Values of the parameters not on an axis (dim parameter_count); empty =
+  /// their start values.
+  Eigen::VectorXd base;
   bool progress = false;                   ///< a progress line on stderr
   /// Checked between points: when it becomes true the run stops early and the
   /// summary says kInterrupted (values not computed are NaN).
