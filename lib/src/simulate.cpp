@@ -74,7 +74,7 @@ ExternalLoad BuildLoad(const CaseSpec& spec) {
           const double h = (ft[ft.size() - 1] - ft[0]) / static_cast<double>(ft.size() - 1);
           Eigen::Index k = std::min<Eigen::Index>(static_cast<Eigen::Index>((t - ft[0]) / h), ft.size() - 2);
           const double s = (t - ft[k]) / (ft[k + 1] - ft[k]);
-          value = f.amplitude_N * ((1 - s) * fv[k] + s * fv[k + 1]);
+          value = (1 - s) * fv[k] + s * fv[k + 1];
         }
         break;
       }
