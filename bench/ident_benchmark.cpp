@@ -1,0 +1,114 @@
+// Speed of the identification (issue 5):
+//  * one objective evaluation on the 1 s reference record (tests/data/
+//    measured_knl50_T1.0.csv, 5001 samples): simulate + POD (+ ridge of the
+//    simulated side for `wavelet`). The measured side (its POD and ridges) is
+//    built once, outside the timed loop; the workspace is reused as in an
+//    optimiser's thread. Targets: `wavelet` <= 3 ms median on one core.
+//  * a landscape of 1000 points of knl, 1 s record, `wavelet` objective, on
+//    all cores OpenMP gives it (both cores of the reference machine): <= 2 s.
+#include <benchmark/benchmark.h>
+
+#include <ctime>
+#include <string>
+
+#include "podid/core/case_file.hpp"
+#include "podid/core/io.hpp"
+#include "podid/ident/landscape.hpp"
+#include "podid/ident/objective.hpp"
+
+namespace podid {
+namespace {
+
+const CaseDocument& ReferenceCase() {
+  static const CaseDocument document =
+      CaseDocument::Load(std::string(PODID_EXAMPLES_DIR) + "/beam.toml");
+  return document;
+}
+
+const TimeSeries& MeasuredRecord() {
+  static const TimeSeries record =
+      ReadCsv(std::string(PODID_TEST_DATA_DIR) + "/measured_knl50_T1.0.csv");
+  return record;
+}
+
+// One evaluation at knl = 50 (the record's true value, so the ridge is the
+// ordinary one, not a failure path) with the named preset's terms.
+void Evaluation(benchmark::State& state, const char* preset) {
+  const ident::ObjectiveWeights weights = ident::ObjectiveWeights::Preset(preset);
+  const ident::ObjectiveFunction objective(ReferenceCase(), MeasuredRecord(), ident::ObjectiveOptions{},
+                                           weights.NeedsRidges());
+  ident::EvaluationWorkspace workspace;
+  Eigen::VectorXd values = objective.StartValues();
+  values[0] = 50.0;
+  ident::TermValues terms;
+  for (auto _ : state) {
+    terms = objective.Evaluate(values, weights, &workspace);
+    // Not DoNotOptimize(terms.u): with GCC its "+m,r" asm on a double can
+    // corrupt the value (google/benchmark#903); the counters below need it.
+    benchmark::ClobberMemory();
+  }
+  if (terms.failed) {
+    state.SkipWithError(terms.failure.c_str());
+    return;
+  }
+  state.counters["samples"] = static_cast<double>(MeasuredRecord().samples());
+  state.counters["objective"] = terms.Combine(weights, objective.options().failure_value);
+  // The terms, for bench/compare_python_ident.py's agreement check.
+  if (weights.u != 0) state.counters["dU"] = terms.u;
+  if (weights.s != 0) state.counters["dS"] = terms.s;
+  if (weights.v != 0) state.counters["dV"] = terms.v;
+  if (weights.f != 0) state.counters["dIF"] = terms.f;
+}
+
+void BM_EvaluateWavelet1s(benchmark::State& state) { Evaluation(state, "wavelet"); }
+BENCHMARK(BM_EvaluateWavelet1s)->Unit(benchmark::kMillisecond);
+
+void BM_EvaluateFull1s(benchmark::State& state) { Evaluation(state, "full"); }
+BENCHMARK(BM_EvaluateFull1s)->Unit(benchmark::kMillisecond);
+
+void BM_EvaluateTimeFree1s(benchmark::State& state) { Evaluation(state, "time-free"); }
+BENCHMARK(BM_EvaluateTimeFree1s)->Unit(benchmark::kMillisecond);
+
+// 1000 points of knl over the case's bounds [0, 200], `wavelet` objective;
+// OpenMP threads as the environment gives them (OMP_NUM_THREADS, default all
+// cores). Wall time is what the target means: UseRealTime. The process CPU
+// time of all threads is the counter process_cpu_ms (the CPU column is the
+// main thread's only): on a loaded machine process_cpu_ms / cores is what the
+// wall time would be with the cores to itself.
+double ProcessCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+void BM_LandscapeWavelet1s(benchmark::State& state) {
+  const ident::ObjectiveWeights weights = ident::ObjectiveWeights::Preset("wavelet");
+  const ident::ObjectiveFunction objective(ReferenceCase(), MeasuredRecord(), ident::ObjectiveOptions{},
+                                           true);
+  ident::LandscapeOptions options;
+  options.objectives.push_back({"wavelet", weights});
+  options.x.parameter = 0;
+  options.x.lower = objective.parameters()[0].lower;
+  options.x.upper = objective.parameters()[0].upper;
+  options.x.points = static_cast<int>(state.range(0));
+  ident::LandscapeResult result;
+  double cpu_s = 0.0;
+  for (auto _ : state) {
+    const double cpu0 = ProcessCpuSeconds();
+    result = ident::ComputeLandscape(objective, options);
+    cpu_s += ProcessCpuSeconds() - cpu0;
+    benchmark::DoNotOptimize(result.values.data());
+  }
+  if (result.termination != ident::LandscapeTermination::kCompleted) {
+    state.SkipWithError(result.message.c_str());
+    return;
+  }
+  state.counters["points"] = static_cast<double>(result.evaluations);
+  state.counters["failed"] = static_cast<double>(result.failed_evaluations);
+  state.counters["minimiser"] = result.metrics.at(0).global_minimiser;
+  state.counters["process_cpu_ms"] = 1e3 * cpu_s / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_LandscapeWavelet1s)->Arg(1000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+}  // namespace
+}  // namespace podid
