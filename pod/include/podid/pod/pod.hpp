@@ -18,7 +18,7 @@
 //   kDirect   eigenvectors of the M x M matrix Y Y^T (eqs. 7-8), V = Y^T Psi / sigma;
 //   kSnapshot eigenvectors A_k of the N x N matrix C* = Y^T Y (eqs. 13-16),
 //             Psi_k = Y A_k / sigma_k, V = A;
-//   kSvd      thin SVD of Y with Eigen (JacobiSVD when min(M, N) <= 16, else BDCSVD);
+//   kSvd      thin SVD of Y with Eigen's BDCSVD (Jacobi inside below 16 columns);
 //   kAuto     the fastest for the shape (see docs/pod.md, "The auto rule"):
 //             kDirect when M <= N, kSnapshot when M > N, and kSvd when a kept
 //             mode is too small for the Gram methods' accuracy
