@@ -1,0 +1,31 @@
+#pragma once
+// Shared by the fuzz targets: the fuzz input written to a file of this process.
+
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace podid::fuzz {
+
+/// Writes `data` to "<TMPDIR or /tmp>/podid-fuzz-<pid><suffix>" (overwritten on
+/// every call) and returns the path. Aborts if the file cannot be written: that
+/// is a problem of the machine, not a finding.
+inline std::string WriteInput(const std::uint8_t* data, std::size_t size, const char* suffix) {
+  static const std::string path = [suffix] {
+    const char* tmp = std::getenv("TMPDIR");
+    return std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/podid-fuzz-" +
+           std::to_string(getpid()) + suffix;
+  }();
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (f == nullptr || (size > 0 && std::fwrite(data, 1, size, f) != size) || std::fclose(f) != 0) {
+    std::perror(path.c_str());
+    std::abort();
+  }
+  return path;
+}
+
+}  // namespace podid::fuzz
