@@ -156,20 +156,23 @@ TimeSeries ReadCsv(const std::string& path) {
   }
   const std::size_t columns = names.size();
 
-  // Rows, stored row-major in blocks of kBlockRows rows: the blocks are freed
+  // Rows, stored row-major in blocks of block_rows rows: the blocks are freed
   // one by one while the result is filled, so the peak memory is about the
   // result's size plus one block (no reallocation of one growing buffer).
-  constexpr std::size_t kBlockRows = 16384;
+  // A block holds at most 2^17 doubles (16384 rows of 8 columns): a wide
+  // header must not make the first row allocate 16384 times its width.
+  constexpr std::size_t kBlockDoubles = std::size_t{1} << 17;
+  const std::size_t block_rows = std::max<std::size_t>(1, kBlockDoubles / columns);
   std::vector<std::unique_ptr<double[]>> blocks;
   double* row_out = nullptr;
   std::size_t rows = 0;
   double t_previous = 0.0, step = 0.0;
   while (reader.Next(line)) {
     if (IsBlank(line)) continue;
-    if (rows % kBlockRows == 0) {
-      blocks.push_back(std::make_unique_for_overwrite<double[]>(kBlockRows * columns));
+    if (rows % block_rows == 0) {
+      blocks.push_back(std::make_unique_for_overwrite<double[]>(block_rows * columns));
     }
-    row_out = blocks.back().get() + (rows % kBlockRows) * columns;
+    row_out = blocks.back().get() + (rows % block_rows) * columns;
     const long long line_number = reader.line_number();
     std::size_t position = 0;
     for (std::size_t c = 0; c < columns; ++c) {
@@ -238,8 +241,8 @@ TimeSeries ReadCsv(const std::string& path) {
   series.values.resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(columns - 1));
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     const double* block = blocks[b].get();
-    const std::size_t first = b * kBlockRows;
-    const std::size_t count = std::min(kBlockRows, rows - first);
+    const std::size_t first = b * block_rows;
+    const std::size_t count = std::min(block_rows, rows - first);
     for (std::size_t i = 0; i < count; ++i) {
       const double* row = block + i * columns;
       const auto r = static_cast<Eigen::Index>(first + i);
