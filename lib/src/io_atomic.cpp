@@ -1,5 +1,6 @@
 // WriteFileAtomically: temporary file in the destination folder, fsync, rename.
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -80,37 +81,13 @@ class FdStreamBuf : public std::streambuf {
 
 std::atomic<unsigned> temp_counter{0};
 
-}  // namespace
-
-void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  if (path.empty() || !target.has_filename()) {
-    ThrowInvalid("output file", "a file name", "\"" + path + "\"");
-  }
-  const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
-
-  // Create the temporary: same folder, so that rename() is atomic.
-  std::string temp;
-  int fd = -1;
-  for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-    temp = (folder / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) +
-                      "-" + std::to_string(temp_counter.fetch_add(1))))
-               .string();
-    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0 && errno != EEXIST) {
-      Fail(path,
-           "cannot create a temporary file in " + folder.string() + ": " + std::strerror(errno));
-    }
-  }
-  if (fd < 0) Fail(path, "cannot create a temporary file in " + folder.string());
-
-  auto discard = [&]() {
-    if (fd >= 0) ::close(fd);
-    fd = -1;
-    ::unlink(temp.c_str());
-  };
-
+/// Runs `write` on a stream over `fd` and flushes it. On any failure calls
+/// `discard` and throws: std::invalid_argument from the callback stays one,
+/// anything else becomes std::runtime_error naming `path`.
+void WriteThrough(int fd,
+                  const std::string& path,
+                  const std::function<void(std::ostream&)>& write,
+                  const std::function<void()>& discard) {
   FdStreamBuf buffer(fd);
   std::ostream stream(&buffer);
   try {
@@ -135,6 +112,56 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
     discard();
     Fail(path, "the output stream reported a failure");
   }
+}
+
+/// An existing device, FIFO or socket (/dev/null, /dev/full, a pipe) is
+/// written in place: renaming a temporary onto it would replace the device
+/// node with a regular file (as root, /dev/null itself for everyone).
+void WriteInPlace(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd < 0) Fail(path, std::strerror(errno));
+  WriteThrough(fd, path, write, [fd] { ::close(fd); });
+  if (::close(fd) != 0) Fail(path, std::string("close failed: ") + std::strerror(errno));
+}
+
+}  // namespace
+
+void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  if (path.empty() || !target.has_filename()) {
+    ThrowInvalid("output file", "a file name", "\"" + path + "\"");
+  }
+  const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  struct stat status {};
+  if (::stat(path.c_str(), &status) == 0 && !S_ISREG(status.st_mode) &&
+      !S_ISDIR(status.st_mode)) {
+    WriteInPlace(path, write);
+    return;
+  }
+
+  // Create the temporary: same folder, so that rename() is atomic.
+  std::string temp;
+  int fd = -1;
+  for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+    temp = (folder / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) +
+                      "-" + std::to_string(temp_counter.fetch_add(1))))
+               .string();
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && errno != EEXIST) {
+      Fail(path,
+           "cannot create a temporary file in " + folder.string() + ": " + std::strerror(errno));
+    }
+  }
+  if (fd < 0) Fail(path, "cannot create a temporary file in " + folder.string());
+
+  auto discard = [&]() {
+    if (fd >= 0) ::close(fd);
+    fd = -1;
+    ::unlink(temp.c_str());
+  };
+
+  WriteThrough(fd, path, write, discard);
   if (::fsync(fd) != 0) {
     const int error = errno;
     discard();
