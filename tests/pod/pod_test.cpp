@@ -1,5 +1,6 @@
 // Tests of podid/pod/pod.hpp against references: known orthonormal factors,
 // the reference data in tests/data, and the equivalence of the three methods.
+#include "podid/core/io.hpp"
 #include "podid/pod/pod.hpp"
 
 #include <gtest/gtest.h>
@@ -25,31 +26,9 @@ using podid::testing::ExpectMatricesNear;
 
 constexpr PodMethod kMethods[] = {PodMethod::kSvd, PodMethod::kDirect, PodMethod::kSnapshot};
 
-// Reads the reference CSV (header t,w1..w6) into X (channels x samples). Kept
-// independent of podid::ReadCsv so these tests exercise POD alone.
+// The reference CSV (header t,w1..w6) as X (channels x samples, eq. 17).
 Eigen::MatrixXd ReadSnapshots(const std::string& name) {
-  std::ifstream in(DataPath(name));
-  EXPECT_TRUE(in.good()) << "cannot open " << DataPath(name);
-  std::string line;
-  std::getline(in, line);  // header
-  std::vector<std::vector<double>> rows;
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    std::stringstream cells(line);
-    std::string cell;
-    std::vector<double> row;
-    std::getline(cells, cell, ',');  // time
-    while (std::getline(cells, cell, ',')) row.push_back(std::stod(cell));
-    rows.push_back(row);
-  }
-  Eigen::MatrixXd x(static_cast<Eigen::Index>(rows[0].size()),
-                    static_cast<Eigen::Index>(rows.size()));
-  for (std::size_t j = 0; j < rows.size(); ++j) {
-    for (std::size_t i = 0; i < rows[j].size(); ++i) {
-      x(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = rows[j][i];
-    }
-  }
-  return x;
+  return ReadCsv(DataPath(name)).SnapshotMatrix();
 }
 
 Eigen::MatrixXd RandomMatrix(Eigen::Index rows, Eigen::Index cols, unsigned seed) {
