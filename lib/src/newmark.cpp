@@ -140,8 +140,13 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     sab_ = s_.topRightCorner(na_, nb_);
     h_ = sbb_inv_ * s_.bottomLeftCorner(nb_, na_);
     shat_ = s_.topLeftCorner(na_, na_) - sab_ * h_;
-    y_matrix_ = sbb_inv_ * rhs_matrix_.bottomRows(nb_);
-    bhat_matrix_ = rhs_matrix_.topRows(na_) - sab_ * y_matrix_;
+    const Eigen::MatrixXd y_rows = sbb_inv_ * rhs_matrix_.bottomRows(nb_);
+    bhat_matrix_ = rhs_matrix_.topRows(na_) - sab_ * y_rows;
+    // One product per step gives both: y_matrix_ is the stacked map
+    // [B; Y] (n x 3n), so that [bhat; y] = y_matrix_ [x; x'; x''].
+    y_matrix_.resize(n_, 3 * n_);
+    y_matrix_.topRows(na_) = bhat_matrix_;
+    y_matrix_.bottomRows(nb_) = y_rows;
   }
 }
 
@@ -172,12 +177,13 @@ bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, double load, int* iter
                                      double* residual) const {
   // y = S_b^-1 rhs_b and bhat = rhs_a - S_ab y (the right side of eq. 29 at
   // x_b = y), straight from the state with the precomputed maps.
-  w.y.noalias() = y_matrix_ * w.z;
-  if (load != 0.0) w.y += load * w.load_y;
+  // w.rhs = [bhat; y] in one product (y_matrix_ is the stacked [B; Y]).
+  w.rhs.noalias() = y_matrix_ * w.z;
+  if (load != 0.0) w.rhs.tail(nb_) += load * w.load_y;
   *iterations = 0;
   *residual = 0.0;
   if (na_ > 0) {
-    w.ra.noalias() = bhat_matrix_ * w.z;  // ra holds bhat during the iterations
+    w.ra = w.rhs.head(na_);  // ra holds bhat during the iterations
     if (load != 0.0) w.ra += load * w.load_bhat;
     if (na_ == 1) return SolveScalar(w, iterations, residual);
     w.xa_n = w.z.head(na_);
@@ -210,7 +216,7 @@ bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, double load, int* iter
     w.x_new.head(na_) = w.xa;
   }
   // eq. 28: x_b = S_b^-1 (rhs_b - S_ba x_a) = y - H x_a.
-  w.x_new.tail(nb_) = w.y;
+  w.x_new.tail(nb_) = w.rhs.tail(nb_);
   if (na_ > 0) w.x_new.tail(nb_).noalias() -= h_ * w.xa;
   return true;
 }
@@ -234,7 +240,7 @@ bool NewmarkIntegrator::SolveScalar(NewmarkWorkspace& w, int* iterations, double
     if (*residual <= options_.tolerance) {
       w.xa[0] = x;
       w.x_new[0] = x;
-      w.x_new.tail(nb_) = w.y;
+      w.x_new.tail(nb_) = w.rhs.tail(nb_);
       w.x_new.tail(nb_).noalias() -= h_.col(0) * x;
       return true;
     }
@@ -380,11 +386,21 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
       summary.failure_time_s = step * dt;
       break;
     }
-    // Newmark updates of acceleration and velocity.
-    w.acc_new = a0_ * (w.x_new - x) - a2_ * v - a3_ * acc;
-    v += dt * ((1.0 - g) * acc + g * w.acc_new);
-    acc = w.acc_new;
-    x = w.x_new;
+    // Newmark updates of acceleration and velocity, fused in one pass over
+    // the dofs (the same operations, in the same order, as the vector form
+    // acc_new = a0 (x_new - x) - a2 v - a3 acc; v += dt ((1 - g) acc + g acc_new)).
+    {
+      double* const zx = w.z.data();
+      double* const zv = zx + n_;
+      double* const za = zx + 2 * n_;
+      const double* const xn = w.x_new.data();
+      for (int i = 0; i < n_; ++i) {
+        const double an = a0_ * (xn[i] - zx[i]) - a2_ * zv[i] - a3_ * za[i];
+        zv[i] += dt * ((1.0 - g) * za[i] + g * an);
+        za[i] = an;
+        zx[i] = xn[i];
+      }
+    }
     summary.steps_completed = step;
     record(step);
   }

@@ -149,7 +149,8 @@ class NewmarkIntegrator {
   Eigen::MatrixXd rhs_matrix_;
   // Condensation (modified method): S_b^-1, S_ab, H = S_b^-1 S_ba,
   // Shat = S_a - S_ab S_b^-1 S_ba, and the state-to-(y, bhat) maps
-  // y = S_b^-1 rhs_b = Y [x; x'; x''], bhat = rhs_a - S_ab y = B [x; x'; x''].
+  // y = S_b^-1 rhs_b = Y [x; x'; x''], bhat = rhs_a - S_ab y = B [x; x'; x''];
+  // y_matrix_ holds the stacked [B; Y] (n x 3n), one product per step.
   Eigen::MatrixXd sbb_inv_, sab_, h_, shat_, y_matrix_, bhat_matrix_;
   Eigen::MatrixXd mass_inverse_;
   NonlinearForces nonlinear_;  ///< with `local` indices = permuted indices
