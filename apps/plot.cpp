@@ -64,7 +64,7 @@ std::string AxesScript(const Axes& axes) {
   std::ostringstream os;
   if (!axes.title.empty()) os << "set title " << Quote(axes.title) << "\n";
   os << "set xlabel " << Quote(axes.x_label) << "\nset ylabel " << Quote(axes.y_label) << "\n";
-  if (axes.log_y) os << "set logscale y\n";
+  if (axes.log_y) os << "set logscale y\nset format y \"%.0e\"\n";
   os << "set grid\n";
   return os.str();
 }
