@@ -45,14 +45,7 @@ Eigen::VectorXd ObjectiveArguments::Start(const ident::ObjectiveFunction& object
       names += (i ? ", " : "") + objective.parameters()[i].name;
     }
     if (index < 0) ThrowInvalid("--start " + name, "a parameter name (" + names + ")", "\"" + name + "\"");
-    std::size_t used = 0;
-    double value = 0;
-    try {
-      value = std::stod(value_text, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != value_text.size()) ThrowInvalid("--start " + name, "a number", "\"" + value_text + "\"");
+    const double value = ParseNumber(value_text, "--start " + name);
     const ParameterSpec& p = objective.parameters()[index];
     if (!(value >= p.lower && value <= p.upper)) {
       ThrowInvalid("--start " + name, "a value in the bounds [" + ToText(p.lower) + ", " + ToText(p.upper) + "]",

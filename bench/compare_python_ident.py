@@ -32,25 +32,21 @@ A second Python timing uses 64 linear scales (the wavelet issue's PyWavelets
 case, about 760 ms there): the cheaper Python variant, for a conservative
 ratio and for the issue's "about 1.1 s per evaluation" figure.
 """
-import json
 import os
-import subprocess
 import sys
-import tempfile
-import time
 
 import numpy as np
 import pywt
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import python_beam  # noqa: E402
+from bench_common import REPEATS, benchmark_medians, podid_simulation, time_python, to_ms  # noqa: E402
 
 OMEGA0 = 6.0
 WAVELET = "cmor2.0-%.15g" % (OMEGA0 / (2 * np.pi))
 KNL = 50.0
 SIM_TOLERANCE = 1e-6   # max |w_py - w_podid| / max |w_podid|
 TERM_TOLERANCE = 1e-3  # relative, dU and dS
-REPEATS = 5
 
 
 def log_frequencies(fmin=10.0, fmax=120.0, voices=32):
@@ -97,16 +93,6 @@ class PythonObjective:
         return du, ds, dif
 
 
-def time_python(function, repeats=REPEATS):
-    wall, cpu = [], []
-    for _ in range(repeats):
-        w0, c0 = time.perf_counter(), time.process_time()
-        function()
-        cpu.append(time.process_time() - c0)
-        wall.append(time.perf_counter() - w0)
-    return 1e3 * float(np.median(wall)), 1e3 * float(np.median(cpu))
-
-
 def main():
     build = sys.argv[1] if len(sys.argv) > 1 else "build/bench"
     podid = os.path.join(build, "apps", "podid")
@@ -116,12 +102,7 @@ def main():
     dt = t[1] - t[0]
 
     # Same simulation as podid's?
-    with tempfile.TemporaryDirectory() as tmp:
-        out = os.path.join(tmp, "sim.csv")
-        subprocess.run([podid, "simulate", "examples/beam.toml", "--set", "time.duration=1.0",
-                        "--set", "nonlinearity.0.k3=%.17g" % (KNL * 1e8), "--no-noise", "-o", out],
-                       check=True, stdout=subprocess.DEVNULL)
-        ours_sim = np.loadtxt(out, delimiter=",", skiprows=1)[:, 1:]
+    ours_sim = podid_simulation(podid, ["nonlinearity.0.k3=%.17g" % (KNL * 1e8)])
     theirs_sim = python_beam.simulate(KNL, duration=1.0, dt=dt)
     sim_err = np.abs(ours_sim - theirs_sim).max() / np.abs(ours_sim).max()
     print("simulation agreement, knl = %g, 1 s: max |w_numpy - w_podid| / max |w_podid| = %.2e"
@@ -132,14 +113,8 @@ def main():
     du, ds, dif = objective.evaluate(KNL)
 
     # podid's evaluation, timed in this run.
-    result = subprocess.run([bench, "--benchmark_filter=BM_EvaluateWavelet1s$",
-                             "--benchmark_repetitions=%d" % REPEATS,
-                             "--benchmark_report_aggregates_only=true", "--benchmark_format=json"],
-                            check=True, capture_output=True, text=True)
-    report = json.loads(result.stdout)
-    median = [r for r in report["benchmarks"] if r.get("aggregate_name") == "median"][0]
-    to_ms = {"us": 1e-3, "ms": 1.0, "ns": 1e-6, "s": 1e3}[median["time_unit"]]
-    podid_cpu, podid_wall = median["cpu_time"] * to_ms, median["real_time"] * to_ms
+    median = benchmark_medians(bench, "BM_EvaluateWavelet1s$")["BM_EvaluateWavelet1s"]
+    podid_cpu, podid_wall = to_ms(median)
     rel_du = abs(du - median["dU"]) / median["dU"]
     rel_ds = abs(ds - median["dS"]) / median["dS"]
     print("terms at knl = %g: dU numpy %.6e podid %.6e (rel %.1e); dS numpy %.6e podid %.6e (rel %.1e)"

@@ -15,48 +15,16 @@ BM_Reference1sCondensed (time loop only) and BM_Reference1sSimulateEndToEnd
 (model, modal analysis, static solve, integrator set-up and loop: the work
 the Python function does), run in the same process group as this script.
 """
-import json
 import os
-import subprocess
 import sys
-import tempfile
-import time
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import python_beam  # noqa: E402
+from bench_common import REPEATS, benchmark_medians, podid_simulation, time_python  # noqa: E402
 
 TOLERANCE = 1e-6  # max |w_py - w_podid| / max |w_podid|
-REPEATS = 5
-
-
-def podid_simulation(podid):
-    with tempfile.TemporaryDirectory() as tmp:
-        out = os.path.join(tmp, "sim.csv")
-        subprocess.run([podid, "simulate", "examples/beam.toml", "--set", "time.duration=1.0",
-                        "--no-noise", "-o", out], check=True, stdout=subprocess.DEVNULL)
-        return np.loadtxt(out, delimiter=",", skiprows=1)[:, 1:]
-
-
-def benchmark_medians(executable, pattern):
-    result = subprocess.run([executable, "--benchmark_filter=" + pattern,
-                             "--benchmark_repetitions=%d" % REPEATS,
-                             "--benchmark_report_aggregates_only=true",
-                             "--benchmark_format=json"],
-                            check=True, capture_output=True, text=True)
-    report = json.loads(result.stdout)
-    return {r["run_name"]: r for r in report["benchmarks"] if r.get("aggregate_name") == "median"}
-
-
-def time_python(function, repeats=REPEATS):
-    wall, cpu = [], []
-    for _ in range(repeats):
-        w0, c0 = time.perf_counter(), time.process_time()
-        function()
-        cpu.append(time.process_time() - c0)
-        wall.append(time.perf_counter() - w0)
-    return 1e3 * float(np.median(wall)), 1e3 * float(np.median(cpu))
 
 
 def main():

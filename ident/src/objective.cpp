@@ -54,16 +54,8 @@ ObjectiveWeights ObjectiveWeights::Parse(std::string_view terms, std::string_vie
                    ToText(w.size()) + " (\"" + std::string(weights) + "\")");
     }
     for (std::size_t i = 0; i < w.size(); ++i) {
-      std::size_t used = 0;
-      double value = 0;
-      try {
-        value = std::stod(w[i], &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != w[i].size() || !(value >= 0) || !std::isfinite(value)) {
-        ThrowInvalid("--weights", "non-negative numbers", "\"" + w[i] + "\"");
-      }
+      const double value = ParseNumber(w[i], "--weights", "non-negative numbers");
+      if (!(value >= 0)) ThrowInvalid("--weights", "non-negative numbers", "\"" + w[i] + "\"");
       values[i] = value;
     }
   }

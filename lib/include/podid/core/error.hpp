@@ -32,6 +32,11 @@ std::string ToText(const T& value) {
 [[noreturn]] void ThrowInvalid(std::string_view where, std::string_view expected,
                                std::string_view got);
 
+/// Parses a whole string as a finite number (e.g. "2.5e9"); otherwise throws
+/// ThrowInvalid(where, expected, "\"text\"").
+double ParseNumber(std::string_view text, std::string_view where,
+                   std::string_view expected = "a number");
+
 }  // namespace podid
 
 /// Always-on invariant check (not compiled out by NDEBUG).
