@@ -30,6 +30,7 @@ const char* ToString(SimulationTermination termination) {
     case SimulationTermination::kStaticSolveFailed: return "static solve failed";
     case SimulationTermination::kNewtonFailed: return "Newton failed";
     case SimulationTermination::kNonFinite: return "non-finite state";
+    case SimulationTermination::kDiverged: return "diverged";
   }
   return "unknown";
 }
@@ -46,6 +47,8 @@ bool NewmarkOptions::IsValid(std::string* why) const {
   if (!(tolerance > 0.0 && tolerance < 1.0))
     return fail("tolerance: expected a value in (0, 1), got " + ToText(tolerance));
   if (max_iterations < 1) return fail("max_iterations: expected >= 1, got " + ToText(max_iterations));
+  if (!(max_displacement > 0.0))
+    return fail("max_displacement: expected > 0, got " + ToText(max_displacement));
   return true;
 }
 
@@ -386,6 +389,11 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
       summary.failure_time_s = step * dt;
       break;
     }
+    if (w.x_new.lpNorm<Eigen::Infinity>() > options_.max_displacement) {
+      summary.termination = SimulationTermination::kDiverged;
+      summary.failure_time_s = step * dt;
+      break;
+    }
     // Newmark updates of acceleration and velocity, fused in one pass over
     // the dofs (the same operations, in the same order, as the vector form
     // acc_new = a0 (x_new - x) - a2 v - a3 acc; v += dt ((1 - g) acc + g acc_new)).
@@ -417,6 +425,11 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
       os << "Newton failed at t = " << summary.failure_time_s << " s (step " << summary.steps_completed + 1
          << ") with relative residual " << summary.failure_residual << " after "
          << options_.max_iterations << " iterations; history kept up to t = "
+         << summary.steps_completed * dt << " s";
+      break;
+    case SimulationTermination::kDiverged:
+      os << "state diverged at t = " << summary.failure_time_s << " s (step " << summary.steps_completed + 1
+         << "): |x| exceeded " << options_.max_displacement << "; history kept up to t = "
          << summary.steps_completed * dt << " s";
       break;
     case SimulationTermination::kNonFinite:

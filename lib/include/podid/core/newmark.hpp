@@ -41,6 +41,11 @@ struct NewmarkOptions {
   int steps = 0;             ///< >= 1; samples = steps + 1
   double tolerance = 1e-10;  ///< Newton: ||r||_inf <= tolerance * (force scale of the step)
   int max_iterations = 50;   ///< Newton iterations per step
+  /// A step whose largest |x| (m or rad) exceeds this ends the run as
+  /// kDiverged: an unstable system (negative stiffness) can grow without ever
+  /// overflowing, since the implicit scheme damps the runaway. 1e3 is far
+  /// beyond any structure podid models. > 0.
+  double max_displacement = 1e3;
   bool IsValid(std::string* why) const;
   /// From the case's [time] and [integrator] tables.
   static NewmarkOptions FromCase(const CaseSpec& spec);
@@ -64,6 +69,7 @@ enum class SimulationTermination {
   kStaticSolveFailed, ///< the initial static deflection did not converge
   kNewtonFailed,      ///< a step's Newton iterations did not converge; history kept up to it
   kNonFinite,         ///< the state became NaN/Inf; history kept up to the step before
+  kDiverged,          ///< |x| exceeded NewmarkOptions::max_displacement; history kept up to the step before
 };
 
 const char* ToString(SimulationTermination termination);
