@@ -143,21 +143,18 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     sab_ = s_.topRightCorner(na_, nb_);
     h_ = sbb_inv_ * s_.bottomLeftCorner(nb_, na_);
     shat_ = s_.topLeftCorner(na_, na_) - sab_ * h_;
-    const Eigen::MatrixXd y_rows = sbb_inv_ * rhs_matrix_.bottomRows(nb_);
-    bhat_matrix_ = rhs_matrix_.topRows(na_) - sab_ * y_rows;
-    // One product per step gives both: y_matrix_ is the stacked map
-    // [B; Y] (n x 3n), so that [bhat; y] = y_matrix_ [x; x'; x''].
-    y_matrix_.resize(n_, 3 * n_);
-    y_matrix_.topRows(na_) = bhat_matrix_;
-    y_matrix_.bottomRows(nb_) = y_rows;
+    // One product per step gives both: [bhat; y] = condensed_rhs_matrix_ [x; x'; x''].
+    condensed_rhs_matrix_.resize(n_, 3 * n_);
+    auto y_rows = condensed_rhs_matrix_.bottomRows(nb_);
+    y_rows.noalias() = sbb_inv_ * rhs_matrix_.bottomRows(nb_);
+    condensed_rhs_matrix_.topRows(na_) = rhs_matrix_.topRows(na_) - sab_ * y_rows;
   }
 }
 
 NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
   const int n = integrator.n_, na = integrator.na_;
   z.setZero(3 * n);
-  for (Eigen::VectorXd* v : {&x_new, &acc_new, &rhs, &r, &dx}) v->setZero(n);
-  y.setZero(integrator.nb_);
+  for (Eigen::VectorXd* v : {&x_new, &rhs, &r, &dx}) v->setZero(n);
   load_y.setZero(integrator.nb_);
   for (Eigen::VectorXd* v : {&xa, &xa_n, &va, &fa, &ka, &ca, &ra, &dxa, &xa_trial, &load_bhat})
     v->setZero(na);
@@ -180,8 +177,8 @@ bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, double load, int* iter
                                      double* residual) const {
   // y = S_b^-1 rhs_b and bhat = rhs_a - S_ab y (the right side of eq. 29 at
   // x_b = y), straight from the state with the precomputed maps.
-  // w.rhs = [bhat; y] in one product (y_matrix_ is the stacked [B; Y]).
-  w.rhs.noalias() = y_matrix_ * w.z;
+  // w.rhs = [bhat; y] in one product (the stacked [B; Y]).
+  w.rhs.noalias() = condensed_rhs_matrix_ * w.z;
   if (load != 0.0) w.rhs.tail(nb_) += load * w.load_y;
   *iterations = 0;
   *residual = 0.0;

@@ -120,7 +120,7 @@ enum class IntegratorType {
 struct IntegratorSpec {
   IntegratorType type = IntegratorType::kModifiedNewmark;
   double gamma = 0.5;   ///< Newmark gamma, in [0.5, 1]
-  double beta = 0.25;   ///< Newmark beta, in [gamma/2 * ... , 0.5] (> 0)
+  double beta = 0.25;   ///< Newmark beta, in (0, 0.5]; unconditionally stable for beta >= gamma / 2
   double tolerance = 1e-10;   ///< Newton: relative residual tolerance, > 0
   int max_iterations = 50;    ///< Newton iterations per step, >= 1
 };

@@ -112,7 +112,7 @@ class NewmarkWorkspace {
  private:
   friend class NewmarkIntegrator;
   Eigen::VectorXd z;  ///< state (dim 3 n): x, x', x'' in the permuted order
-  Eigen::VectorXd x_new, acc_new, rhs, y, r, dx, load_y;
+  Eigen::VectorXd x_new, rhs, r, dx, load_y;
   Eigen::VectorXd xa, xa_n, va, fa, ka, ca, ra, dxa, xa_trial, load_bhat;
   Eigen::MatrixXd jac, jac_a;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu, lu_a;
@@ -156,8 +156,8 @@ class NewmarkIntegrator {
   // Condensation (modified method): S_b^-1, S_ab, H = S_b^-1 S_ba,
   // Shat = S_a - S_ab S_b^-1 S_ba, and the state-to-(y, bhat) maps
   // y = S_b^-1 rhs_b = Y [x; x'; x''], bhat = rhs_a - S_ab y = B [x; x'; x''];
-  // y_matrix_ holds the stacked [B; Y] (n x 3n), one product per step.
-  Eigen::MatrixXd sbb_inv_, sab_, h_, shat_, y_matrix_, bhat_matrix_;
+  // condensed_rhs_matrix_ is the stacked [B; Y] (n x 3n): one product per step.
+  Eigen::MatrixXd sbb_inv_, sab_, h_, shat_, condensed_rhs_matrix_;
   Eigen::MatrixXd mass_inverse_;
   NonlinearForces nonlinear_;  ///< with `local` indices = permuted indices
 };
