@@ -87,6 +87,7 @@ struct RunState {
   double best = std::numeric_limits<double>::infinity();
   Eigen::VectorXd best_x;
   TermValues best_terms;
+  std::string first_failure;  ///< the reason of the first failed evaluation
   std::vector<IterationRecord> history;
   nlopt_result result = NLOPT_FAILURE;
 };
@@ -98,7 +99,7 @@ double Evaluate(unsigned n, const double* x, double* gradient, void* data) {
   const TermValues terms = s.objective->Evaluate(s.x, *s.weights, &s.workspace);
   const double value = terms.Combine(*s.weights, s.objective->options().failure_value);
   ++s.evaluations;
-  if (terms.failed) ++s.failed;
+  if (terms.failed && s.failed++ == 0) s.first_failure = terms.failure;  // the start, when all fail
   if (!terms.failed && value < s.best) {
     s.best = value;
     s.best_x = s.x;
@@ -321,15 +322,8 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
     summary.termination = Termination::kAllEvaluationsFailed;
     summary.parameters = first;
     summary.message = "every evaluation failed";
-    for (const RunState& r : runs) {
-      for (const IterationRecord& rec : r.history) {
-        if (rec.failed) {
-          summary.message += "; e.g. at the start: " +
-                             objective.Evaluate(rec.parameters, options.weights).failure;
-          break;
-        }
-      }
-      break;
+    if (!runs.front().first_failure.empty()) {
+      summary.message += "; e.g. at the start: " + runs.front().first_failure;
     }
   } else {
     const RunState& b = runs[best];
