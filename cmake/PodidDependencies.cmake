@@ -3,6 +3,7 @@ find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET GLOBAL fftw3)
 pkg_check_modules(MATIO REQUIRED IMPORTED_TARGET GLOBAL matio)
+find_package(ZLIB REQUIRED)  # .mat structure checks inflate compressed variables
 find_package(GSL REQUIRED)
 find_package(NLopt REQUIRED)
 find_package(tomlplusplus REQUIRED)

@@ -3,17 +3,16 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
-#include <fstream>
-#include <iterator>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "io_internal.hpp"
+#include "mat_structure.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
 
@@ -138,58 +137,12 @@ std::vector<double> ReadDoubles(mat_t* mat, const std::string& path, const std::
   return out;
 }
 
-/// Checks that every data element of a v5 file (and, recursively, of its
-/// uncompressed miMATRIX elements) declares a size that fits in its parent.
-/// libmatio trusts these sizes and allocates them (e.g. a 2 GB dims array from
-/// a 424-byte file) before it notices the end of the file. Compressed elements
-/// are checked as a whole; their content is left to matio. Format: MATLAB's
-/// "MAT-File Format", ch. 1: 128-byte header, tags of (type, bytes) or the
-/// small-element form (bytes << 16 | type), subelements padded to 8 bytes.
-void CheckV5Structure(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  constexpr std::size_t kHeaderBytes = 128;
-  constexpr std::uint32_t kMiMatrix = 14;
-  if (bytes.size() < kHeaderBytes) return;  // matio reports it
-  const bool swap = bytes[126] == 'M' && bytes[127] == 'I';
-  auto word = [&](std::size_t at) {
-    std::uint32_t v = 0;
-    std::memcpy(&v, bytes.data() + at, 4);
-    return swap ? __builtin_bswap32(v) : v;
-  };
-  auto fail = [&](std::size_t at, std::size_t size, std::size_t room) {
-    ThrowInvalid(path + ": byte " + std::to_string(at),
-                 "a data element of at most " + std::to_string(room) + " bytes",
-                 std::to_string(size) + " bytes (a corrupt or truncated file)");
-  };
-  // Walks the elements in [begin, end); `top` elements are not padded.
-  auto walk = [&](auto&& self, std::size_t begin, std::size_t end, bool top, int depth) -> void {
-    if (depth > 64) fail(begin, end - begin, 0);  // nesting that deep is not a time series
-    std::size_t at = begin;
-    while (at < end) {
-      if (end - at < 8) {
-        if (top) return;  // trailing bytes: matio ignores them
-        fail(at, 8, end - at);
-      }
-      const std::uint32_t type = word(at);
-      if ((type >> 16) != 0) {  // small element: 4 bytes of data in the tag
-        at += 8;
-        continue;
-      }
-      const std::size_t size = word(at + 4);
-      const std::size_t room = end - at - 8;
-      if (size > room) fail(at, size, room);
-      if (type == kMiMatrix) self(self, at + 8, at + 8 + size, false, depth + 1);
-      const std::size_t padded = top ? size : (size + 7) / 8 * 8;
-      at += 8 + std::min(padded, room);
-    }
-  };
-  walk(walk, kHeaderBytes, bytes.size(), true, 0);
-}
-
 }  // namespace
 
 TimeSeries ReadMat(const std::string& path, const MatReadOptions& options) {
+  // libmatio allocates what the headers declare, from Mat_Open on: check them
+  // against the file first.
+  internal::CheckMatStructure(path);
   MatPtr mat(Mat_Open(path.c_str(), MAT_ACC_RDONLY));
   if (!mat)
     ThrowInvalid(path, "a readable MATLAB .mat file (v4, v5 or v7.3)", "a file matio cannot open");
@@ -198,7 +151,6 @@ TimeSeries ReadMat(const std::string& path, const MatReadOptions& options) {
   const double file_bytes =
       ::stat(path.c_str(), &file_status) == 0 ? static_cast<double>(file_status.st_size) : 0.0;
   const bool v73 = Mat_GetVersion(mat.get()) == MAT_FT_MAT73;
-  if (Mat_GetVersion(mat.get()) == MAT_FT_MAT5) CheckV5Structure(path);
 
   std::vector<VarInfo> vars;
   while (true) {

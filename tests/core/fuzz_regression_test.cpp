@@ -3,9 +3,10 @@
 // a clear message, in bounded memory, and never in a crash.
 #include <gtest/gtest.h>
 #include <matio.h>
+#include <zlib.h>
 
+#include <cstdint>
 #include <fstream>
-
 #include <stdexcept>
 #include <string>
 
@@ -31,7 +32,9 @@ TEST(FuzzRegressionMat, HeaderDimensionsLargerThanTheFileAreRejectedBeforeAlloca
   MatReadOptions options;
   options.step_s = 1e-3;
   PODID_EXPECT_THROW_WITH(ReadMat(DataPath("fuzz/mat_huge_dims.mat"), options),
-                          std::invalid_argument, "(a corrupt or truncated file)");
+                          std::invalid_argument,
+                          "byte 168: expected the array name: an element of type 1, got an element "
+                          "of type 0 and 1075838976 bytes");
 
   const TempDir dir;
   const std::string path = dir.File("dims.mat");
@@ -54,19 +57,115 @@ TEST(FuzzRegressionMat, HeaderDimensionsLargerThanTheFileAreRejectedBeforeAlloca
   bytes[at + 8 + 3] = '\x40';  // 5 rows -> 0x40000005 rows
   std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
   PODID_EXPECT_THROW_WITH(ReadMat(path, options), std::invalid_argument,
-                          "variable 'w': expected dimensions whose data fits the file");
+                          "byte 176: expected an array whose 2147483658 elements fit in the 88 "
+                          "bytes that follow, got more (a corrupt or truncated file)");
 }
 
 TEST(FuzzRegressionMat, ElementTagLargerThanItsParentIsRejectedBeforeMatioAllocatesIt) {
   // podid_fuzz_mat: a 424-byte v5 file whose char array's dims tag declares
   // 0x40000008 bytes; libmatio allocated 2 GB for the dims before reading
-  // them. Every element of a v5 file is now checked to fit in its parent.
+  // them. Every element of a v5 file is now checked to fit in its parent; this
+  // file is rejected before that, at the first cell whose tag is not an
+  // miMATRIX (its odd offset comes from a mutated size).
   MatReadOptions options;
   options.step_s = 1e-3;
   PODID_EXPECT_THROW_WITH(ReadMat(DataPath("fuzz/mat_v5_dims_tag_too_large.mat"), options),
                           std::invalid_argument,
-                          "expected a data element of at most 7 bytes, got 8 bytes (a corrupt or "
-                          "truncated file)");
+                          "byte 311: expected an miMATRIX element (type 14) in a cell array, got an "
+                          "element of type 3584 and 12288 bytes");
+}
+
+TEST(FuzzRegressionMat, NestedCellDeclaringBillionsOfCellsIsRejectedBeforeMatioAllocatesThem) {
+  // podid_fuzz_mat, 1 min in: a 424-byte v5 file whose cell array holds a cell
+  // of dimensions 1 x 0xb2f60002; libmatio calloc'ed 24 GB of cell pointers.
+  // miMATRIX headers at every depth are now checked against their element.
+  MatReadOptions options;
+  options.step_s = 1e-3;
+  PODID_EXPECT_THROW_WITH(ReadMat(DataPath("fuzz/mat_v5_cell_3e9_elements.mat"), options),
+                          std::invalid_argument,
+                          "byte 240: expected non-negative dimensions, got -1292500990");
+}
+
+TEST(FuzzRegressionMat, Level4NameLongerThanTheFileIsRejectedBeforeMatOpen) {
+  // podid_fuzz_mat: a 292-byte v4 file whose name length is 0x5f000002;
+  // Mat_Open itself calloc'ed 1.6 GB for the name (16 s under ASan).
+  MatReadOptions options;
+  options.step_s = 1e-3;
+  PODID_EXPECT_THROW_WITH(ReadMat(DataPath("fuzz/mat_v4_name_length_1_6e9.mat"), options),
+                          std::invalid_argument,
+                          "v4 matrix at byte 0: expected a name and data that fit in the 272 bytes "
+                          "that follow, got 1593835522 + 80 bytes (a corrupt or truncated file)");
+}
+
+TEST(FuzzRegressionMat, NonCanonicalLayoutThatMatioReadsDifferentlyIsRejected) {
+  // podid_fuzz_mat: a dims tag in the small-element form (768 bytes declared,
+  // 4 in the tag). libmatio read it as a normal tag, so the next "dims" it
+  // found declared 3e8 dimensions (2.5 GB), while a walk that honoured the
+  // small form saw nothing wrong. The walk now takes only the canonical layout.
+  MatReadOptions options;
+  options.step_s = 1e-3;
+  PODID_EXPECT_THROW_WITH(
+      ReadMat(DataPath("fuzz/mat_v5_dims_small_element_768_bytes.mat"), options),
+      std::invalid_argument,
+      "byte 152: expected the dimensions: an element of type 5 (not small), got a small element "
+      "of type 5 and 768 bytes");
+}
+
+TEST(FuzzRegressionMat, CompressedDataFailingItsChecksumIsRejected) {
+  // podid_fuzz_mat: a compressed variable whose zlib stream fails its adler32
+  // check. The walk dropped the stream and saw no variable; libmatio read the
+  // inflated bytes anyway and calloc'ed 2.5 GB from them.
+  MatReadOptions options;
+  options.step_s = 1e-3;
+  PODID_EXPECT_THROW_WITH(ReadMat(DataPath("fuzz/mat_v5_compressed_bad_checksum.mat"), options),
+                          std::invalid_argument,
+                          "compressed variable at byte 128, inflated byte 0: expected compressed "
+                          "data that inflates, got zlib: incorrect data check");
+}
+
+TEST(FuzzRegressionMat, FunctionHandleDeclaringHalfABillionElementsIsRejected) {
+  // podid_fuzz_mat: a 224-byte v5 file whose array of class 16 (a function
+  // handle, which libmatio reads as a cell array) declares 1 x 536870933
+  // elements: libmatio malloc'ed 4 GB of pointers for them.
+  MatReadOptions options;
+  options.step_s = 1e-3;
+  PODID_EXPECT_THROW_WITH(
+      ReadMat(DataPath("fuzz/mat_v5_function_handle_5e8_elements.mat"), options),
+      std::invalid_argument,
+      "byte 176: expected a cell array whose 536870933 elements fit in the 48 bytes that follow");
+}
+
+TEST(FuzzRegressionMat, CompressedCellDeclaringMoreCellsThanItHoldsIsRejected) {
+  // The same check inside an miCOMPRESSED element, which is inflated as a
+  // stream: a cell of 1 x 10^8 cells in a 70-byte compressed variable.
+  auto word = [](std::string& out, std::uint32_t v) { out.append(reinterpret_cast<char*>(&v), 4); };
+  std::string matrix;  // miMATRIX content: flags (cell), dims 1 x 1e8, name "c"
+  word(matrix, 6), word(matrix, 8), word(matrix, 1), word(matrix, 0);
+  word(matrix, 5), word(matrix, 8), word(matrix, 1), word(matrix, 100000000);
+  word(matrix, 1 << 16 | 1), word(matrix, 'c');
+  std::string element;
+  word(element, 14), word(element, static_cast<std::uint32_t>(matrix.size()));
+  element += matrix;
+  std::string deflated(compressBound(element.size()), '\0');
+  uLongf deflated_size = deflated.size();
+  ASSERT_EQ(compress(reinterpret_cast<Bytef*>(deflated.data()), &deflated_size,
+                     reinterpret_cast<const Bytef*>(element.data()), element.size()),
+            Z_OK);
+  deflated.resize(deflated_size);
+  std::string file(116, ' ');
+  file.replace(0, 10, "MATLAB 5.0");
+  file.append(8, '\0');
+  file += std::string("\x00\x01IM", 4);
+  word(file, 15), word(file, static_cast<std::uint32_t>(deflated.size()));
+  file += deflated;
+  const TempDir dir;
+  const std::string path = dir.Write("compressed_cell.mat", file);
+  MatReadOptions options;
+  options.step_s = 1e-3;
+  PODID_EXPECT_THROW_WITH(ReadMat(path, options), std::invalid_argument,
+                          "compressed variable at byte 128, inflated byte 48: expected a cell array "
+                          "whose 100000000 elements fit in the 0 bytes that follow, got more (a "
+                          "corrupt or truncated file)");
 }
 
 // --- CSV -------------------------------------------------------------------

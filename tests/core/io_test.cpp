@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -253,6 +254,24 @@ TEST(ReadMat, MatrixAndTimeVectorInEachFormat) {
     EXPECT_EQ(series.time_s, reference.time_s) << path;
     EXPECT_EQ(series.channel_names, reference.channel_names) << path;
     EXPECT_EQ(ReadTimeSeries(path).values, reference.values);
+  }
+}
+
+TEST(ReadMat, ScipyFilesWithStructsCellsStringsAndSparseMatrices) {
+  // Written by scipy.io.savemat (tests/data/make_scipy_mat.py), an independent
+  // writer, beside every array class the structure checks walk through.
+  constexpr double kSameProduct = 0.0;  // t = 1e-3 * i in numpy and here: the same double
+  constexpr double kLibmSin = 1e-15;    // numpy's sin and std::sin may differ by an ulp
+  for (const char* name : {"scipy_rich_v5.mat", "scipy_rich_v5_compressed.mat"}) {
+    const TimeSeries series = ReadMat(DataPath(name));
+    ASSERT_EQ(series.samples(), 100) << name;
+    ASSERT_EQ(series.channels(), 3) << name;
+    for (int i = 0; i < 100; ++i) {
+      EXPECT_NEAR(series.time_s(i), 1e-3 * i, kSameProduct) << name;
+      for (int j = 0; j < 3; ++j) {
+        EXPECT_NEAR(series.values(i, j), std::sin(0.1 * i + j), kLibmSin) << name;
+      }
+    }
   }
 }
 
