@@ -5,12 +5,10 @@
 #include <benchmark/benchmark.h>
 
 #include <Eigen/SVD>
-#include <fstream>
 #include <random>
-#include <sstream>
 #include <string>
-#include <vector>
 
+#include "podid/core/io.hpp"
 #include "podid/pod/pod.hpp"
 
 namespace {
@@ -27,24 +25,13 @@ Eigen::MatrixXd RandomMatrix(Eigen::Index rows, Eigen::Index cols) {
   return a;
 }
 
-// tests/data/measured_knl50_T1.0.csv as X (6 x 5001).
-Eigen::MatrixXd MeasuredSnapshots() {
-  std::ifstream in(std::string(PODID_TEST_DATA_DIR) + "/measured_knl50_T1.0.csv");
-  std::string line;
-  std::getline(in, line);
-  std::vector<double> values;
-  Eigen::Index samples = 0;
-  while (std::getline(in, line)) {
-    std::stringstream cells(line);
-    std::string cell;
-    std::getline(cells, cell, ',');
-    while (std::getline(cells, cell, ',')) values.push_back(std::stod(cell));
-    ++samples;
-  }
-  if (samples == 0) return Eigen::MatrixXd();
-  const Eigen::Index channels = static_cast<Eigen::Index>(values.size()) / samples;
-  return Eigen::Map<Eigen::MatrixXd>(values.data(), channels, samples);
+// tests/data/measured_knl50_T1.0.csv (5001 samples x 6 sensors).
+podid::TimeSeries MeasuredSeries() {
+  return podid::ReadCsv(std::string(PODID_TEST_DATA_DIR) + "/measured_knl50_T1.0.csv");
 }
+
+// The same as X (6 x 5001).
+Eigen::MatrixXd MeasuredSnapshots() { return MeasuredSeries().values.transpose(); }
 
 constexpr PodMethod kMethods[] = {PodMethod::kAuto, PodMethod::kSvd, PodMethod::kDirect,
                                   PodMethod::kSnapshot};
@@ -82,6 +69,21 @@ void BM_PodMeasured(benchmark::State& state) {
   podid::PodSolver solver(options);
   for (auto _ : state) {
     const podid::PodResult& r = solver.Compute(x);
+    benchmark::DoNotOptimize(r.poms.data());
+  }
+  state.SetLabel(std::string(podid::ToString(options.method)) + " ran " +
+                 podid::ToString(solver.result().method));
+}
+
+// The same data as the TimeSeries that identification decomposes on every
+// evaluation (samples x sensors, contiguous sensor histories): all modes, V.
+void BM_PodMeasuredSeries(benchmark::State& state) {
+  podid::PodOptions options;
+  options.method = kMethods[state.range(0)];
+  const podid::TimeSeries series = MeasuredSeries();
+  podid::PodSolver solver(options);
+  for (auto _ : state) {
+    const podid::PodResult& r = solver.Compute(series);
     benchmark::DoNotOptimize(r.poms.data());
   }
   state.SetLabel(std::string(podid::ToString(options.method)) + " ran " +
@@ -144,6 +146,11 @@ int RegisterAll() {
           ->Args({method, modes, with_v})
           ->Unit(benchmark::kMicrosecond);
     }
+    const std::string series = std::string("BM_PodMeasuredSeries/") + podid::ToString(kMethods[method]);
+    benchmark::RegisterBenchmark(series.c_str(), BM_PodMeasuredSeries)
+        ->ArgNames({"method"})
+        ->Args({method})
+        ->Unit(benchmark::kMicrosecond);
   }
   return 0;
 }

@@ -9,15 +9,13 @@
 #include <string>
 #include <utility>
 
+#include "kernels.hpp"
 #include "podid/core/error.hpp"
 
 namespace podid {
 namespace {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-// kDirect forms Y Y^T by dot products of Y^T's columns up to this many
-// sensors, by Eigen's blocked rank update above.
-constexpr Eigen::Index kDotGramMaxSensors = 16;
 // Sign convention: components within this relative margin of the largest
 // magnitude count as tied; the first of them is made positive.
 constexpr double kSignTieMargin = 1e-8;
@@ -163,18 +161,33 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
                  std::to_string(options_.max_modes));
   }
 
-  // eq. 1: v = u - U, U the time mean of each sensor.
+  PodMethod method = options_.method;
+  if (method == PodMethod::kAuto) method = m <= n ? PodMethod::kDirect : PodMethod::kSnapshot;
+  const Index gram_size = method == PodMethod::kDirect ? m : n;
+  if (method != PodMethod::kSvd && gram_size > kMaxGramDimension) {
+    if (options_.method != PodMethod::kAuto) {
+      ThrowInvalid(std::string("POD method ") + ToString(method),
+                   "a Gram matrix side <= " + std::to_string(kMaxGramDimension),
+                   std::to_string(gram_size) + " (use svd)");
+    }
+    method = PodMethod::kSvd;
+  }
+
+  // eq. 1: v = u - U, U the time mean of each sensor, taken from the
+  // contiguous copy so that both layouts of X give the same bits. The direct
+  // method for few unweighted sensors centres Y block by block inside its Gram
+  // kernel (one pass fewer over Y); every other path centres it here.
   w.yt.resize(n, m);
   w.yt.noalias() = xt;
   r.mean.resize(m);
   if (options_.remove_mean) {
-    for (Index i = 0; i < m; ++i) {
-      r.mean(i) = w.yt.col(i).mean();
-      w.yt.col(i).array() -= r.mean(i);
-    }
+    r.mean.noalias() = w.yt.colwise().mean().transpose();
   } else {
     r.mean.setZero();
   }
+  const bool small_direct = method == PodMethod::kDirect && !w.weighted &&
+                            m <= internal::kSmallKernelMaxSensors;
+  if (options_.remove_mean && !small_direct) w.yt.rowwise() -= r.mean.transpose();
   if (w.weighted) {
     w.weighted_yt.resize(n, m);  // Y^T = (X - mean)^T L
     w.weighted_yt.noalias() = w.yt * w.upper.transpose().triangularView<Eigen::Lower>();
@@ -197,17 +210,6 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
     ThrowInvalid("POD data", "values whose squares sum to a finite number", "an overflow");
   };
 
-  PodMethod method = options_.method;
-  if (method == PodMethod::kAuto) method = m <= n ? PodMethod::kDirect : PodMethod::kSnapshot;
-  const Index gram_size = method == PodMethod::kDirect ? m : n;
-  if (method != PodMethod::kSvd && gram_size > kMaxGramDimension) {
-    if (options_.method != PodMethod::kAuto) {
-      ThrowInvalid(std::string("POD method ") + ToString(method),
-                   "a Gram matrix side <= " + std::to_string(kMaxGramDimension),
-                   std::to_string(gram_size) + " (use svd)");
-    }
-    method = PodMethod::kSvd;
-  }
 
   // Number of modes kept from the singular values, all min(M, N) of them.
   auto kept_modes = [&](const Eigen::VectorXd& sigma) {
@@ -237,12 +239,10 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
     w.gram.resize(gram_size, gram_size);
     w.gram.setZero();
     if (direct) {
-      // Y Y^T, eqs. 7-8 (times N). For few sensors, dot products of the
-      // contiguous columns of Y^T beat the blocked product (pod_benchmark).
-      if (m <= kDotGramMaxSensors) {
-        for (Index j = 0; j < m; ++j) {
-          for (Index i = j; i < m; ++i) w.gram(i, j) = w.yt.col(i).dot(w.yt.col(j));
-        }
+      // Y Y^T, eqs. 7-8 (times N). For few sensors, blocked dot products of
+      // the contiguous columns of Y^T beat Eigen's product (pod_benchmark).
+      if (small_direct) {
+        internal::SmallCentredGramLower(r.mean, w.yt, w.gram);
       } else {
         w.gram.selfadjointView<Eigen::Lower>().rankUpdate(w.yt.transpose());
       }
@@ -274,7 +274,23 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
       r.time_modes.resize(options_.compute_time_modes ? n : 0, options_.compute_time_modes ? k : 0);
       if (direct) {
         for (Index j = 0; j < k; ++j) r.poms.col(j) = vectors.col(m - 1 - j);
-        if (options_.compute_time_modes) r.time_modes.noalias() = w.yt * r.poms;
+        if (options_.compute_time_modes) {
+          // V = Y^T Psi diag(1 / sigma), zero columns for zero modes.
+          w.coefficients.resize(m, k);
+          for (Index j = 0; j < k; ++j) {
+            const double s = w.sigma_all(j);
+            if (s == 0.0) {
+              w.coefficients.col(j).setZero();
+            } else {
+              w.coefficients.col(j) = r.poms.col(j) / s;
+            }
+          }
+          if (m <= internal::kSmallKernelMaxSensors) {
+            internal::SmallTimesSmall(w.yt, w.coefficients, r.time_modes);
+          } else {
+            r.time_modes.noalias() = w.yt * w.coefficients;
+          }
+        }
       } else {
         // eq. 10: phi_k = sum_j a_kj v_j; V = A.
         w.coefficients.resize(n, k);
@@ -287,9 +303,7 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
         if (s == 0.0) {
           r.poms.col(j).setZero();
           if (options_.compute_time_modes) r.time_modes.col(j).setZero();
-        } else if (direct) {
-          if (options_.compute_time_modes) r.time_modes.col(j) /= s;
-        } else {
+        } else if (!direct) {
           r.poms.col(j) /= s;
         }
       }

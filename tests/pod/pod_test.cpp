@@ -205,6 +205,19 @@ TEST(Pod, MethodsAgreeOnRandomShapes) {
                      "random 30 x 30 with offset");
 }
 
+TEST(Pod, DirectSmallSensorKernelsAgreeWithSvdForEveryM) {
+  // The direct method's own kernels serve 1..16 sensors (one instantiation
+  // each), Eigen's products above; an offset exercises the fused centring,
+  // and N = 1003 leaves a partial block and a partial lane group.
+  constexpr double kTolerance = 1e-10;  // as MethodsAgreeOnRandomShapes
+  for (Eigen::Index m = 1; m <= 17; ++m) {
+    const Eigen::MatrixXd x =
+        RandomMatrix(m, 1003, static_cast<unsigned>(10 + m)) + 3.0 * Eigen::MatrixXd::Ones(m, 1003);
+    ExpectMethodsAgree(x, kTolerance, "random " + std::to_string(m) + " x 1003 with offset",
+                       {PodMethod::kDirect});
+  }
+}
+
 TEST(Pod, TimeSeriesOverloadEqualsMatrix) {
   const Eigen::MatrixXd x = ReadSnapshots("measured_knl50_T0.1.csv");
   TimeSeries series;
