@@ -84,14 +84,22 @@ void Convert(const void* data, std::size_t n, std::vector<double>& out) {
   for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<double>(p[i]);
 }
 
-/// Reads a numeric variable's data as doubles (column-major).
-std::vector<double> ReadDoubles(mat_t* mat, const std::string& path, const std::string& name) {
+/// Reads a numeric variable's data as doubles (column-major); `expected` is
+/// the element count its header gave when the file was listed.
+std::vector<double> ReadDoubles(mat_t* mat,
+                                const std::string& path,
+                                const std::string& name,
+                                std::size_t expected) {
   VarPtr var(Mat_VarRead(mat, name.c_str()));
   if (!var || var->data == nullptr) {
     ThrowInvalid(path + ": variable '" + name + "'", "readable numeric data", "a read failure");
   }
   std::size_t n = 1;
   for (int i = 0; i < var->rank; ++i) n *= var->dims[i];
+  if (n != expected) {  // the data must fill the buffers sized from the listing
+    ThrowInvalid(path + ": variable '" + name + "'",
+                 std::to_string(expected) + " elements, as listed", std::to_string(n));
+  }
   std::vector<double> out;
   switch (var->data_type) {
     case MAT_T_DOUBLE:
@@ -170,6 +178,13 @@ TimeSeries ReadMat(const std::string& path, const MatReadOptions& options) {
       // Keep the description for messages.
       info.name += '\0' + ClassText(*var);
     }
+    for (const auto& v : vars) {
+      // Mat_VarRead finds a variable by name: a second one could not be read.
+      if (v.name.substr(0, v.name.find('\0')) == info.name.substr(0, info.name.find('\0'))) {
+        ThrowInvalid(path, "variables with distinct names",
+                     "'" + info.name.substr(0, info.name.find('\0')) + "' twice");
+      }
+    }
     vars.push_back(std::move(info));
   }
   auto find = [&](const std::string& name) -> const VarInfo* {
@@ -235,7 +250,7 @@ TimeSeries ReadMat(const std::string& path, const MatReadOptions& options) {
   TimeSeries series;
   series.values.resize(static_cast<Eigen::Index>(samples), static_cast<Eigen::Index>(channels));
   {
-    const auto values = ReadDoubles(mat.get(), path, data_name);
+    const auto values = ReadDoubles(mat.get(), path, data_name, samples * channels);
     std::copy(values.begin(), values.end(), series.values.data());  // both column-major
   }
   for (std::size_t j = 0; j < channels; ++j) {
@@ -253,7 +268,7 @@ TimeSeries ReadMat(const std::string& path, const MatReadOptions& options) {
       ThrowInvalid(where, std::to_string(samples) + " times (one per row of '" + data_name + "')",
                    std::to_string(time->rows * time->cols));
     }
-    const auto t = ReadDoubles(mat.get(), path, time_name);
+    const auto t = ReadDoubles(mat.get(), path, time_name, samples);
     const double h = t[1] - t[0];
     for (std::size_t i = 1; i < samples; ++i) {
       const double d = t[i] - t[i - 1];

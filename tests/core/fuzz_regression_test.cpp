@@ -135,6 +135,19 @@ TEST(FuzzRegressionMat, FunctionHandleDeclaringHalfABillionElementsIsRejected) {
       "byte 176: expected a cell array whose 536870933 elements fit in the 48 bytes that follow");
 }
 
+TEST(FuzzRegressionMat, TwoVariablesOfOneNameAreRejectedInsteadOfOverflowing) {
+  // podid_fuzz_mat, a heap-buffer-overflow in podid: a file with two variables
+  // named 't' (1 x 21, then 5 x 2). The second was taken as the data and sized
+  // 5 x 2 from the listing, but Mat_VarRead(name) read the first: 21 doubles
+  // were copied into 10. Names must now be distinct, and the data read must
+  // have the listed size.
+  MatReadOptions options;
+  options.step_s = 1e-3;
+  PODID_EXPECT_THROW_WITH(ReadMat(DataPath("fuzz/mat_v5_two_variables_named_t.mat"), options),
+                          std::invalid_argument,
+                          "expected variables with distinct names, got 't' twice");
+}
+
 TEST(FuzzRegressionMat, CompressedCellDeclaringMoreCellsThanItHoldsIsRejected) {
   // The same check inside an miCOMPRESSED element, which is inflated as a
   // stream: a cell of 1 x 10^8 cells in a 70-byte compressed variable.
