@@ -146,7 +146,8 @@ int RegisterAll() {
           ->Args({method, modes, with_v})
           ->Unit(benchmark::kMicrosecond);
     }
-    const std::string series = std::string("BM_PodMeasuredSeries/") + podid::ToString(kMethods[method]);
+    const std::string series =
+        std::string("BM_PodMeasuredSeries/") + podid::ToString(kMethods[method]);
     benchmark::RegisterBenchmark(series.c_str(), BM_PodMeasuredSeries)
         ->ArgNames({"method"})
         ->Args({method})

@@ -6,6 +6,9 @@
 #   fuzz/corpus/<target> are read, never written); crashes land in
 #   build/fuzz/artifacts/<target>/. Exits non-zero when a target finds one.
 #   PODID_FUZZ_JOBS=2 runs two targets at once; PODID_FUZZ_BUILD sets the build folder.
+#   PODID_FUZZ_RUNS=N (with PODID_FUZZ_SEED, default 1) makes each run N inputs
+#   from that seed instead of running for the given seconds: the same inputs on
+#   every machine with the same compilers, as CI needs (.ci/fuzz-smoke.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
@@ -27,9 +30,14 @@ export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 run_one() {
   local target="$1" rc=0
   mkdir -p "$build/corpus/$target" "$build/artifacts/$target"
-  echo "fuzz: $target for ${seconds} s"
+  local budget=(-max_total_time="$seconds") what="${seconds} s"
+  if [[ -n "${PODID_FUZZ_RUNS:-}" ]]; then
+    budget=(-runs="$PODID_FUZZ_RUNS" -seed="${PODID_FUZZ_SEED:-1}")
+    what="$PODID_FUZZ_RUNS runs from seed ${PODID_FUZZ_SEED:-1}"
+  fi
+  echo "fuzz: $target for $what"
   "$build/fuzz/podid_fuzz_$target" "$build/corpus/$target" "fuzz/corpus/$target" \
-    -max_total_time="$seconds" -timeout=10 -rss_limit_mb=4096 -malloc_limit_mb=2048 -max_len=16384 \
+    "${budget[@]}" -timeout=10 -rss_limit_mb=4096 -malloc_limit_mb=2048 -max_len=16384 \
     -print_final_stats=1 -artifact_prefix="$build/artifacts/$target/" \
     >"$build/$target.log" 2>&1 || rc=$?
   grep -E '^stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb)|^Done|ERROR' \

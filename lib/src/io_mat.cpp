@@ -1,6 +1,5 @@
 // MATLAB .mat time series through libmatio.
 #include <matio.h>
-
 #include <sys/stat.h>
 
 #include <algorithm>

@@ -18,7 +18,7 @@ namespace podid::internal {
 namespace {
 
 constexpr std::uint64_t kUnbounded = std::numeric_limits<std::uint64_t>::max();
-constexpr int kMaxDepth = 64;  // nesting deeper than this is no time series
+constexpr int kMaxDepth = 64;                  // nesting deeper than this is no time series
 constexpr std::uint64_t kMaxDimsBytes = 4096;  // 1024 dimensions
 
 // Data types and array classes of the level 5 format.
@@ -144,7 +144,8 @@ class InflateSource final : public ByteSource {
         return end_ > 0;
       }
       if (status != Z_OK && status != Z_BUF_ERROR) {
-        error_ = std::string("zlib: ") + (stream_.msg != nullptr ? stream_.msg : std::to_string(status));
+        error_ =
+            std::string("zlib: ") + (stream_.msg != nullptr ? stream_.msg : std::to_string(status));
         return false;
       }
     }
@@ -187,13 +188,16 @@ class Mat5Walker {
     while (src.position() < end) {
       Tag tag;
       if (end - src.position() < 8 || !ReadTag(src, tag)) {
-        if (!src.error().empty()) Fail(src.position(), "compressed data that inflates", src.error());
+        if (!src.error().empty())
+          Fail(src.position(), "compressed data that inflates", src.error());
         return;  // the end, or fewer than 8 stray bytes: matio stops there too
       }
       const std::uint64_t at = src.position() - 8;
       const bool compressed = tag.type == kMiCompressed && !inflating_;
       if (tag.small || (tag.type != kMiMatrix && !compressed)) {
-        Fail(at, inflating_ ? "an miMATRIX element (type 14)" : "a variable: an miMATRIX or miCOMPRESSED element (type 14 or 15)",
+        Fail(at,
+             inflating_ ? "an miMATRIX element (type 14)"
+                        : "a variable: an miMATRIX or miCOMPRESSED element (type 14 or 15)",
              TagText(tag));
       }
       CheckFits(src, end, tag, "a variable");
@@ -217,13 +221,17 @@ class Mat5Walker {
   /// The content of one miMATRIX element, ending at `end`.
   void Matrix(ByteSource& src, std::uint64_t end, int depth) {
     if (src.position() == end) return;  // an empty element (an empty cell)
-    if (depth > kMaxDepth) Fail(src.position(), "at most " + std::to_string(kMaxDepth) + " nested arrays", "more");
+    if (depth > kMaxDepth)
+      Fail(src.position(), "at most " + std::to_string(kMaxDepth) + " nested arrays", "more");
     const std::vector<char> flags = SubElement(src, end, "array flags", kMiUint32, false, 8);
-    if (flags.size() != 8) Fail(src.position(), "array flags of 8 bytes", std::to_string(flags.size()) + " bytes");
+    if (flags.size() != 8)
+      Fail(src.position(), "array flags of 8 bytes", std::to_string(flags.size()) + " bytes");
     const std::uint32_t array_class = Word(flags.data()) & 0xFFu;  // the class is the low byte
-    const std::vector<char> dims = SubElement(src, end, "dimensions", kMiInt32, false, kMaxDimsBytes);
+    const std::vector<char> dims =
+        SubElement(src, end, "dimensions", kMiInt32, false, kMaxDimsBytes);
     if (dims.size() < 8 || dims.size() % 4 != 0) {
-      Fail(src.position(), "2 to " + std::to_string(kMaxDimsBytes / 4) + " dimensions (4 bytes each)",
+      Fail(src.position(),
+           "2 to " + std::to_string(kMaxDimsBytes / 4) + " dimensions (4 bytes each)",
            std::to_string(dims.size()) + " bytes of them");
     }
     double elements = 1.0;  // a double: the product saturates rather than overflows
@@ -246,7 +254,8 @@ class Mat5Walker {
     } else if (array_class == kClassStruct || array_class == kClassObject) {
       const std::vector<char> length = SubElement(src, end, "field name length", kMiInt32, true, 4);
       if (length.size() != 4) {
-        Fail(src.position(), "a field name length of 4 bytes", std::to_string(length.size()) + " bytes");
+        Fail(src.position(), "a field name length of 4 bytes",
+             std::to_string(length.size()) + " bytes");
       }
       const std::uint32_t name_length = Word(length.data());
       std::uint64_t names_bytes = 0;
@@ -255,7 +264,8 @@ class Mat5Walker {
       tags_needed = elements * fields;
       walk_children = true;
       what = "a struct";
-    } else if (array_class == kClassChar || (array_class > kClassSparse && array_class <= kClassUint64)) {
+    } else if (array_class == kClassChar ||
+               (array_class > kClassSparse && array_class <= kClassUint64)) {
       bytes_needed = elements;  // int8 storage at least
       what = "an array";
     } else if (array_class != kClassSparse) {
@@ -307,11 +317,13 @@ class Mat5Walker {
            TagText(tag));
     }
     if (bytes != nullptr) *bytes = tag.size;
-    if (tag.small) return std::vector<char>(tag.small_data.begin(), tag.small_data.begin() + tag.size);
+    if (tag.small)
+      return std::vector<char>(tag.small_data.begin(), tag.small_data.begin() + tag.size);
     const std::uint64_t padded = (tag.size + 7) / 8 * 8;
     if (padded > end - src.position()) {
       Fail(src.position() - 8,
-           std::string("the ") + name + " in at most " + std::to_string(end - src.position()) + " bytes",
+           std::string("the ") + name + " in at most " + std::to_string(end - src.position()) +
+               " bytes",
            std::to_string(tag.size) + " bytes (a corrupt or truncated file)");
     }
     std::vector<char> data;
@@ -374,10 +386,10 @@ class Mat5Walker {
   }
 
   [[noreturn]] void Fail(std::uint64_t at, const std::string& expected, const std::string& got) {
-    const std::string where =
-        inflating_ ? "compressed variable at byte " + std::to_string(compressed_at_) +
-                         ", inflated byte " + std::to_string(at)
-                   : "byte " + std::to_string(at);
+    const std::string where = inflating_ ? "compressed variable at byte " +
+                                               std::to_string(compressed_at_) + ", inflated byte " +
+                                               std::to_string(at)
+                                         : "byte " + std::to_string(at);
     ThrowInvalid(path_ + ": " + where, expected, got);
   }
 
@@ -412,32 +424,33 @@ void CheckMat4Structure(const std::string& path, std::ifstream& in, std::uint64_
     if (!in) return;
     // The type MOPT (M: 0 little-, 1 big-endian) tells the byte order.
     if (header[0] < 0 || header[0] > 9999) {
-      for (auto& v : header) v = static_cast<std::int32_t>(__builtin_bswap32(static_cast<std::uint32_t>(v)));
+      for (auto& v : header)
+        v = static_cast<std::int32_t>(__builtin_bswap32(static_cast<std::uint32_t>(v)));
     }
     const std::int32_t type = header[0];
     const int precision = (type / 10) % 10;
-    const bool valid_type = type >= 0 && type / 1000 <= 4 && (type / 100) % 10 == 0 && precision <= 5 &&
-                            type % 10 <= 2;
+    const bool valid_type =
+        type >= 0 && type / 1000 <= 4 && (type / 100) % 10 == 0 && precision <= 5 && type % 10 <= 2;
     if (!valid_type && at == 0) {
       ThrowInvalid(path, "a readable MATLAB .mat file (v4, v5 or v7.3)",
                    "a file that starts with neither a v5 header nor a v4 matrix header");
     }
     const std::string where = path + ": v4 matrix at byte " + std::to_string(at);
     if (!valid_type) {
-      ThrowInvalid(where, "a matrix type MOPT with M <= 4, O = 0, P <= 5, T <= 2", std::to_string(type));
+      ThrowInvalid(where, "a matrix type MOPT with M <= 4, O = 0, P <= 5, T <= 2",
+                   std::to_string(type));
     }
     if (header[1] < 0 || header[2] < 0 || header[4] < 1) {
       ThrowInvalid(where, "non-negative dimensions and a name length >= 1",
-                   std::to_string(header[1]) + " x " + std::to_string(header[2]) + ", name length " +
-                       std::to_string(header[4]));
+                   std::to_string(header[1]) + " x " + std::to_string(header[2]) +
+                       ", name length " + std::to_string(header[4]));
     }
     static constexpr int kBytes[] = {8, 4, 4, 2, 2, 1};
-    const double data = static_cast<double>(header[1]) * header[2] * (header[3] != 0 ? 2 : 1) *
-                        kBytes[precision];
+    const double data =
+        static_cast<double>(header[1]) * header[2] * (header[3] != 0 ? 2 : 1) * kBytes[precision];
     const double room = static_cast<double>(size - at - 20);
     if (header[4] + data > room) {
-      ThrowInvalid(where,
-                   "a name and data that fit in the " + ToText(room) + " bytes that follow",
+      ThrowInvalid(where, "a name and data that fit in the " + ToText(room) + " bytes that follow",
                    ToText(static_cast<double>(header[4])) + " + " + ToText(data) +
                        " bytes (a corrupt or truncated file)");
     }
@@ -457,7 +470,8 @@ void CheckMatStructure(const std::string& path) {
   const bool little = header[126] == 'I' && header[127] == 'M';
   const bool big = header[126] == 'M' && header[127] == 'I';
   if (little || big) {
-    const unsigned version = little ? header[124] | header[125] << 8 : header[125] | header[124] << 8;
+    const unsigned version =
+        little ? header[124] | header[125] << 8 : header[125] | header[124] << 8;
     if (version == 0x0100) CheckMat5Structure(path, in, size, big);
     if (version == 0x0100 || version == 0x0200) return;
   }

@@ -19,11 +19,8 @@ using Eigen::Index;
 constexpr Index kRowBlock = 256;
 constexpr int kLanes = 8;
 
-[[gnu::always_inline]] inline void CentredGramKernel(const double* mean,
-                                                     double* y,
-                                                     Index n,
-                                                     Index m,
-                                                     double* gram) {
+[[gnu::always_inline]] inline void CentredGramKernel(
+    const double* mean, double* y, Index n, Index m, double* gram) {
   for (Index j = 0; j < m; ++j) std::fill(gram + j * m + j, gram + (j + 1) * m, 0.0);
   for (Index r0 = 0; r0 < n; r0 += kRowBlock) {
     const Index len = std::min(kRowBlock, n - r0);
@@ -51,8 +48,8 @@ constexpr int kLanes = 8;
 
 // M fixed, so that the M coefficients of a column of b stay in registers.
 template <int M>
-[[gnu::always_inline]] inline void TimesKernel(const double* y, Index n, const double* b, Index k,
-                                               double* v) {
+[[gnu::always_inline]] inline void TimesKernel(
+    const double* y, Index n, const double* b, Index k, double* v) {
   for (Index j = 0; j < k; ++j) {
     double bj[M];
     for (int i = 0; i < M; ++i) bj[i] = b[j * M + i];
@@ -66,38 +63,47 @@ template <int M>
 }
 
 __attribute__((target_clones("arch=x86-64-v3", "default"))) void CentredGramDispatch(
-    const double* mean,
-    double* y,
-    Index n,
-    Index m,
-    double* gram) {
+    const double* mean, double* y, Index n, Index m, double* gram) {
   CentredGramKernel(mean, y, n, m, gram);
 }
 
-__attribute__((target_clones("arch=x86-64-v3", "default"))) void TimesDispatch(const double* y,
-                                                                                Index n,
-                                                                                Index m,
-                                                                                const double* b,
-                                                                                Index k,
-                                                                                double* v) {
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void TimesDispatch(
+    const double* y, Index n, Index m, const double* b, Index k, double* v) {
   switch (m) {
-    case 1: return TimesKernel<1>(y, n, b, k, v);
-    case 2: return TimesKernel<2>(y, n, b, k, v);
-    case 3: return TimesKernel<3>(y, n, b, k, v);
-    case 4: return TimesKernel<4>(y, n, b, k, v);
-    case 5: return TimesKernel<5>(y, n, b, k, v);
-    case 6: return TimesKernel<6>(y, n, b, k, v);
-    case 7: return TimesKernel<7>(y, n, b, k, v);
-    case 8: return TimesKernel<8>(y, n, b, k, v);
-    case 9: return TimesKernel<9>(y, n, b, k, v);
-    case 10: return TimesKernel<10>(y, n, b, k, v);
-    case 11: return TimesKernel<11>(y, n, b, k, v);
-    case 12: return TimesKernel<12>(y, n, b, k, v);
-    case 13: return TimesKernel<13>(y, n, b, k, v);
-    case 14: return TimesKernel<14>(y, n, b, k, v);
-    case 15: return TimesKernel<15>(y, n, b, k, v);
-    case 16: return TimesKernel<16>(y, n, b, k, v);
-    default: PODID_CHECK_MSG(false, "SmallTimesSmall: M outside 1..16");
+    case 1:
+      return TimesKernel<1>(y, n, b, k, v);
+    case 2:
+      return TimesKernel<2>(y, n, b, k, v);
+    case 3:
+      return TimesKernel<3>(y, n, b, k, v);
+    case 4:
+      return TimesKernel<4>(y, n, b, k, v);
+    case 5:
+      return TimesKernel<5>(y, n, b, k, v);
+    case 6:
+      return TimesKernel<6>(y, n, b, k, v);
+    case 7:
+      return TimesKernel<7>(y, n, b, k, v);
+    case 8:
+      return TimesKernel<8>(y, n, b, k, v);
+    case 9:
+      return TimesKernel<9>(y, n, b, k, v);
+    case 10:
+      return TimesKernel<10>(y, n, b, k, v);
+    case 11:
+      return TimesKernel<11>(y, n, b, k, v);
+    case 12:
+      return TimesKernel<12>(y, n, b, k, v);
+    case 13:
+      return TimesKernel<13>(y, n, b, k, v);
+    case 14:
+      return TimesKernel<14>(y, n, b, k, v);
+    case 15:
+      return TimesKernel<15>(y, n, b, k, v);
+    case 16:
+      return TimesKernel<16>(y, n, b, k, v);
+    default:
+      PODID_CHECK_MSG(false, "SmallTimesSmall: M outside 1..16");
   }
 }
 

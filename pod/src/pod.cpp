@@ -185,8 +185,8 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
   } else {
     r.mean.setZero();
   }
-  const bool small_direct = method == PodMethod::kDirect && !w.weighted &&
-                            m <= internal::kSmallKernelMaxSensors;
+  const bool small_direct =
+      method == PodMethod::kDirect && !w.weighted && m <= internal::kSmallKernelMaxSensors;
   if (options_.remove_mean && !small_direct) w.yt.rowwise() -= r.mean.transpose();
   if (w.weighted) {
     w.weighted_yt.resize(n, m);  // Y^T = (X - mean)^T L
@@ -209,7 +209,6 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
     }
     ThrowInvalid("POD data", "values whose squares sum to a finite number", "an overflow");
   };
-
 
   // Number of modes kept from the singular values, all min(M, N) of them.
   auto kept_modes = [&](const Eigen::VectorXd& sigma) {

@@ -23,16 +23,21 @@ using testing::TempDir;
 
 // --- .mat ------------------------------------------------------------------
 
+/// ReadMat of tests/data/fuzz/<name>, with a sampling step as the fuzz target
+/// gives, so that files without a time vector are read as far as they go.
+TimeSeries ReadFuzzedMat(const std::string& name) {
+  MatReadOptions options;
+  options.step_s = 1e-3;
+  return ReadMat(DataPath("fuzz/" + name), options);
+}
+
 TEST(FuzzRegressionMat, HeaderDimensionsLargerThanTheFileAreRejectedBeforeAllocating) {
   // podid_fuzz_mat, 5 s in: a 388-byte v5 file whose matrix header declares
   // 1075314688 elements. ReadMat sized the result from the header (8.6 GB)
-  // before matio read any data. The fuzzed file is now caught by the element
-  // check below; a file whose tags are consistent but whose dims are huge is
-  // caught by the size check.
-  MatReadOptions options;
-  options.step_s = 1e-3;
-  PODID_EXPECT_THROW_WITH(ReadMat(DataPath("fuzz/mat_huge_dims.mat"), options),
-                          std::invalid_argument,
+  // before matio read any data. The header walk now rejects the fuzzed file
+  // at its array name (a 1 GB tag); a file whose tags are consistent but whose
+  // dims are huge is rejected by the walk's element count (below).
+  PODID_EXPECT_THROW_WITH(ReadFuzzedMat("mat_huge_dims.mat"), std::invalid_argument,
                           "byte 168: expected the array name: an element of type 1, got an element "
                           "of type 0 and 1075838976 bytes");
 
@@ -67,32 +72,24 @@ TEST(FuzzRegressionMat, ElementTagLargerThanItsParentIsRejectedBeforeMatioAlloca
   // them. Every element of a v5 file is now checked to fit in its parent; this
   // file is rejected before that, at the first cell whose tag is not an
   // miMATRIX (its odd offset comes from a mutated size).
-  MatReadOptions options;
-  options.step_s = 1e-3;
-  PODID_EXPECT_THROW_WITH(ReadMat(DataPath("fuzz/mat_v5_dims_tag_too_large.mat"), options),
-                          std::invalid_argument,
-                          "byte 311: expected an miMATRIX element (type 14) in a cell array, got an "
-                          "element of type 3584 and 12288 bytes");
+  PODID_EXPECT_THROW_WITH(
+      ReadFuzzedMat("mat_v5_dims_tag_too_large.mat"), std::invalid_argument,
+      "byte 311: expected an miMATRIX element (type 14) in a cell array, got an "
+      "element of type 3584 and 12288 bytes");
 }
 
 TEST(FuzzRegressionMat, NestedCellDeclaringBillionsOfCellsIsRejectedBeforeMatioAllocatesThem) {
   // podid_fuzz_mat, 1 min in: a 424-byte v5 file whose cell array holds a cell
   // of dimensions 1 x 0xb2f60002; libmatio calloc'ed 24 GB of cell pointers.
   // miMATRIX headers at every depth are now checked against their element.
-  MatReadOptions options;
-  options.step_s = 1e-3;
-  PODID_EXPECT_THROW_WITH(ReadMat(DataPath("fuzz/mat_v5_cell_3e9_elements.mat"), options),
-                          std::invalid_argument,
+  PODID_EXPECT_THROW_WITH(ReadFuzzedMat("mat_v5_cell_3e9_elements.mat"), std::invalid_argument,
                           "byte 240: expected non-negative dimensions, got -1292500990");
 }
 
 TEST(FuzzRegressionMat, Level4NameLongerThanTheFileIsRejectedBeforeMatOpen) {
   // podid_fuzz_mat: a 292-byte v4 file whose name length is 0x5f000002;
   // Mat_Open itself calloc'ed 1.6 GB for the name (16 s under ASan).
-  MatReadOptions options;
-  options.step_s = 1e-3;
-  PODID_EXPECT_THROW_WITH(ReadMat(DataPath("fuzz/mat_v4_name_length_1_6e9.mat"), options),
-                          std::invalid_argument,
+  PODID_EXPECT_THROW_WITH(ReadFuzzedMat("mat_v4_name_length_1_6e9.mat"), std::invalid_argument,
                           "v4 matrix at byte 0: expected a name and data that fit in the 272 bytes "
                           "that follow, got 1593835522 + 80 bytes (a corrupt or truncated file)");
 }
@@ -102,11 +99,8 @@ TEST(FuzzRegressionMat, NonCanonicalLayoutThatMatioReadsDifferentlyIsRejected) {
   // 4 in the tag). libmatio read it as a normal tag, so the next "dims" it
   // found declared 3e8 dimensions (2.5 GB), while a walk that honoured the
   // small form saw nothing wrong. The walk now takes only the canonical layout.
-  MatReadOptions options;
-  options.step_s = 1e-3;
   PODID_EXPECT_THROW_WITH(
-      ReadMat(DataPath("fuzz/mat_v5_dims_small_element_768_bytes.mat"), options),
-      std::invalid_argument,
+      ReadFuzzedMat("mat_v5_dims_small_element_768_bytes.mat"), std::invalid_argument,
       "byte 152: expected the dimensions: an element of type 5 (not small), got a small element "
       "of type 5 and 768 bytes");
 }
@@ -115,9 +109,7 @@ TEST(FuzzRegressionMat, CompressedDataFailingItsChecksumIsRejected) {
   // podid_fuzz_mat: a compressed variable whose zlib stream fails its adler32
   // check. The walk dropped the stream and saw no variable; libmatio read the
   // inflated bytes anyway and calloc'ed 2.5 GB from them.
-  MatReadOptions options;
-  options.step_s = 1e-3;
-  PODID_EXPECT_THROW_WITH(ReadMat(DataPath("fuzz/mat_v5_compressed_bad_checksum.mat"), options),
+  PODID_EXPECT_THROW_WITH(ReadFuzzedMat("mat_v5_compressed_bad_checksum.mat"),
                           std::invalid_argument,
                           "compressed variable at byte 128, inflated byte 0: expected compressed "
                           "data that inflates, got zlib: incorrect data check");
@@ -127,11 +119,8 @@ TEST(FuzzRegressionMat, FunctionHandleDeclaringHalfABillionElementsIsRejected) {
   // podid_fuzz_mat: a 224-byte v5 file whose array of class 16 (a function
   // handle, which libmatio reads as a cell array) declares 1 x 536870933
   // elements: libmatio malloc'ed 4 GB of pointers for them.
-  MatReadOptions options;
-  options.step_s = 1e-3;
   PODID_EXPECT_THROW_WITH(
-      ReadMat(DataPath("fuzz/mat_v5_function_handle_5e8_elements.mat"), options),
-      std::invalid_argument,
+      ReadFuzzedMat("mat_v5_function_handle_5e8_elements.mat"), std::invalid_argument,
       "byte 176: expected a cell array whose 536870933 elements fit in the 48 bytes that follow");
 }
 
@@ -141,10 +130,7 @@ TEST(FuzzRegressionMat, TwoVariablesOfOneNameAreRejectedInsteadOfOverflowing) {
   // 5 x 2 from the listing, but Mat_VarRead(name) read the first: 21 doubles
   // were copied into 10. Names must now be distinct, and the data read must
   // have the listed size.
-  MatReadOptions options;
-  options.step_s = 1e-3;
-  PODID_EXPECT_THROW_WITH(ReadMat(DataPath("fuzz/mat_v5_two_variables_named_t.mat"), options),
-                          std::invalid_argument,
+  PODID_EXPECT_THROW_WITH(ReadFuzzedMat("mat_v5_two_variables_named_t.mat"), std::invalid_argument,
                           "expected variables with distinct names, got 't' twice");
 }
 
@@ -175,10 +161,11 @@ TEST(FuzzRegressionMat, CompressedCellDeclaringMoreCellsThanItHoldsIsRejected) {
   const std::string path = dir.Write("compressed_cell.mat", file);
   MatReadOptions options;
   options.step_s = 1e-3;
-  PODID_EXPECT_THROW_WITH(ReadMat(path, options), std::invalid_argument,
-                          "compressed variable at byte 128, inflated byte 48: expected a cell array "
-                          "whose 100000000 elements fit in the 0 bytes that follow, got more (a "
-                          "corrupt or truncated file)");
+  PODID_EXPECT_THROW_WITH(
+      ReadMat(path, options), std::invalid_argument,
+      "compressed variable at byte 128, inflated byte 48: expected a cell array "
+      "whose 100000000 elements fit in the 0 bytes that follow, got more (a "
+      "corrupt or truncated file)");
 }
 
 // --- CSV -------------------------------------------------------------------

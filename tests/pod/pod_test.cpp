@@ -1,6 +1,5 @@
 // Tests of podid/pod/pod.hpp against references: known orthonormal factors,
 // the reference data in tests/data, and the equivalence of the three methods.
-#include "podid/core/io.hpp"
 #include "podid/pod/pod.hpp"
 
 #include <gtest/gtest.h>
@@ -16,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "podid/core/io.hpp"
 #include "test_support.hpp"
 
 namespace podid {
