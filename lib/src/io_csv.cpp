@@ -24,12 +24,13 @@ struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
 };
 
-/// Hands out the file's lines one at a time from a fixed buffer of
-/// kMaxCsvLineBytes + 1 bytes; a longer line is an error.
+/// Hands out the file's lines one at a time from a buffer of 64 KiB that
+/// doubles for a longer line, up to kMaxCsvLineBytes + 1 bytes; a longer line
+/// is an error. (A small file does not pay for zeroing the largest buffer.)
 class LineReader {
  public:
   LineReader(std::FILE* file, std::string path)
-      : file_(file), path_(std::move(path)), buffer_(kMaxCsvLineBytes + 1) {}
+      : file_(file), path_(std::move(path)), buffer_(std::min(kInitialBytes, kMaxBytes)) {}
 
   /// The next line without its '\n' (and '\r'), or false at the end.
   bool Next(std::string_view& line) {
@@ -48,9 +49,12 @@ class LineReader {
         break;
       }
       if (end_ - begin_ == buffer_.size()) {
-        ThrowInvalid(path_ + ":" + std::to_string(line_number_ + 1) + ":1",
-                     "a line of at most " + std::to_string(kMaxCsvLineBytes) + " bytes",
-                     "a longer line");
+        if (buffer_.size() == kMaxBytes) {
+          ThrowInvalid(path_ + ":" + std::to_string(line_number_ + 1) + ":1",
+                       "a line of at most " + std::to_string(kMaxCsvLineBytes) + " bytes",
+                       "a longer line");
+        }
+        buffer_.resize(std::min(2 * buffer_.size(), kMaxBytes));
       }
       Refill();
     }
@@ -77,6 +81,9 @@ class LineReader {
       eof_ = true;
     }
   }
+
+  static constexpr std::size_t kInitialBytes = std::size_t{1} << 16;
+  static constexpr std::size_t kMaxBytes = kMaxCsvLineBytes + 1;
 
   std::FILE* file_;
   std::string path_;
