@@ -22,6 +22,16 @@ constexpr double kSignTieMargin = 1e-8;
 // A weighting matrix is symmetric when max |W - W^T| <= this * max |W|.
 constexpr double kSymmetryTolerance = 1e-10;
 
+/// -1 when the sign convention (header) flips this POM, else +1: the first
+/// component within kSignTieMargin of the largest magnitude must be positive.
+double ConventionSign(const Eigen::Ref<const Eigen::VectorXd>& pom) {
+  const double largest = pom.cwiseAbs().maxCoeff();
+  for (Eigen::Index i = 0; i < pom.size(); ++i) {
+    if (std::abs(pom(i)) >= largest * (1.0 - kSignTieMargin)) return pom(i) < 0.0 ? -1.0 : 1.0;
+  }
+  return 1.0;
+}
+
 std::string Shape(Eigen::Index rows, Eigen::Index cols) {
   return std::to_string(rows) + " x " + std::to_string(cols);
 }
@@ -272,7 +282,11 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
       r.poms.resize(m, k);
       r.time_modes.resize(options_.compute_time_modes ? n : 0, options_.compute_time_modes ? k : 0);
       if (direct) {
-        for (Index j = 0; j < k; ++j) r.poms.col(j) = vectors.col(m - 1 - j);
+        for (Index j = 0; j < k; ++j) {
+          r.poms.col(j) = vectors.col(m - 1 - j);
+          // Signs now when U = Psi, so that V is formed with them (one pass fewer).
+          if (!w.weighted && ConventionSign(r.poms.col(j)) < 0.0) r.poms.col(j) *= -1.0;
+        }
         if (options_.compute_time_modes) {
           // V = Y^T Psi diag(1 / sigma), zero columns for zero modes.
           w.coefficients.resize(m, k);
@@ -347,17 +361,11 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
   if (w.weighted) w.upper.triangularView<Eigen::Upper>().solveInPlace(r.poms);
 
   // Deterministic signs (header): first near-largest component positive.
+  // (The unweighted direct method has applied them before forming V.)
   for (Index j = 0; j < k; ++j) {
-    if (w.sigma_all(j) == 0.0) continue;
-    const double largest = r.poms.col(j).cwiseAbs().maxCoeff();
-    for (Index i = 0; i < m; ++i) {
-      if (std::abs(r.poms(i, j)) >= largest * (1.0 - kSignTieMargin)) {
-        if (r.poms(i, j) < 0.0) {
-          r.poms.col(j) *= -1.0;
-          if (options_.compute_time_modes) r.time_modes.col(j) *= -1.0;
-        }
-        break;
-      }
+    if (w.sigma_all(j) != 0.0 && ConventionSign(r.poms.col(j)) < 0.0) {
+      r.poms.col(j) *= -1.0;
+      if (options_.compute_time_modes) r.time_modes.col(j) *= -1.0;
     }
   }
 
