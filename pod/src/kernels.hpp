@@ -1,8 +1,9 @@
 #pragma once
-// The direct method's two hot products for few sensors (not installed). Each
-// is compiled twice, for x86-64-v3 (AVX2, FMA) and the baseline, and the
-// loader picks the one the CPU runs (GCC target_clones), so the portable
-// build keeps the speed of a -march=native one where the CPU has it.
+// The direct method's two hot products for few sensors (not installed). On
+// x86-64 with GCC each is compiled twice, for x86-64-v3 (AVX2, FMA) and the
+// baseline, and the loader picks the one the CPU runs (target_clones), so the
+// portable build keeps the speed of a -march=native one where the CPU has it;
+// elsewhere each is compiled once.
 
 #include <Eigen/Core>
 
