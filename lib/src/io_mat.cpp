@@ -168,6 +168,12 @@ TimeSeries ReadMat(const std::string& path, const MatReadOptions& options) {
     }
     VarInfo info;
     info.name = var->name ? var->name : "";
+    for (const auto& v : vars) {
+      // Mat_VarRead finds a variable by name: a second one could not be read.
+      if (v.name.substr(0, v.name.find('\0')) == info.name) {
+        ThrowInvalid(path, "variables with distinct names", "'" + info.name + "' twice");
+      }
+    }
     info.numeric = IsNumericClass(var->class_type) && !var->isComplex && var->rank == 2;
     if (var->rank == 2) {
       info.rows = var->dims[0];
@@ -176,13 +182,6 @@ TimeSeries ReadMat(const std::string& path, const MatReadOptions& options) {
     if (!info.numeric) {
       // Keep the description for messages.
       info.name += '\0' + ClassText(*var);
-    }
-    for (const auto& v : vars) {
-      // Mat_VarRead finds a variable by name: a second one could not be read.
-      if (v.name.substr(0, v.name.find('\0')) == info.name.substr(0, info.name.find('\0'))) {
-        ThrowInvalid(path, "variables with distinct names",
-                     "'" + info.name.substr(0, info.name.find('\0')) + "' twice");
-      }
     }
     vars.push_back(std::move(info));
   }
