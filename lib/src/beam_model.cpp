@@ -6,27 +6,54 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <string_view>
 
 #include "podid/core/error.hpp"
 
 namespace podid {
 
+namespace {
+
+constexpr std::string_view kBeamKeys =
+    "beam.length, beam.elements, beam.youngs_modulus, beam.density, beam.area (or width, height)";
+
+// Each value and each coefficient of the element matrices must be a normal
+// double (no overflow to inf, no underflow to 0 or a subnormal), so that M and
+// K are finite and of full rank in floating point.
+void CheckNormal(double value, std::string_view key, std::string_view what) {
+  if (!(value > 0 && std::isnormal(value))) {
+    ThrowInvalid(key, std::string(what) + " between 2.3e-308 and 1.7e308 (a normal double)",
+                 ToText(value));
+  }
+}
+
+}  // namespace
+
 BeamModel BeamModel::BuildLinear(const BeamSpec& beam) {
   if (!(beam.elements >= 1)) ThrowInvalid("beam.elements", "an integer >= 1", ToText(beam.elements));
-  if (!(beam.length_m > 0)) ThrowInvalid("beam.length", "a length > 0 m", ToText(beam.length_m));
-  if (!(beam.youngs_modulus_Pa > 0))
-    ThrowInvalid("beam.youngs_modulus", "a modulus > 0 Pa", ToText(beam.youngs_modulus_Pa));
-  if (!(beam.density_kg_per_m3 > 0))
-    ThrowInvalid("beam.density", "a density > 0 kg/m^3", ToText(beam.density_kg_per_m3));
-  if (!(beam.area_m2 > 0)) ThrowInvalid("beam.area", "an area > 0 m^2", ToText(beam.area_m2));
-  if (!(beam.second_moment_m4 > 0))
-    ThrowInvalid("beam section", "a second moment of area > 0 m^4", ToText(beam.second_moment_m4));
+  CheckNormal(beam.length_m, "beam.length", "a length > 0 m");
+  CheckNormal(beam.youngs_modulus_Pa, "beam.youngs_modulus", "a modulus > 0 Pa");
+  CheckNormal(beam.density_kg_per_m3, "beam.density", "a density > 0 kg/m^3");
+  CheckNormal(beam.area_m2, "beam.area", "an area > 0 m^2");
+  CheckNormal(beam.second_moment_m4, "beam section (from beam.area or width, height)",
+              "a second moment of area > 0 m^4");
 
   const int n_nodes = beam.elements + 1;
   const int n_all = 2 * n_nodes;
   const double l = beam.length_m / beam.elements;
   const double ei = beam.youngs_modulus_Pa * beam.second_moment_m4;
   const double rho_a = beam.density_kg_per_m3 * beam.area_m2;
+  // The extreme coefficients of ke (EI/l^3, EI/l) and me (rho A l, rho A l^3)
+  // and the frequency scale EI / (rho A l^4): the others lie between them.
+  const std::string keys(kBeamKeys);
+  CheckNormal(l, keys, "an element length l = length / elements > 0 m");
+  CheckNormal(ei, keys, "a bending stiffness E I > 0 N m^2");
+  CheckNormal(rho_a, keys, "a mass per length rho A > 0 kg/m");
+  CheckNormal(ei / (l * l * l), keys, "an element stiffness E I / l^3 > 0 N/m");
+  CheckNormal(ei / l, keys, "an element stiffness E I / l > 0 N m");
+  CheckNormal(rho_a * l, keys, "an element mass rho A l > 0 kg");
+  CheckNormal(rho_a * l * l * l, keys, "an element rotary mass rho A l^3 > 0 kg m^2");
+  CheckNormal(ei / (rho_a * l * l * l * l), keys, "a frequency scale E I / (rho A l^4) > 0 s^-2");
 
   Eigen::Matrix4d ke;
   ke << 12, 6 * l, -12, 6 * l,  //
@@ -103,6 +130,12 @@ BeamModel BeamModel::Build(const CaseSpec& spec) {
       const ModalAnalysis modes = model.Modes();
       const double w1 = 2 * std::numbers::pi * modes.frequencies_Hz[d.modes[0] - 1];
       const double w2 = 2 * std::numbers::pi * modes.frequencies_Hz[d.modes[1] - 1];
+      if (!(w1 > 0 && w2 > 0 && w1 != w2 && std::isfinite(w1) && std::isfinite(w2))) {
+        ThrowInvalid("damping.modal_ratios (with " + std::string(kBeamKeys) + ")",
+                     "modes of two different finite frequencies > 0 Hz",
+                     ToText(w1 / (2 * std::numbers::pi)) + " Hz and " +
+                         ToText(w2 / (2 * std::numbers::pi)) + " Hz");
+      }
       RayleighFromModalRatios(w1, d.modal_ratios[0], w2, d.modal_ratios[1], &model.alpha_per_s_,
                               &model.beta_s_);
     } else {
@@ -116,7 +149,15 @@ BeamModel BeamModel::Build(const CaseSpec& spec) {
 
 ModalAnalysis BeamModel::Modes() const {
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(stiffness_, mass_);
-  PODID_CHECK(solver.info() == Eigen::Success);
+  // Values that pass the input checks can still give M and K too far apart in
+  // scale for double precision: an input error, not a bug.
+  if (solver.info() != Eigen::Success || !solver.eigenvalues().allFinite() ||
+      !solver.eigenvectors().allFinite()) {
+    ThrowInvalid("model (" + std::string(kBeamKeys) + ")",
+                 "finite M (positive definite) and K whose modes double precision can compute",
+                 "a failed eigensolution (max |M| " + ToText(mass_.cwiseAbs().maxCoeff()) +
+                     ", max |K| " + ToText(stiffness_.cwiseAbs().maxCoeff()) + ")");
+  }
   ModalAnalysis result;
   const int n = dofs();
   result.shapes = solver.eigenvectors();  // ascending eigenvalues, M-normalised

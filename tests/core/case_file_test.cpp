@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "podid/core/beam_model.hpp"
 #include "temp_dir.hpp"
 #include "test_support.hpp"
 
@@ -473,6 +474,41 @@ TEST(CaseFileRejects, Beam) {
   EXPECT_CASE_ERROR(
       "[time]\nduration=1\nstep=0.1\n",
       "case.toml: beam: expected a [beam] table, got nothing (the table is required)");
+}
+
+// Issue 10 item 6: values the schema accepts but whose model overflows or
+// underflows used to trip PODID_CHECKs in beam_model.cpp (abort, exit 134).
+TEST(CaseFileRejects, BeamValuesWhoseModelIsNotFinite) {
+  const auto build = [](const std::string& from, const std::string& to) {
+    return BeamModel::Build(SpecOf(Edit(from, to)));
+  };
+  PODID_EXPECT_THROW_WITH(build("youngs_modulus = 2.05e11", "youngs_modulus = 1e-320"),
+                          std::invalid_argument,
+                          "beam.youngs_modulus: expected a modulus > 0 Pa between 2.3e-308 and "
+                          "1.7e308 (a normal double), got 9.99");
+  PODID_EXPECT_THROW_WITH(build("density = 7800.0", "density = 1e-320"), std::invalid_argument,
+                          "beam.density: expected a density > 0 kg/m^3 between 2.3e-308");
+  PODID_EXPECT_THROW_WITH(build("area = 0.196e-3", "area = 1e300"), std::invalid_argument,
+                          "beam section (from beam.area or width, height): expected a second "
+                          "moment of area > 0 m^4 between 2.3e-308 and 1.7e308 (a normal "
+                          "double), got inf");
+  PODID_EXPECT_THROW_WITH(build("length = 0.593", "length = 1e-100"), std::invalid_argument,
+                          "beam.length, beam.elements, beam.youngs_modulus, beam.density, "
+                          "beam.area (or width, height): expected a frequency scale");
+  PODID_EXPECT_THROW_WITH(build("length = 0.593", "length = 1e300"), std::invalid_argument,
+                          "expected an element stiffness E I / l^3 > 0 N/m between 2.3e-308 and "
+                          "1.7e308 (a normal double), got 0");
+  PODID_EXPECT_THROW_WITH(build("area = 0.196e-3", "area = 1e150"), std::invalid_argument,
+                          "expected a bending stiffness E I > 0 N m^2");
+  PODID_EXPECT_THROW_WITH(build("density = 7800.0", "density = 1e-300"), std::invalid_argument,
+                          "expected a frequency scale E I / (rho A l^4) > 0 s^-2");
+  // Extreme but representable values still build a finite model with modes.
+  const BeamModel wide = build("length = 0.593", "length = 1e30");
+  EXPECT_TRUE(wide.stiffness().allFinite());
+  EXPECT_TRUE(wide.mass().allFinite());
+  const ModalAnalysis modes = wide.Modes();
+  EXPECT_GT(modes.frequencies_Hz[0], 0.0);
+  EXPECT_TRUE(modes.frequencies_Hz.allFinite());
 }
 
 TEST(CaseFileRejects, Damping) {
