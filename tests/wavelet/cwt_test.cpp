@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <complex>
+#include <cstdlib>
 #include <numbers>
 #include <thread>
 #include <vector>
@@ -34,13 +35,21 @@ Eigen::VectorXd MixedSignal(Eigen::Index n, double step_s) {
   return x;
 }
 
-// The padded sequence the header documents (treated as periodic).
+// The even extension's index r(m): |m| mirrored at 0 and N - 1 (period 2N - 2).
+Eigen::Index Reflect(Eigen::Index m, Eigen::Index n) {
+  m = std::abs(m) % (2 * n - 2);
+  return m < n ? m : 2 * n - 2 - m;
+}
+
+// The padded sequence the header documents (treated as periodic): reflect
+// takes x_{r(i)} for i < N + R and x_{r(i - P)} after, R = ceil((P - N) / 2).
 Eigen::VectorXd Pad(const Eigen::VectorXd& x, Padding padding, Eigen::Index p) {
   const Eigen::Index n = x.size();
   Eigen::VectorXd out = Eigen::VectorXd::Zero(p);
   out.head(n) = x;
   if (padding == Padding::kReflect) {
-    for (Eigen::Index j = 0; j < n - 2; ++j) out(n + j) = x(n - 2 - j);
+    const Eigen::Index r = (p - n + 1) / 2;
+    for (Eigen::Index i = n; i < p; ++i) out(i) = x(Reflect(i < n + r ? i : i - p, n));
   }
   return out;
 }
@@ -203,8 +212,11 @@ TEST(Cwt, BandLimitedModeIsTheDecimatedFullTransform) {
   Scalogram b;
   tb.Compute(x, step, &b);
   const Scalogram f = Cwt(x, step, full);
-  EXPECT_EQ(tb.padded_length(), 10000);
-  EXPECT_EQ(tb.inverse_length(), 625);  // widest band (120 Hz) needs 594 bins
+  // Minimum 2N - 2 = 10000 (the 10 Hz support is longer than the record);
+  // 10240 = 2^11 is the faster length; the widest band (120 Hz) needs 608
+  // of its bins, and 640 is the smallest divisor above.
+  EXPECT_EQ(tb.padded_length(), 10240);
+  EXPECT_EQ(tb.inverse_length(), 640);
   ASSERT_EQ(b.decimation, 16);
   ASSERT_EQ(b.times(), 313);
   const double scale = f.coefficients.cwiseAbs().maxCoeff();
@@ -259,6 +271,79 @@ TEST(Cwt, ParallelTransformsMatchSerial) {
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     EXPECT_TRUE(serial[i].coefficients == parallel[i].coefficients) << i;
   }
+}
+
+TEST(Cwt, ShortReflectPaddingEqualsTheEvenExtension) {
+  // When the lowest frequency's support (7.43 s for band_tolerance 1e-12) is
+  // shorter than the record, reflect padding needs only N + 2 support
+  // samples: the one jump of the shorter padded sequence lies outside every
+  // coefficient's support, so W equals the transform of the infinite even
+  // extension (here: the direct convolution over the period-(2N - 2) even
+  // extension) to the band truncation, 1e-10 of max |W| as above.
+  constexpr double kRelativeTolerance = 1e-10;
+  const double step = 1e-3;
+  const Eigen::VectorXd x = MixedSignal(1500, step);
+  CwtOptions o;
+  o.remove_mean = false;
+  o.frequencies.min_frequency_Hz = 60.0;  // s = 15.9 ms: support 118 samples
+  o.frequencies.max_frequency_Hz = 240.0;
+  o.frequencies.voices_per_octave = 2;
+  CwtTransform transform(o);
+  Scalogram sg;
+  transform.Compute(x, step, &sg);
+  EXPECT_LT(transform.padded_length(), 2 * 1500 - 2);
+  EXPECT_GE(transform.padded_length(), 1500 + 2 * 118);
+  const Eigen::MatrixXcd direct =
+      DirectCwt(Pad(x, Padding::kReflect, 2 * 1500 - 2), x.size(), step, sg.scales_s, o.wavelet);
+  const double scale = direct.cwiseAbs().maxCoeff();
+  EXPECT_TRUE(
+      ExpectMatricesNear(sg.coefficients.real(), direct.real(), kRelativeTolerance * scale));
+  EXPECT_TRUE(
+      ExpectMatricesNear(sg.coefficients.imag(), direct.imag(), kRelativeTolerance * scale));
+}
+
+TEST(Cwt, PaddedLengthsHaveOnlyFactors2357) {
+  // 10^4 samples used to pad to 2N - 2 = 19998 = 2 3^2 11 101 (9x slower
+  // than fCWT in the issue); every padded length is now 7-smooth, at least
+  // the documented minimum and at most 25 % above it.
+  const auto smooth = [](Eigen::Index n) {
+    for (Eigen::Index p : {2, 3, 5, 7}) {
+      while (n % p == 0) n /= p;
+    }
+    return n == 1;
+  };
+  for (Eigen::Index n : {10000, 100000, 4999, 12345}) {
+    for (Padding padding : {Padding::kReflect, Padding::kZero}) {
+      CwtOptions o;
+      o.padding = padding;
+      o.frequencies.min_frequency_Hz = 1.0;
+      o.frequencies.max_frequency_Hz = 32.0;
+      const FftLengths lengths = CwtTransform(o).Lengths(n, 1.0 / 64.0);
+      ASSERT_EQ(lengths.real_forward.size(), 1u);
+      const Eigen::Index p = lengths.real_forward[0];
+      // 1 Hz at 64 Hz: s = 61.1 samples, support ceil(7.43 s) = 454 samples.
+      const Eigen::Index minimum =
+          padding == Padding::kReflect ? std::min(2 * n - 2, n + 2 * 454) : n + std::min(n, 454L);
+      EXPECT_TRUE(smooth(p)) << p;
+      EXPECT_GE(p, minimum) << n;
+      EXPECT_LE(p, minimum + minimum / 4 + 8) << n;
+    }
+  }
+}
+
+TEST(Cwt, ThreadsOverScalesGiveTheSameCoefficients) {
+  // Each scale is one independent inverse FFT: any split over threads gives
+  // bitwise the same result.
+  const Eigen::VectorXd x = MixedSignal(3000, 1e-3);
+  CwtOptions o;
+  const Scalogram serial = Cwt(x, 1e-3, o);
+  for (int threads : {2, 3, 7}) {
+    o.threads = threads;
+    EXPECT_TRUE(Cwt(x, 1e-3, o).coefficients == serial.coefficients) << threads;
+  }
+  o.threads = 0;
+  PODID_EXPECT_THROW_WITH(CwtTransform{o}, std::invalid_argument,
+                          "CwtOptions.threads: expected 1..256, got 0");
 }
 
 TEST(Cwt, BadInputNamesWhatWasExpected) {

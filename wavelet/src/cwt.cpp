@@ -1,179 +1,54 @@
+// The Morlet CWT by FFT (podid/wavelet/cwt.hpp): layout, scaling, threads.
 #include "podid/wavelet/cwt.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "fftw_plans.hpp"
 #include "podid/core/error.hpp"
+#include "podid/wavelet/plans.hpp"
 
 namespace podid::wavelet {
 namespace {
 
 using Complex = std::complex<double>;
 constexpr double kPi = std::numbers::pi;
+// Scaled coefficients are returned in signal units when the scale 2^e has
+// |e| <= this: |W| <= 4 sqrt(s) peak|x| then stays far from overflow, and
+// the band's 1e-12 tails far from the subnormal range.
+constexpr int kMaxUnscaledExponent = 960;
 
 bool Fail(std::string* why, std::string message) {
   if (why != nullptr) *why = std::move(message);
   return false;
 }
 
-// Smallest n' >= n whose prime factors are all in {2, 3, 5, 7} (fast for FFTW).
-Eigen::Index NextSmoothSize(Eigen::Index n) {
-  for (Eigen::Index m = std::max<Eigen::Index>(n, 1);; ++m) {
-    Eigen::Index r = m;
-    for (Eigen::Index p : {2, 3, 5, 7}) {
-      while (r % p == 0) r /= p;
-    }
-    if (r == 1) return m;
-  }
+// Time-domain half-width of the wavelet at scale s, in units of s: the
+// Gaussian envelope falls below band_tolerance beyond it.
+double SupportRadius(double band_tolerance) {
+  return std::sqrt(2.0 * std::log(1.0 / band_tolerance));
 }
+
+// The even extension's index: m mirrored at 0 and N - 1 (period 2N - 2).
+Eigen::Index Mirror(Eigen::Index m, Eigen::Index n) {
+  const Eigen::Index period = 2 * n - 2;
+  m %= period;
+  if (m < 0) m += period;
+  return m < n ? m : period - m;
+}
+
+// The sizes one Compute() allocates for a layout, before allocating them.
+struct Sizes {
+  Eigen::Index p = 0, m = 0, times = 0, filter_bins = 0;
+};
 
 }  // namespace
-
-const char* ToString(Normalisation normalisation) {
-  return normalisation == Normalisation::kAmplitude ? "amplitude" : "energy";
-}
-const char* ToString(Padding padding) {
-  switch (padding) {
-    case Padding::kReflect:
-      return "reflect";
-    case Padding::kZero:
-      return "zero";
-    case Padding::kPeriodic:
-      return "periodic";
-  }
-  return "?";
-}
-const char* ToString(FrequencySpacing spacing) {
-  return spacing == FrequencySpacing::kLog ? "log" : "linear";
-}
-
-Normalisation ParseNormalisation(std::string_view name) {
-  if (name == "amplitude") return Normalisation::kAmplitude;
-  if (name == "energy") return Normalisation::kEnergy;
-  ThrowInvalid("normalisation", "one of amplitude, energy", "\"" + std::string(name) + "\"");
-}
-
-Padding ParsePadding(std::string_view name) {
-  if (name == "reflect") return Padding::kReflect;
-  if (name == "zero") return Padding::kZero;
-  if (name == "periodic") return Padding::kPeriodic;
-  ThrowInvalid("padding", "one of reflect, zero, periodic", "\"" + std::string(name) + "\"");
-}
-
-// ---------------------------------------------------------------- MorletWavelet
-
-bool MorletWavelet::IsValid(std::string* why) const {
-  if (!std::isfinite(omega0) || omega0 <= 0.0) {
-    return Fail(why, "MorletWavelet.omega0: expected a finite value > 0, got " + ToText(omega0));
-  }
-  if (omega0 < 5.0 && !admissibility_correction) {
-    return Fail(why,
-                "MorletWavelet.omega0: expected >= 5 (or admissibility_correction = true), got " +
-                    ToText(omega0));
-  }
-  if (omega0 > 100.0) {
-    return Fail(why, "MorletWavelet.omega0: expected <= 100, got " + ToText(omega0));
-  }
-  return true;
-}
-
-double MorletWavelet::FourierTransform(double u) const {
-  const double k = normalisation == Normalisation::kAmplitude
-                       ? 2.0                                          // sqrt(2/pi) sqrt(2 pi)
-                       : std::sqrt(2.0 * kPi) / std::pow(kPi, 0.25);  // pi^-1/4 sqrt(2 pi)
-  const double d = u - omega0;
-  double value = std::exp(-0.5 * d * d);
-  if (admissibility_correction) value -= std::exp(-0.5 * (u * u + omega0 * omega0));
-  return k * value;
-}
-
-double MorletWavelet::RidgeAngularFrequency() const {
-  const bool energy = normalisation == Normalisation::kEnergy;
-  if (!admissibility_correction) {
-    return energy ? 0.5 * (omega0 + std::sqrt(omega0 * omega0 + 2.0)) : omega0;
-  }
-  // d/du log(n(u) psi^(u)) = 0, n(u) = 1 or sqrt(u); the root is bracketed
-  // near omega0 and the derivative decreases through it: bisect to rounding.
-  const auto slope = [&](double u) {
-    const double g = std::exp(-0.5 * (u - omega0) * (u - omega0));
-    const double c = std::exp(-0.5 * (u * u + omega0 * omega0));
-    const double psi = g - c;
-    const double dpsi = -(u - omega0) * g + u * c;
-    return dpsi / psi + (energy ? 0.5 / u : 0.0);
-  };
-  double lo = std::max(1e-3, 0.5 * omega0), hi = omega0 + 2.0;
-  PODID_CHECK(slope(lo) > 0.0 && slope(hi) < 0.0);
-  for (int i = 0; i < 200 && hi - lo > 4e-16 * hi; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (slope(mid) > 0.0 ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
-}
-
-double MorletWavelet::ScaleToFrequency_Hz(double scale_s) const {
-  return RidgeAngularFrequency() / (2.0 * kPi * scale_s);
-}
-
-double MorletWavelet::FrequencyToScale_s(double frequency_Hz) const {
-  return RidgeAngularFrequency() / (2.0 * kPi * frequency_Hz);
-}
-
-double MorletWavelet::UnitCosineMagnitude(double scale_s) const {
-  const double n = normalisation == Normalisation::kAmplitude ? 1.0 : std::sqrt(scale_s);
-  return 0.5 * n * FourierTransform(RidgeAngularFrequency());
-}
-
-double MorletWavelet::ConeOfInfluence_s(double scale_s) { return std::sqrt(2.0) * scale_s; }
-
-// ---------------------------------------------------------------- FrequencyGrid
-
-bool FrequencyGrid::IsValid(std::string* why) const {
-  if (!std::isfinite(min_frequency_Hz) || min_frequency_Hz <= 0.0) {
-    return Fail(why, "FrequencyGrid.min_frequency_Hz: expected a finite value > 0, got " +
-                         ToText(min_frequency_Hz));
-  }
-  if (!std::isfinite(max_frequency_Hz) || max_frequency_Hz <= min_frequency_Hz) {
-    return Fail(why,
-                "FrequencyGrid.max_frequency_Hz: expected a finite value > min_frequency_Hz (" +
-                    ToText(min_frequency_Hz) + "), got " + ToText(max_frequency_Hz));
-  }
-  if (spacing == FrequencySpacing::kLog && (voices_per_octave < 1 || voices_per_octave > 1024)) {
-    return Fail(
-        why, "FrequencyGrid.voices_per_octave: expected 1..1024, got " + ToText(voices_per_octave));
-  }
-  if (spacing == FrequencySpacing::kLinear && (bins < 2 || bins > 100000)) {
-    return Fail(why, "FrequencyGrid.bins: expected 2..100000, got " + ToText(bins));
-  }
-  if (spacing == FrequencySpacing::kLog &&
-      voices_per_octave * std::log2(max_frequency_Hz / min_frequency_Hz) > 100000) {
-    return Fail(why,
-                "FrequencyGrid: expected at most 100000 frequencies, got " +
-                    ToText(voices_per_octave * std::log2(max_frequency_Hz / min_frequency_Hz)));
-  }
-  return true;
-}
-
-Eigen::VectorXd FrequencyGrid::Frequencies_Hz() const {
-  std::string why;
-  if (!IsValid(&why)) throw std::invalid_argument(why);
-  if (spacing == FrequencySpacing::kLinear) {
-    return Eigen::VectorXd::LinSpaced(bins, min_frequency_Hz, max_frequency_Hz);
-  }
-  const double octaves = std::log2(max_frequency_Hz / min_frequency_Hz);
-  const int count = static_cast<int>(std::floor(voices_per_octave * octaves + 1e-9)) + 1;
-  Eigen::VectorXd f(count);
-  for (int j = 0; j < count; ++j) {
-    f(j) = min_frequency_Hz * std::exp2(static_cast<double>(j) / voices_per_octave);
-  }
-  return f;
-}
-
-// ---------------------------------------------------------------- CwtOptions
 
 bool CwtOptions::IsValid(std::string* why) const {
   if (!wavelet.IsValid(why) || !frequencies.IsValid(why)) return false;
@@ -184,6 +59,13 @@ bool CwtOptions::IsValid(std::string* why) const {
   if (!(band_tolerance > 0.0 && band_tolerance <= 1e-3)) {
     return Fail(why, "CwtOptions.band_tolerance: expected a value in (0, 1e-3], got " +
                          ToText(band_tolerance));
+  }
+  if (threads < 1 || threads > 256) {
+    return Fail(why, "CwtOptions.threads: expected 1..256, got " + ToText(threads));
+  }
+  if (!(memory_budget_bytes >= 1048576.0 && memory_budget_bytes <= 17592186044416.0)) {
+    return Fail(why, "CwtOptions.memory_budget_bytes: expected 2^20..2^44, got " +
+                         ToText(memory_budget_bytes));
   }
   return true;
 }
@@ -200,6 +82,7 @@ struct CwtTransform::Impl {
   Eigen::Index n = 0;
   double step_s = 0.0;
   Eigen::Index p = 0;  // padded length
+  Eigen::Index r = 0;  // reflect padding after the data (the rest wraps before it)
   Eigen::Index m = 0;  // inverse FFT length
   Eigen::Index d = 1;  // decimation
   Eigen::Index times = 0;
@@ -209,33 +92,94 @@ struct CwtTransform::Impl {
   fftw_plan forward = nullptr;
   fftw_plan backward = nullptr;
   internal::RealBuffer padded;
-  internal::ComplexBuffer spectrum;      // P / 2 + 1 bins of the last signal
-  mutable internal::ComplexBuffer work;  // M
+  internal::ComplexBuffer spectrum;                   // P / 2 + 1 bins of the last signal
+  mutable std::vector<internal::ComplexBuffer> work;  // M each, one per thread
   Eigen::VectorXd coi_frequency_Hz;
+  double output_scale = 1.0;  // multiplies the scaled transform into Scalogram units
 
+  Sizes Plan(Eigen::Index samples, double step) const;
   void Layout(Eigen::Index samples, double step);
-  void Synthesise(Eigen::Index k, bool derivative) const;
+  void Synthesise(Eigen::Index k, bool derivative, Complex* w) const;
 };
 
-void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
-  n = samples;
-  step_s = step;
+// Every length and count of a layout, from closed forms (nothing allocated).
+Sizes CwtTransform::Impl::Plan(Eigen::Index samples, double step) const {
+  Sizes z;
+  const double radius = SupportRadius(options.band_tolerance);
+  const double support = std::ceil(radius * scales_s.maxCoeff() / step);
+  const double nd = static_cast<double>(samples);
   switch (options.padding) {
-    case Padding::kReflect:
-      p = 2 * n - 2;
+    case Padding::kReflect: {
+      const double minimum = std::min(2.0 * nd - 2.0, nd + 2.0 * support);
+      z.p = internal::FastFftLength(static_cast<long long>(minimum));
       break;
+    }
     case Padding::kZero:
-      p = NextSmoothSize(2 * n);
+      z.p = internal::FastFftLength(static_cast<long long>(nd + std::min(nd, support)));
       break;
     case Padding::kPeriodic:
-      p = n;
+      z.p = samples;
       break;
   }
-  bin_rad_per_s = 2.0 * kPi / (static_cast<double>(p) * step_s);
+  const double bin = 2.0 * kPi / (static_cast<double>(z.p) * step);
   const double omega0 = options.wavelet.omega0;
-  const double radius = std::sqrt(2.0 * std::log(1.0 / options.band_tolerance));
   // The correction term exp(-(u^2 + omega0^2) / 2) exceeds the tolerance for
   // |u| < sqrt(radius^2 - omega0^2): keep those bins too.
+  const double band_low =
+      std::min(omega0 - radius, options.wavelet.admissibility_correction
+                                    ? -std::sqrt(std::max(0.0, radius * radius - omega0 * omega0))
+                                    : 0.0);
+  const Eigen::Index lowest = -((z.p - 1) / 2), highest = z.p / 2;
+  Eigen::Index widest = 1;
+  for (Eigen::Index k = 0; k < scales_s.size(); ++k) {
+    const double to_bin = 1.0 / (scales_s(k) * bin);
+    const Eigen::Index a =
+        std::max(lowest, static_cast<Eigen::Index>(std::ceil(band_low * to_bin)));
+    const Eigen::Index b =
+        std::min(highest, static_cast<Eigen::Index>(std::floor((omega0 + radius) * to_bin)));
+    z.filter_bins += std::max<Eigen::Index>(0, b - a + 1);
+    widest = std::max<Eigen::Index>(widest, b - a + 1);
+  }
+  z.m = z.p;
+  if (options.band_limited) {
+    for (Eigen::Index candidate = widest; candidate < z.p; ++candidate) {
+      if (z.p % candidate == 0) {
+        z.m = candidate;
+        break;
+      }
+    }
+  }
+  z.times = (samples - 1) / (z.p / z.m) + 1;
+  return z;
+}
+
+void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
+  const Sizes z = Plan(samples, step);
+  // Checked before anything is allocated or changed. Memory: coefficients, filters, padded signal,
+  // spectrum, work buffers.
+  const double bytes = 16.0 * static_cast<double>(z.times) * static_cast<double>(scales_s.size()) +
+                       8.0 * static_cast<double>(z.filter_bins) + 8.0 * static_cast<double>(z.p) +
+                       16.0 * static_cast<double>(z.p / 2 + 1) +
+                       16.0 * static_cast<double>(z.m) * options.threads;
+  if (bytes > options.memory_budget_bytes) {
+    ThrowInvalid("Cwt: memory",
+                 "at most " + ToText(options.memory_budget_bytes) +
+                     " bytes (CwtOptions::memory_budget_bytes)",
+                 ToText(bytes) + " bytes for " + ToText(z.times) + " output times x " +
+                     ToText(scales_s.size()) + " frequencies x 16 bytes, " + ToText(z.filter_bins) +
+                     " filter bins and FFTs of " + ToText(z.p) +
+                     " points (fewer frequencies, a higher min_frequency_Hz or band_limited)");
+  }
+  n = samples;
+  step_s = step;
+  p = z.p;
+  m = z.m;
+  d = p / m;
+  times = z.times;
+  r = (p - n + 1) / 2;
+  bin_rad_per_s = 2.0 * kPi / (static_cast<double>(p) * step_s);
+  const double omega0 = options.wavelet.omega0;
+  const double radius = SupportRadius(options.band_tolerance);
   const double band_low =
       std::min(omega0 - radius, options.wavelet.admissibility_correction
                                     ? -std::sqrt(std::max(0.0, radius * radius - omega0 * omega0))
@@ -245,7 +189,6 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   const Eigen::Index scales = scales_s.size();
   band_first.assign(static_cast<std::size_t>(scales), 0);
   filters.assign(static_cast<std::size_t>(scales), {});
-  Eigen::Index widest = 1;
   for (Eigen::Index k = 0; k < scales; ++k) {
     const double s = scales_s(k);
     const double to_bin = 1.0 / (s * bin_rad_per_s);
@@ -260,24 +203,16 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
       filter.push_back(norm * options.wavelet.FourierTransform(s * bin * bin_rad_per_s));
     }
     band_first[static_cast<std::size_t>(k)] = a;
-    widest = std::max<Eigen::Index>(widest, b - a + 1);
   }
-  m = p;
-  if (options.band_limited) {
-    for (Eigen::Index candidate = widest; candidate < p; ++candidate) {
-      if (p % candidate == 0) {
-        m = candidate;
-        break;
-      }
-    }
-  }
-  d = p / m;
-  times = (n - 1) / d + 1;
-  forward = internal::RealForwardPlan(static_cast<int>(p));
-  backward = internal::ComplexBackwardPlan(static_cast<int>(m));
+  const bool measure = options.planning == FftPlanning::kMeasure;
+  forward = internal::RealForwardPlan(static_cast<int>(p), measure);
+  backward = internal::ComplexBackwardPlan(static_cast<int>(m), measure);
   padded = internal::AllocateReal(static_cast<std::size_t>(p));
   spectrum = internal::AllocateComplex(static_cast<std::size_t>(p / 2 + 1));
-  work = internal::AllocateComplex(static_cast<std::size_t>(m));
+  work.clear();
+  for (int t = 0; t < options.threads; ++t) {
+    work.push_back(internal::AllocateComplex(static_cast<std::size_t>(m)));
+  }
   coi_frequency_Hz.resize(times);
   for (Eigen::Index j = 0; j < times; ++j) {
     const Eigen::Index sample = j * d;
@@ -288,8 +223,7 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   }
 }
 
-void CwtTransform::Impl::Synthesise(Eigen::Index k, bool derivative) const {
-  Complex* w = work.get();
+void CwtTransform::Impl::Synthesise(Eigen::Index k, bool derivative, Complex* w) const {
   std::fill(w, w + m, Complex(0.0, 0.0));
   const auto& filter = filters[static_cast<std::size_t>(k)];
   const Eigen::Index a = band_first[static_cast<std::size_t>(k)];
@@ -358,15 +292,27 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
   }
   if (n != s.n || step_s != s.step_s) s.Layout(n, step_s);
 
-  const double mean = s.options.remove_mean ? signal.mean() : 0.0;
+  // Scale by 2^-e (exact) to a peak in [1, 2): no overflow in the mean or
+  // the FFT, no underflow in |W|^2, whatever the signal's magnitude; 2^e
+  // itself is representable (e <= 1023 for the largest double).
+  int exponent = 0;
+  std::frexp(signal.cwiseAbs().maxCoeff(), &exponent);
+  exponent -= 1;
   double* x = s.padded.get();
-  for (Eigen::Index i = 0; i < n; ++i) x[i] = signal(i) - mean;
+  for (Eigen::Index i = 0; i < n; ++i) x[i] = std::ldexp(signal(i), -exponent);
+  if (s.options.remove_mean) {
+    const double mean = Eigen::Map<const Eigen::VectorXd>(x, n).mean();
+    for (Eigen::Index i = 0; i < n; ++i) x[i] -= mean;
+  }
   if (s.options.padding == Padding::kReflect) {
-    for (Eigen::Index j = 0; j < n - 2; ++j) x[n + j] = x[n - 2 - j];
+    for (Eigen::Index i = n; i < n + s.r; ++i) x[i] = x[Mirror(i, n)];
+    for (Eigen::Index i = n + s.r; i < s.p; ++i) x[i] = x[Mirror(i - s.p, n)];
   } else if (s.options.padding == Padding::kZero) {
     std::fill(x + n, x + s.p, 0.0);
   }
   fftw_execute_dft_r2c(s.forward, x, internal::AsFftw(s.spectrum.get()));
+  const bool unscaled = std::abs(exponent) <= kMaxUnscaledExponent;
+  s.output_scale = unscaled ? std::ldexp(1.0, exponent) : 1.0;
 
   const Eigen::Index scales = s.scales_s.size();
   out->wavelet = s.options.wavelet;
@@ -375,15 +321,29 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
   out->step_s = step_s * static_cast<double>(s.d);
   out->decimation = static_cast<int>(s.d);
   out->input_samples = n;
+  out->coefficient_scale = unscaled ? 1.0 : std::ldexp(1.0, exponent);
   out->time_s =
       Eigen::VectorXd::LinSpaced(s.times, 0.0, static_cast<double>(s.times - 1)) * out->step_s +
       Eigen::VectorXd::Constant(s.times, start_time_s);
   out->coi_frequency_Hz = s.coi_frequency_Hz;
   out->coefficients.resize(s.times, scales);
-  for (Eigen::Index k = 0; k < scales; ++k) {
-    s.Synthesise(k, false);
-    std::copy(s.work.get(), s.work.get() + s.times, out->coefficients.col(k).data());
-  }
+  const auto run = [&](int thread) {
+    Complex* w = s.work[static_cast<std::size_t>(thread)].get();
+    for (Eigen::Index k = thread; k < scales; k += s.options.threads) {
+      s.Synthesise(k, false, w);
+      Complex* column = out->coefficients.col(k).data();
+      if (s.output_scale == 1.0) {
+        std::copy(w, w + s.times, column);
+      } else {
+        for (Eigen::Index j = 0; j < s.times; ++j) column[j] = w[j] * s.output_scale;
+      }
+    }
+  };
+  const int workers = static_cast<int>(std::min<Eigen::Index>(s.options.threads, scales));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < workers; ++t) pool.emplace_back(run, t);
+  run(0);
+  for (auto& thread : pool) thread.join();
 }
 
 void CwtTransform::TimeDerivative(Eigen::Index frequency_index, Eigen::VectorXcd* out) const {
@@ -391,9 +351,10 @@ void CwtTransform::TimeDerivative(Eigen::Index frequency_index, Eigen::VectorXcd
   const Impl& s = *impl_;
   PODID_CHECK_MSG(s.n > 0, "TimeDerivative before Compute");
   PODID_CHECK(frequency_index >= 0 && frequency_index < s.scales_s.size());
-  s.Synthesise(frequency_index, true);
+  Complex* w = s.work.front().get();
+  s.Synthesise(frequency_index, true, w);
   out->resize(s.times);
-  std::copy(s.work.get(), s.work.get() + s.times, out->data());
+  for (Eigen::Index j = 0; j < s.times; ++j) (*out)(j) = w[j] * s.output_scale;
 }
 
 Scalogram Cwt(const Eigen::Ref<const Eigen::VectorXd>& signal,
@@ -403,6 +364,20 @@ Scalogram Cwt(const Eigen::Ref<const Eigen::VectorXd>& signal,
   Scalogram out;
   transform.Compute(signal, step_s, &out);
   return out;
+}
+
+FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
+  if (samples < 4) ThrowInvalid("FFT lengths: samples", "at least 4", ToText(samples));
+  if (!std::isfinite(step_s) || step_s <= 0.0) {
+    ThrowInvalid("FFT lengths: step_s", "a finite value > 0", ToText(step_s));
+  }
+  const Sizes z = impl_->Plan(samples, step_s);
+  if (z.p > (1 << 27)) ThrowInvalid("FFT lengths", "at most 2^27 points", ToText(z.p));
+  return {{static_cast<int>(z.p)}, {static_cast<int>(z.m)}};
+}
+
+FftLengths CwtFftLengths(const CwtOptions& options, Eigen::Index samples, double step_s) {
+  return CwtTransform(options).Lengths(samples, step_s);
 }
 
 }  // namespace podid::wavelet

@@ -1,54 +1,138 @@
 #include "fftw_plans.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <new>
+#include <set>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "podid/core/error.hpp"
+#include "podid/wavelet/plans.hpp"
 
-namespace podid::wavelet::internal {
+namespace podid::wavelet {
+namespace internal {
 namespace {
 
 enum class Kind { kRealForward, kComplexBackward };
+constexpr int kMaxPlanLength = 1 << 27;  // 2 GiB of complex doubles
 
-std::mutex& PlannerMutex() {
-  static std::mutex mutex;
-  return mutex;
-}
+struct Entry {
+  fftw_plan plan = nullptr;
+  bool measured = false;
+};
 
-// Plans live for the whole process and are destroyed at exit.
-struct PlanCache {
-  std::map<std::pair<Kind, int>, fftw_plan> plans;
-  ~PlanCache() {
-    for (auto& entry : plans) fftw_destroy_plan(entry.second);
+// Plans live for the whole process and are destroyed at exit. A measured plan
+// replacing an estimated one keeps the old one alive (another thread's
+// transform may still hold it).
+struct State {
+  std::mutex mutex;
+  std::map<std::pair<Kind, int>, Entry> plans;
+  std::vector<fftw_plan> retired;
+  std::set<std::string> loaded;  // cache files already imported
+  ~State() {
+    for (auto& entry : plans) fftw_destroy_plan(entry.second.plan);
+    for (fftw_plan p : retired) fftw_destroy_plan(p);
   }
 };
 
-std::map<std::pair<Kind, int>, fftw_plan>& Plans() {
-  static PlanCache cache;
-  return cache.plans;
+State& GlobalState() {
+  static State state;
+  return state;
 }
 
-fftw_plan GetPlan(Kind kind, int n) {
-  PODID_CHECK(n >= 1);
-  std::lock_guard<std::mutex> lock(PlannerMutex());
-  auto& plans = Plans();
-  const auto key = std::make_pair(kind, n);
-  if (auto it = plans.find(key); it != plans.end()) return it->second;
-  // FFTW_MEASURE overwrites the arrays while planning: plan on scratch arrays.
-  // Planning happens once per length (about 0.1 s for n = 10000).
-  fftw_plan plan = nullptr;
+// Imports the cache file once per path (callers hold the mutex). A missing or
+// foreign file is ignored: the plans are then estimated.
+void LoadWisdomLocked(State& state) {
+  const std::string path = FftWisdomPath();
+  if (path.empty() || !state.loaded.insert(path).second) return;
+  if (::access(path.c_str(), R_OK) == 0) fftw_import_wisdom_from_filename(path.c_str());
+}
+
+// Writes all wisdom (this process's merged with the file's) to the cache:
+// unique temporary file in the same folder, then rename. Returns "" or why not.
+std::string SaveWisdomLocked() {
+  const std::string path = FftWisdomPath();
+  if (path.empty()) return "no cache folder (neither XDG_CACHE_HOME nor HOME is set)";
+  const std::filesystem::path file(path);
+  const std::filesystem::path folder = file.parent_path();
+  std::error_code ec;
+  std::filesystem::create_directories(folder.parent_path(), ec);
+  if (::mkdir(folder.c_str(), 0700) != 0 && errno != EEXIST) {
+    return "cannot create " + folder.string();
+  }
+  if (::access(path.c_str(), R_OK) == 0) fftw_import_wisdom_from_filename(path.c_str());
+  std::string temp = path + ".tmp-" + std::to_string(::getpid()) + "-XXXXXX";
+  const int fd = ::mkstemp(temp.data());
+  if (fd < 0) return "cannot write in " + folder.string();
+  FILE* out = ::fdopen(fd, "w");
+  if (out == nullptr) {
+    ::close(fd);
+    ::unlink(temp.c_str());
+    return "cannot write " + temp;
+  }
+  fftw_export_wisdom_to_file(out);
+  const bool written = std::fflush(out) == 0 && ::fsync(fd) == 0;
+  const bool closed = std::fclose(out) == 0;
+  if (!written || !closed || std::rename(temp.c_str(), path.c_str()) != 0) {
+    ::unlink(temp.c_str());
+    return "cannot write " + path;
+  }
+  return "";
+}
+
+fftw_plan MakePlan(Kind kind, int n, unsigned flags) {
+  // Planning with FFTW_MEASURE overwrites the arrays: plan on scratch arrays.
   if (kind == Kind::kRealForward) {
     RealBuffer in = AllocateReal(static_cast<std::size_t>(n));
     ComplexBuffer out = AllocateComplex(static_cast<std::size_t>(n / 2 + 1));
-    plan = fftw_plan_dft_r2c_1d(n, in.get(), AsFftw(out.get()), FFTW_MEASURE);
-  } else {
-    ComplexBuffer data = AllocateComplex(static_cast<std::size_t>(n));
-    plan = fftw_plan_dft_1d(n, AsFftw(data.get()), AsFftw(data.get()), FFTW_BACKWARD, FFTW_MEASURE);
+    return fftw_plan_dft_r2c_1d(n, in.get(), AsFftw(out.get()), flags);
+  }
+  ComplexBuffer data = AllocateComplex(static_cast<std::size_t>(n));
+  return fftw_plan_dft_1d(n, AsFftw(data.get()), AsFftw(data.get()), FFTW_BACKWARD, flags);
+}
+
+// Returns the plan, measuring it when `measure` and it is not measured yet.
+// *measured_now says whether this call measured it.
+fftw_plan GetPlanLocked(State& state, Kind kind, int n, bool measure, bool* measured_now) {
+  PODID_CHECK(n >= 1 && n <= kMaxPlanLength);
+  *measured_now = false;
+  LoadWisdomLocked(state);
+  Entry& entry = state.plans[{kind, n}];
+  if (entry.plan != nullptr && (entry.measured || !measure)) return entry.plan;
+  fftw_plan plan = MakePlan(kind, n, FFTW_MEASURE | FFTW_WISDOM_ONLY);
+  bool measured = plan != nullptr;
+  if (plan == nullptr && measure) {
+    plan = MakePlan(kind, n, FFTW_MEASURE);
+    measured = *measured_now = true;
+  } else if (plan == nullptr) {
+    if (entry.plan != nullptr) return entry.plan;  // already estimated
+    plan = MakePlan(kind, n, FFTW_ESTIMATE);
   }
   PODID_CHECK_MSG(plan != nullptr, "FFTW could not make a plan");
-  plans.emplace(key, plan);
+  if (entry.plan != nullptr) state.retired.push_back(entry.plan);
+  entry.plan = plan;
+  entry.measured = measured;
+  return plan;
+}
+
+fftw_plan GetPlan(Kind kind, int n, bool measure) {
+  State& state = GlobalState();
+  std::lock_guard<std::mutex> lock(state.mutex);
+  bool measured_now = false;
+  fftw_plan plan = GetPlanLocked(state, kind, n, measure, &measured_now);
+  if (measured_now) SaveWisdomLocked();  // best effort: an unwritable cache only costs time
   return plan;
 }
 
@@ -67,7 +151,87 @@ ComplexBuffer AllocateComplex(std::size_t n) {
   return ComplexBuffer(p);
 }
 
-fftw_plan RealForwardPlan(int n) { return GetPlan(Kind::kRealForward, n); }
-fftw_plan ComplexBackwardPlan(int n) { return GetPlan(Kind::kComplexBackward, n); }
+fftw_plan RealForwardPlan(int n, bool measure) { return GetPlan(Kind::kRealForward, n, measure); }
+fftw_plan ComplexBackwardPlan(int n, bool measure) {
+  return GetPlan(Kind::kComplexBackward, n, measure);
+}
 
-}  // namespace podid::wavelet::internal
+double FftCostModel(long long n) {
+  // Per-point cost of one radix-p pass in units of a radix-2 pass: log2(p)
+  // times an efficiency factor (FFTW's radix-3/5/7 codelets do more flops per
+  // log2 of reduction than radix 2/4/8).
+  constexpr std::pair<int, double> kRadix[] = {
+      {2, 1.0}, {3, 1.1 * 1.585}, {5, 1.2 * 2.322}, {7, 1.35 * 2.807}};
+  if (n < 1) return std::numeric_limits<double>::infinity();
+  double cost = 0.0;
+  for (const auto& [p, w] : kRadix) {
+    while (n % p == 0) {
+      n /= p;
+      cost += w;
+    }
+  }
+  return n == 1 ? std::max(cost, 1.0) : std::numeric_limits<double>::infinity();
+}
+
+long long FastFftLength(long long n) {
+  n = std::max<long long>(n, 1);
+  const long long limit = std::max<long long>(n + 8, (5 * n + 3) / 4);  // 8 is smooth
+  long long best = -1;
+  double best_cost = std::numeric_limits<double>::infinity();
+  // Every 2^a 3^b 5^c 7^d in [n, limit].
+  for (long long p7 = 1; p7 <= limit; p7 *= 7) {
+    for (long long p5 = p7; p5 <= limit; p5 *= 5) {
+      for (long long p3 = p5; p3 <= limit; p3 *= 3) {
+        for (long long m = p3; m <= limit; m *= 2) {
+          if (m < n) continue;
+          const double cost = FftCostModel(m) * static_cast<double>(m);
+          if (cost < best_cost || (cost == best_cost && m < best)) {
+            best_cost = cost;
+            best = m;
+          }
+        }
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace internal
+
+std::string FftWisdomPath() {
+  const char* xdg = std::getenv("XDG_CACHE_HOME");
+  if (xdg != nullptr && xdg[0] == '/') return std::string(xdg) + "/podid/fftw3-wisdom";
+  const char* home = std::getenv("HOME");
+  if (home != nullptr && home[0] != '\0') return std::string(home) + "/.cache/podid/fftw3-wisdom";
+  return "";
+}
+
+PlanSummary MeasureFftPlans(const FftLengths& lengths) {
+  for (const std::vector<int>* list : {&lengths.real_forward, &lengths.complex_backward}) {
+    for (int n : *list) {
+      if (n < 1 || n > internal::kMaxPlanLength) {
+        ThrowInvalid("FFT length", "1.." + ToText(internal::kMaxPlanLength), ToText(n));
+      }
+    }
+  }
+  PlanSummary summary;
+  summary.wisdom_path = FftWisdomPath();
+  const auto start = std::chrono::steady_clock::now();
+  internal::State& state = internal::GlobalState();
+  std::lock_guard<std::mutex> lock(state.mutex);
+  const auto plan = [&](internal::Kind kind, int n) {
+    bool measured_now = false;
+    internal::GetPlanLocked(state, kind, n, true, &measured_now);
+    (measured_now ? summary.measured : summary.known) += 1;
+  };
+  for (int n : lengths.real_forward) plan(internal::Kind::kRealForward, n);
+  for (int n : lengths.complex_backward) plan(internal::Kind::kComplexBackward, n);
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (summary.measured > 0) {
+    summary.message = internal::SaveWisdomLocked();
+    summary.saved = summary.message.empty();
+  }
+  return summary;
+}
+
+}  // namespace podid::wavelet

@@ -2,6 +2,11 @@
 // Process-wide cache of FFTW plans, one per (kind, length). FFTW's planner is
 // not thread-safe, so plan creation is serialised by a mutex; executing a plan
 // with fftw_execute_dft*() on other (fftw_malloc-aligned) arrays is.
+//
+// Planning effort (podid/wavelet/plans.hpp): a length with wisdom in the
+// on-disk cache (or measured earlier in this process) gets its measured plan;
+// otherwise kEstimate plans with FFTW_ESTIMATE (microseconds) and kMeasure
+// measures (FFTW_MEASURE) and stores the wisdom in the cache.
 
 #include <fftw3.h>
 
@@ -21,9 +26,16 @@ RealBuffer AllocateReal(std::size_t n);
 ComplexBuffer AllocateComplex(std::size_t n);
 
 /// Out-of-place real -> complex forward transform of length n (n / 2 + 1 outputs).
-fftw_plan RealForwardPlan(int n);
+fftw_plan RealForwardPlan(int n, bool measure);
 /// In-place complex backward (unnormalised, exp(+2 pi i k j / n)) transform of length n.
-fftw_plan ComplexBackwardPlan(int n);
+fftw_plan ComplexBackwardPlan(int n, bool measure);
+
+/// Cost of an FFT of length n relative to n log2 n (a model of FFTW's codelets:
+/// radix 2 cheapest, then 3, 5, 7); +inf when n has a prime factor above 7.
+double FftCostModel(long long n);
+/// The length in [n, max(n + 8, ceil(1.25 n))] with factors 2, 3, 5, 7 only and the
+/// lowest FftCostModel(m) * m.
+long long FastFftLength(long long n);
 
 inline fftw_complex* AsFftw(std::complex<double>* p) { return reinterpret_cast<fftw_complex*>(p); }
 

@@ -14,6 +14,9 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Floor of |W|^2 (relative to the peak 1) in the ridge cost: far below any
+// coefficient that can matter, far above the subnormal range.
+constexpr double kTiny = 1e-300;
 
 bool Fail(std::string* why, std::string message) {
   if (why != nullptr) *why = std::move(message);
@@ -21,7 +24,8 @@ bool Fail(std::string* why, std::string message) {
 }
 
 // Minimises sum_j cost(k_j, j) + lambda sum_j (x_{k_j} - x_{k_{j-1}})^2 over
-// paths; +inf costs are forbidden cells, and a column of them gives -1 there.
+// paths; costs are finite or +inf (a forbidden cell), and a column of +inf
+// gives -1 there (the path restarts after it).
 Eigen::VectorXi PenalisedPath(const Eigen::MatrixXd& cost,
                               const Eigen::VectorXd& x,
                               double lambda) {
@@ -73,6 +77,7 @@ Eigen::VectorXi PenalisedPath(const Eigen::MatrixXd& cost,
         v[static_cast<std::size_t>(top)] = p;
         z[static_cast<std::size_t>(top)] = top == 0 ? -kInf : s;
       }
+      PODID_CHECK(top >= 0);  // best(j - 1) >= 0: prev has a finite entry
       z[static_cast<std::size_t>(top + 1)] = kInf;
       Eigen::Index e = 0;
       for (Eigen::Index q = 0; q < freqs; ++q) {
@@ -155,9 +160,25 @@ std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeO
     ThrowInvalid("FindRidges: scalogram", "a computed scalogram",
                  ToText(times) + " x " + ToText(freqs) + " coefficients");
   }
-  // cost(k, j) = -log|W(j, k)|, frequency-major for the per-time sweeps.
+  // cost(k, j) = -log|W(j, k)| + const, frequency-major for the per-time
+  // sweeps. W is first scaled by a power of 2 (exact) to a peak of about 1 so
+  // that |W|^2 neither overflows nor underflows (any finite W, e.g. from a
+  // 1e300 signal); a non-finite coefficient is a forbidden cell (+inf).
+  const Eigen::Map<const Eigen::ArrayXd> parts(
+      reinterpret_cast<const double*>(scalogram.coefficients.data()), 2 * times * freqs);
+  double top = 0.0;
+  for (Eigen::Index i = 0; i < parts.size(); ++i) {
+    if (std::isfinite(parts(i))) top = std::max(top, std::abs(parts(i)));
+  }
+  int exponent = 0;
+  std::frexp(top, &exponent);
+  const double scale = std::ldexp(1.0, -exponent);
   Eigen::MatrixXd cost =
-      (-0.5 * scalogram.coefficients.cwiseAbs2().cwiseMax(1e-300).array().log()).transpose();
+      (-0.5 * (scalogram.coefficients * scale).cwiseAbs2().cwiseMax(kTiny).array().log())
+          .transpose();
+  for (Eigen::Index i = 0; i < cost.size(); ++i) {
+    if (!std::isfinite(cost.data()[i])) cost.data()[i] = kInf;
+  }
   const Eigen::VectorXd x = scalogram.frequencies_Hz.array().log();
   const double lambda = options.penalty_s / scalogram.step_s;
   const double half_width = options.separation_octaves * std::numbers::ln2;
@@ -194,6 +215,12 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
     ThrowInvalid("TrackRidge: path", "one index per output time (" + ToText(times) + ")",
                  ToText(path.size()));
   }
+  for (Eigen::Index j = 0; j < times; ++j) {
+    if (path(j) < -1 || path(j) >= freqs) {
+      ThrowInvalid("TrackRidge: path(" + ToText(j) + ")",
+                   "-1 (no ridge) or a frequency index 0.." + ToText(freqs - 1), ToText(path(j)));
+    }
+  }
   if (options.estimator == FrequencyEstimator::kPhase && transform == nullptr) {
     ThrowInvalid("TrackRidge: transform", "the CwtTransform that computed the scalogram (kPhase)",
                  "null");
@@ -207,21 +234,22 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
   track.grid_frequency_Hz.setConstant(times, kNaN);
   track.amplitude.setConstant(times, kNaN);
   track.inside_coi.setConstant(times, false);
+  const double unit = scalogram.coefficient_scale;
   const auto& s = scalogram.scales_s;
   // The refined (vertex) scale at each time, or the grid scale.
   Eigen::VectorXd vertex_s = Eigen::VectorXd::Constant(times, kNaN);
   for (Eigen::Index j = 0; j < times; ++j) {
     const int k = path(j);
     if (k < 0) continue;
-    PODID_CHECK(k < freqs);
     track.inside_coi(j) = scalogram.InsideCoi(j, k);
     track.grid_frequency_Hz(j) = scalogram.frequencies_Hz(k);
     const double yb = std::log(std::abs(scalogram.coefficients(j, k)));
     double scale = s(k), peak = yb;
-    if (k > 0 && k + 1 < freqs) {
+    if (k > 0 && k + 1 < freqs && std::isfinite(yb)) {
+      // std::abs is hypot: no overflow for any finite W.
       const double ya = std::log(std::abs(scalogram.coefficients(j, k - 1)));
       const double yc = std::log(std::abs(scalogram.coefficients(j, k + 1)));
-      if (yb >= ya && yb >= yc && (yb > ya || yb > yc)) {
+      if (std::isfinite(ya) && std::isfinite(yc) && yb >= ya && yb >= yc && (yb > ya || yb > yc)) {
         // Parabola through (s_{k-1}, ya), (s_k, yb), (s_{k+1}, yc) (divided differences).
         const double a = s(k - 1), b = s(k), c = s(k + 1);
         const double d1 = (yb - ya) / (b - a), d2 = (yc - yb) / (c - b);
@@ -233,7 +261,7 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
       }
     }
     vertex_s(j) = scale;
-    track.amplitude(j) = std::exp(peak) / wavelet.UnitCosineMagnitude(scale);
+    track.amplitude(j) = std::exp(peak) * unit / wavelet.UnitCosineMagnitude(scale);
     if (options.estimator == FrequencyEstimator::kScale) {
       track.frequency_Hz(j) = options.parabolic_refinement
                                   ? kappa / (2.0 * std::numbers::pi * scale)
@@ -268,11 +296,11 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
       transform->TimeDerivative(k, &derivative);
       PODID_CHECK(derivative.size() == times);
       for (Eigen::Index j = 0; j < times; ++j) {
+        // Im(conj(W) dW/dt) / |W|^2 = Im((dW/dt) / W): the complex division
+        // scales internally, so it neither overflows nor underflows.
         const std::complex<double> w = scalogram.coefficients(j, k);
-        const double power = std::norm(w);
         frequency(j, static_cast<Eigen::Index>(u)) =
-            power > 0.0 ? std::imag(std::conj(w) * derivative(j)) / (2.0 * std::numbers::pi * power)
-                        : kNaN;
+            w != 0.0 ? std::imag(derivative(j) / w) / (2.0 * std::numbers::pi) : kNaN;
       }
     }
     for (Eigen::Index j = 0; j < times; ++j) {

@@ -42,22 +42,34 @@
 // fallen to exp(-1); CwtOptions::coi_factor widens the cone for IF work
 // (coi_factor = 4: exp(-16), which the 1e-6 tone test needs).
 //
-// Algorithm: the signal (optionally minus its mean) is padded to length P, one
-// real forward FFT gives X_k, and each scale costs one inverse FFT of
-// X_k n(s) psi^(s w_k) over the bins where psi^ exceeds band_tolerance times
-// its peak. Padding (the padded sequence is treated as periodic, length P):
-//   kReflect  (default) x_0 .. x_{N-1}, x_{N-2} .. x_1: the even extension,
-//             P = 2N - 2, with no jump anywhere (mirror at the end samples);
-//   kZero     x_0 .. x_{N-1} followed by zeros, P >= 2N (a 2,3,5,7-smooth size);
-//   kPeriodic x_0 .. x_{N-1}, P = N.
+// Algorithm: the signal is scaled by a power of 2 to a peak magnitude in
+// [0.5, 1) (exact, so any finite input works: 1e-300 and 1e300 alike),
+// optionally has its mean removed, is padded to length P, one real forward FFT
+// gives X_k, and each scale costs one inverse FFT of X_k n(s) psi^(s w_k) over
+// the bins where psi^ exceeds band_tolerance times its peak. In time that band
+// limit is the Gaussian envelope's support: |t| <= r s with
+// r = sqrt(2 ln(1 / band_tolerance)) (7.43 for 1e-12), the "support" below.
+// Padding (the padded sequence is treated as periodic, length P, chosen by
+// FastFftLength among the sizes with factors 2, 3, 5, 7 only, up to 25 % above
+// the minimum, for speed):
+//   kReflect  (default) the even extension: sample i of the padded sequence is
+//             x_{r(i)} for i < N + R and x_{r(i - P)} after, r(m) = |m| mirrored at
+//             the ends (period 2N - 2), R = ceil((P - N) / 2); the minimum P is
+//             N + 2 support at the lowest frequency, at most 2N - 2 (then, with
+//             P = 2N - 2, there is no jump anywhere; otherwise the one jump is at
+//             least min(support, (P - N) / 2) samples from the data);
+//   kZero     x_0 .. x_{N-1} followed by zeros, minimum P = N + min(N, support);
+//   kPeriodic x_0 .. x_{N-1}, P = N (no choice of length).
 // Band-limited mode: each scale's product is nonzero only in a band of B_k
 // bins, so its inverse FFT can have length M >= max_k B_k with M dividing P;
 // that gives W exactly (to band_tolerance) at every D-th sample, D = P / M.
-// Identification uses it for ridges: 5001 samples at 10-120 Hz need M = 625.
+// Identification uses it for ridges: 5001 samples at 10-120 Hz need M >= 594.
 //
-// FFTW plans are made once per length and cached process-wide; making them is
-// serialised by a mutex and executing them is thread-safe. A CwtTransform holds
-// buffers for one signal at a time: use one object per thread.
+// FFTW plans are made once per length and cached process-wide, with measured
+// plans kept on disk (podid/wavelet/plans.hpp); making them is serialised by a
+// mutex and executing them is thread-safe. A CwtTransform holds buffers for one
+// signal at a time: use one object per caller thread (CwtOptions::threads
+// spreads one transform's scales over worker threads).
 
 #include <Eigen/Core>
 #include <complex>
@@ -65,6 +77,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace podid::wavelet {
 
@@ -73,6 +86,10 @@ enum class Normalisation {
   kEnergy,     ///< L2: unit-energy wavelet, |W| grows like sqrt(s)
 };
 enum class Padding { kReflect, kZero, kPeriodic };
+enum class FftPlanning {
+  kEstimate,  ///< measured plans from the wisdom cache, else FFTW_ESTIMATE (no planning cost)
+  kMeasure,   ///< measure plans the cache lacks (once per length), then store them there
+};
 enum class FrequencySpacing {
   kLog,     ///< voices_per_octave frequencies per octave, from min_frequency_Hz up
   kLinear,  ///< bins frequencies evenly from min_frequency_Hz to max_frequency_Hz
@@ -138,6 +155,14 @@ struct CwtOptions {
   /// Filter values below band_tolerance times the filter's peak are dropped
   /// (both modes), in (0, 1e-3]. 1e-12 keeps W to about 1e-12 relative.
   double band_tolerance = 1e-12;
+  /// Threads over scales in Compute(), 1..256 (each with its own work buffer).
+  int threads = 1;
+  FftPlanning planning = FftPlanning::kEstimate;
+  /// Upper bound on what one Compute() allocates, in bytes, in [2^20, 2^44]:
+  /// the coefficients (n_times x n_freq x 16), the filters (8 per kept bin) and
+  /// the FFT buffers. Checked before allocating; too big is std::invalid_argument
+  /// naming the sizes. Default 2 GiB.
+  double memory_budget_bytes = 2147483648.0;
 
   bool IsValid(std::string* why) const;
 };
@@ -152,7 +177,12 @@ struct Scalogram {
   double step_s = 0.0;             ///< output time step: input step * decimation
   int decimation = 1;              ///< D: output sample j is input sample j * D
   Eigen::Index input_samples = 0;  ///< N of the transformed signal
-  Eigen::MatrixXcd coefficients;   ///< (n_times x n_freq) W, units: see the normalisation
+  /// (n_times x n_freq) W / coefficient_scale, units: see the normalisation.
+  Eigen::MatrixXcd coefficients;
+  /// A power of 2: 1 unless the signal's peak magnitude is above 2^960 (1e289)
+  /// or below 2^-960, where W itself could overflow or lose precision; then the
+  /// coefficients are W in units of coefficient_scale (peak magnitude about 1).
+  double coefficient_scale = 1.0;
   /// (dim n_times) lowest frequency inside the cone of influence at each output
   /// time, coi_factor kappa sqrt(2) / (2 pi distance_to_nearest_edge_s); +inf at the edges.
   Eigen::VectorXd coi_frequency_Hz;
@@ -162,6 +192,13 @@ struct Scalogram {
   bool InsideCoi(Eigen::Index time, Eigen::Index frequency) const {
     return frequencies_Hz(frequency) >= coi_frequency_Hz(time);
   }
+};
+
+/// FFT lengths of a transform: the real forward length P and the complex
+/// inverse length(s) (see podid/wavelet/plans.hpp).
+struct FftLengths {
+  std::vector<int> real_forward;
+  std::vector<int> complex_backward;
 };
 
 /// Reusable transform state: plans, the padded signal's spectrum, the filters
@@ -182,16 +219,21 @@ class CwtTransform {
   /// Transforms `signal` (dim N >= 4), sampled every step_s from start_time_s,
   /// into *out (resized as needed, so a reused Scalogram does not reallocate).
   /// Throws std::invalid_argument for NaN/Inf, a constant signal, step_s <= 0,
-  /// or a frequency above Nyquist 1 / (2 step_s).
+  /// a frequency above Nyquist 1 / (2 step_s), or sizes above memory_budget_bytes.
   void Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
                double step_s,
                Scalogram* out,
                double start_time_s = 0.0);
 
-  /// dW/dt (units of W per s) at frequency index k of the last Compute(), at
-  /// the same output times (dim n_times); computed spectrally (i w X_k), so it
-  /// is exact to band_tolerance. One extra inverse FFT.
+  /// dW/dt (units of W per s, divided by coefficient_scale like the
+  /// coefficients) at frequency index k of the last Compute(), at the same
+  /// output times (dim n_times); computed spectrally (i w X_k), so it is exact
+  /// to band_tolerance. One extra inverse FFT.
   void TimeDerivative(Eigen::Index frequency_index, Eigen::VectorXcd* out) const;
+
+  /// The FFT lengths Compute() would use for `samples` (>= 4) at step_s
+  /// (> 0); throws std::invalid_argument otherwise. Nothing is planned.
+  FftLengths Lengths(Eigen::Index samples, double step_s) const;
 
   /// Padded length P and inverse-FFT length M of the last Compute() (0 before).
   Eigen::Index padded_length() const;

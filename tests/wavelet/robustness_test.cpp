@@ -1,0 +1,170 @@
+// Hostile input for the wavelet module (issue 10 item 8b): any finite signal
+// works, whatever its magnitude; sizes are bounded by a memory budget; the
+// ridge never reads outside the scalogram whatever its coefficients hold.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "podid/wavelet/cwt.hpp"
+#include "podid/wavelet/ridge.hpp"
+#include "test_support.hpp"
+
+namespace podid::wavelet {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kStep = 1.0 / 5000.0;
+
+// 1 s of a 33.3 Hz tone (not a whole number of periods) of amplitude a.
+Eigen::VectorXd Tone(double amplitude) {
+  Eigen::VectorXd x(5001);
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    x(i) = amplitude * std::cos(2 * kPi * 33.3 * static_cast<double>(i) * kStep + 0.4);
+  }
+  return x;
+}
+
+TEST(ExtremeAmplitudes, RidgeOfAToneIsTheSameAtAnyMagnitude) {
+  // The transform scales the signal by a power of 2 (exact), so the IF of
+  // a*cos equals the unit tone's to rounding of a*cos itself (1e-16) carried
+  // through the FFTs; 1e-10 relative leaves room for that and nothing else.
+  // Before the fix 1e200 crashed (|W|^2 overflowed), 1e300 aborted, 1e-150
+  // gave an IF of 0 Hz.
+  constexpr double kRelativeTolerance = 1e-10;
+  RidgeFrequencyOptions options;
+  options.cwt.band_limited = false;
+  const RidgeTrack unit = RidgeFrequency(Tone(1.0), kStep, options);
+  ASSERT_GT(unit.InsideCoiCount(), 3000);
+  for (double amplitude : {1e200, 1e300, 1.7e308, 1e-150, 1e-300}) {
+    SCOPED_TRACE(amplitude);
+    const RidgeTrack track = RidgeFrequency(Tone(amplitude), kStep, options);
+    ASSERT_EQ(track.size(), unit.size());
+    for (Eigen::Index j = 0; j < track.size(); ++j) {
+      ASSERT_EQ(track.frequency_index(j), unit.frequency_index(j)) << j;
+      ASSERT_NEAR(track.frequency_Hz(j), unit.frequency_Hz(j),
+                  kRelativeTolerance * unit.frequency_Hz(j))
+          << j;
+      ASSERT_NEAR(track.amplitude(j) / amplitude, unit.amplitude(j),
+                  kRelativeTolerance * unit.amplitude(j))
+          << j;
+    }
+  }
+}
+
+TEST(ExtremeAmplitudes, CoefficientsStayInSignalUnitsUnlessTheyCannot) {
+  // Up to 2^960 the coefficients are W itself (scaled back exactly); beyond,
+  // W = coefficient_scale * coefficients with a power-of-2 scale.
+  constexpr double kRelativeTolerance = 1e-12;  // rounding of a*cos only
+  CwtOptions options;
+  const Scalogram unit = Cwt(Tone(1.0), kStep, options);
+  const Scalogram big = Cwt(Tone(1e200), kStep, options);
+  EXPECT_EQ(big.coefficient_scale, 1.0);
+  const Scalogram huge = Cwt(Tone(1e300), kStep, options);
+  EXPECT_EQ(huge.coefficient_scale, std::ldexp(1.0, 996));  // 1e300 = 1.67 * 2^996
+  const double peak = unit.coefficients.cwiseAbs().maxCoeff();
+  for (Eigen::Index k = 0; k < unit.frequencies(); k += 7) {
+    for (Eigen::Index j = 0; j < unit.times(); j += 101) {
+      EXPECT_NEAR(std::abs(big.coefficients(j, k) / 1e200 - unit.coefficients(j, k)), 0.0,
+                  kRelativeTolerance * peak);
+      EXPECT_NEAR(std::abs(huge.coefficients(j, k) * (huge.coefficient_scale / 1e300) -
+                           unit.coefficients(j, k)),
+                  0.0, kRelativeTolerance * peak);
+    }
+  }
+}
+
+TEST(ExtremeAmplitudes, OneHugeSampleInAUnitToneIsAnImpulse) {
+  // A 1e200 sample swamps the unit tone (1e-200 of it, below rounding): the
+  // result is the impulse's. For an impulse at t0 every scale's coefficient
+  // is (step / s) conj(psi((t0 - t) / s)), whose phase derivative is exactly
+  // omega0 / s: the IF at any ridge point equals the analysis frequency there
+  // (kAmplitude, kappa = omega0). Away from the reflected images (>= 0.7 s,
+  // 7 scales at 10 Hz: exp(-26)) that holds to the band truncation, 1e-9.
+  // The mean is kept: removing it leaves a constant 2e-4 of the impulse whose
+  // tiny W (psi^(0) = 1.5e-8) has IF 0 and shifts the 10 Hz IF by 5e-7.
+  constexpr double kRelativeTolerance = 1e-9;
+  Eigen::VectorXd spiked = Tone(1.0);
+  spiked(2500) = 1e200;
+  Eigen::VectorXd impulse = Eigen::VectorXd::Zero(5001);
+  impulse(2500) = 1e200;
+  RidgeFrequencyOptions options;
+  options.cwt.band_limited = false;
+  options.cwt.remove_mean = false;
+  options.ridge.parabolic_refinement = false;
+  const RidgeTrack a = RidgeFrequency(spiked, kStep, options);
+  const RidgeTrack b = RidgeFrequency(impulse, kStep, options);
+  int checked = 0;
+  for (Eigen::Index j = 0; j < a.size(); ++j) {
+    ASSERT_TRUE(std::isfinite(a.frequency_Hz(j))) << j;
+    ASSERT_NEAR(a.frequency_Hz(j), b.frequency_Hz(j), kRelativeTolerance * b.frequency_Hz(j));
+    if (a.time_s(j) < 0.2 || a.time_s(j) > 0.8) continue;
+    ASSERT_NEAR(a.frequency_Hz(j), a.grid_frequency_Hz(j), kRelativeTolerance * a.frequency_Hz(j))
+        << j;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3001);
+}
+
+TEST(ExtremeAmplitudes, NonFiniteCoefficientsAreNeverARidge) {
+  // FindRidges takes any Scalogram: NaN and Inf cells are forbidden, a column
+  // of them is "no ridge" (-1) and the path restarts after it. Before the fix
+  // PenalisedPath read uninitialised envelope indices (a crash or an index
+  // out of range).
+  Scalogram sg = Cwt(Tone(1.0), kStep);
+  const Eigen::Index mid = sg.times() / 2;
+  const double inf = std::numeric_limits<double>::infinity();
+  sg.coefficients.row(mid).setConstant(std::complex<double>(inf, 0.0));
+  sg.coefficients.row(mid + 1).setConstant(std::complex<double>(std::nan(""), 1.0));
+  sg.coefficients(mid + 2, 3) = std::complex<double>(-inf, inf);
+  for (RidgeMethod method : {RidgeMethod::kPenalised, RidgeMethod::kMaximum}) {
+    RidgeOptions options;
+    options.method = method;
+    options.ridges = 2;
+    const std::vector<Eigen::VectorXi> paths = FindRidges(sg, options);
+    ASSERT_EQ(paths.size(), 2u);
+    for (const Eigen::VectorXi& path : paths) {
+      EXPECT_EQ(path(mid), -1);
+      EXPECT_EQ(path(mid + 1), -1);
+      EXPECT_NE(path(mid + 2), 3);
+      EXPECT_GE(path.minCoeff(), -1);
+      EXPECT_LT(path.maxCoeff(), sg.frequencies());
+    }
+    // The main ridge is the tone's on both sides of the gap.
+    EXPECT_NEAR(sg.frequencies_Hz(paths[0](mid - 200)), 33.3, 0.5);
+    EXPECT_NEAR(sg.frequencies_Hz(paths[0](mid + 200)), 33.3, 0.5);
+  }
+}
+
+TEST(ExtremeAmplitudes, TrackRidgeRejectsAPathOutsideTheScalogram) {
+  const Scalogram sg = Cwt(Tone(1.0), kStep);
+  Eigen::VectorXi path = Eigen::VectorXi::Zero(sg.times());
+  path(10) = static_cast<int>(sg.frequencies());
+  PODID_EXPECT_THROW_WITH(TrackRidge(sg, path, RidgeOptions{}, nullptr), std::invalid_argument,
+                          "TrackRidge: path(10): expected -1 (no ridge) or a frequency index");
+}
+
+TEST(MemoryBudget, TooManyBinsIsAnInputErrorBeforeAllocating) {
+  // --bins 100000 on 5001 samples: 5001 x 100000 x 16 bytes = 8 GB of
+  // coefficients alone. Before the fix: 8 GB then std::bad_alloc.
+  CwtOptions options;
+  options.frequencies.spacing = FrequencySpacing::kLinear;
+  options.frequencies.bins = 100000;
+  PODID_EXPECT_THROW_WITH(Cwt(Tone(1.0), kStep, options), std::invalid_argument,
+                          "Cwt: memory: expected at most 2147483648 bytes "
+                          "(CwtOptions::memory_budget_bytes), got 8");
+  options.frequencies.bins = 2000;  // 160 MB: within the default budget
+  options.memory_budget_bytes = 100e6;
+  PODID_EXPECT_THROW_WITH(Cwt(Tone(1.0), kStep, options), std::invalid_argument,
+                          "5001 output times x 2000 frequencies x 16 bytes");
+  options.memory_budget_bytes = 1e3;
+  PODID_EXPECT_THROW_WITH(CwtTransform{options}, std::invalid_argument,
+                          "CwtOptions.memory_budget_bytes: expected 2^20..2^44, got 1000");
+}
+
+}  // namespace
+}  // namespace podid::wavelet
