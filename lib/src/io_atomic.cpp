@@ -1,10 +1,13 @@
-// WriteFileAtomically: temporary file in the destination folder, fsync, rename.
+// WriteFileAtomically: symlinks followed to the real target; a temporary file in
+// the target's folder, fsync, rename; devices and descriptors written in place.
 #include <fcntl.h>
+#include <limits.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <ostream>
@@ -15,6 +18,7 @@
 
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
+#include "podid/core/temp_files.hpp"
 
 namespace podid {
 namespace {
@@ -81,6 +85,11 @@ class FdStreamBuf : public std::streambuf {
 
 std::atomic<unsigned> temp_counter{0};
 
+/// Symlinks followed before giving up (Linux's own limit is 40).
+constexpr int kMaxSymlinkHops = 40;
+/// Bytes of the target's name kept in a temporary's name (NAME_MAX is 255).
+constexpr std::size_t kTempNameBytes = 100;
+
 /// Runs `write` on a stream over `fd` and flushes it. On any failure calls
 /// `discard` and throws: std::invalid_argument from the callback stays one,
 /// anything else becomes std::runtime_error naming `path`.
@@ -114,52 +123,171 @@ void WriteThrough(int fd,
   }
 }
 
-/// An existing device, FIFO or socket (/dev/null, /dev/full, a pipe) is
-/// written in place: renaming a temporary onto it would replace the device
-/// node with a regular file (as root, /dev/null itself for everyone).
-void WriteInPlace(const std::string& path, const std::function<void(std::ostream&)>& write) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
-  if (fd < 0) Fail(path, std::strerror(errno));
+/// Writes to an open descriptor that is closed afterwards.
+void WriteToDescriptor(int fd,
+                       const std::string& path,
+                       const std::function<void(std::ostream&)>& write) {
   WriteThrough(fd, path, write, [fd] { ::close(fd); });
   if (::close(fd) != 0) Fail(path, std::string("close failed: ") + std::strerror(errno));
 }
 
+/// realpath(3), or "" with errno set.
+std::string RealPath(const std::string& path) {
+  char buffer[PATH_MAX];
+  return ::realpath(path.c_str(), buffer) != nullptr ? std::string(buffer) : std::string();
+}
+
+bool IsDescriptorNumber(const std::string& name) {
+  if (name.empty() || name.size() > 9) return false;
+  for (const char c : name) {
+    if (c < '0' || c > '9') return false;
+  }
+  return true;
+}
+
+/// Fails unless `folder` (the resolved folder of `path`) takes new files.
+void CheckFolderWritable(const std::string& path, const std::string& folder) {
+  if (::faccessat(AT_FDCWD, folder.c_str(), W_OK | X_OK, AT_EACCESS) != 0) {
+    Fail(path, "cannot create a temporary file in " + folder + ": " + std::strerror(errno));
+  }
+}
+
 }  // namespace
+
+OutputTarget ResolveOutput(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (path.empty() || !fs::path(path).has_filename()) {
+    ThrowInvalid("output file", "a file name", "\"" + path + "\"");
+  }
+  // Our own descriptors: /dev/stdout -> /proc/self/fd/1 -> /proc/<pid>/fd/1.
+  const std::string own_descriptors = RealPath("/proc/self/fd");
+  OutputTarget target;
+  std::string current = path;
+  for (int hop = 0; hop <= kMaxSymlinkHops; ++hop) {
+    const fs::path spelled(current);
+    const std::string folder_spelled =
+        spelled.has_parent_path() ? spelled.parent_path().string() : std::string(".");
+    const std::string folder = RealPath(folder_spelled);
+    if (folder.empty()) {
+      Fail(path,
+           "cannot create a temporary file in " + folder_spelled + ": " + std::strerror(errno));
+    }
+    struct stat status {};
+    if (::stat(folder.c_str(), &status) != 0 || !S_ISDIR(status.st_mode)) {
+      Fail(path,
+           "cannot create a temporary file in " + folder_spelled + ": " + std::strerror(ENOTDIR));
+    }
+    const std::string name = spelled.filename().string();
+    if (name.empty() || name == "." || name == "..") Fail(path, "it is a folder");
+    const std::string joined = folder == "/" ? "/" + name : folder + "/" + name;
+
+    if (!own_descriptors.empty() && folder == own_descriptors && IsDescriptorNumber(name)) {
+      target.kind = OutputTarget::Kind::kDescriptor;
+      target.path = joined;
+      target.descriptor = std::stoi(name);
+      if (::fstat(target.descriptor, &status) != 0) Fail(path, std::strerror(errno));
+      target.exists = true;
+      target.device = status.st_dev;
+      target.inode = status.st_ino;
+      return target;
+    }
+    if (::lstat(joined.c_str(), &status) != 0) {
+      if (errno != ENOENT) Fail(path, std::strerror(errno));
+      target.path = joined;  // a new file (perhaps at the end of a dangling link)
+      CheckFolderWritable(path, folder);
+      return target;
+    }
+    if (S_ISLNK(status.st_mode)) {
+      std::vector<char> link(static_cast<std::size_t>(PATH_MAX) + 1);
+      const ssize_t size = ::readlink(joined.c_str(), link.data(), link.size() - 1);
+      if (size < 0) Fail(path, std::string("readlink failed: ") + std::strerror(errno));
+      const std::string destination(link.data(), static_cast<std::size_t>(size));
+      if (destination.empty()) Fail(path, "an empty symbolic link");
+      current = destination.front() == '/' ? destination : folder + "/" + destination;
+      continue;
+    }
+    if (S_ISDIR(status.st_mode)) Fail(path, "it is a folder");
+    target.path = joined;
+    target.exists = true;
+    target.device = status.st_dev;
+    target.inode = status.st_ino;
+    if (S_ISREG(status.st_mode)) {
+      CheckFolderWritable(path, folder);
+      if (::faccessat(AT_FDCWD, joined.c_str(), W_OK, AT_EACCESS) != 0) {
+        Fail(path, "the file is read-only (" + std::string(std::strerror(errno)) + ")");
+      }
+    } else {
+      target.kind = OutputTarget::Kind::kSpecial;
+      if (::faccessat(AT_FDCWD, joined.c_str(), W_OK, AT_EACCESS) != 0) {
+        Fail(path, std::strerror(errno));
+      }
+    }
+    return target;
+  }
+  Fail(path, std::strerror(ELOOP));
+}
 
 void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
   namespace fs = std::filesystem;
-  const fs::path target(path);
-  if (path.empty() || !target.has_filename()) {
-    ThrowInvalid("output file", "a file name", "\"" + path + "\"");
+  const OutputTarget target = ResolveOutput(path);
+  if (target.kind == OutputTarget::Kind::kDescriptor) {
+    // Keep the order of what was printed before on the same stream.
+    std::fflush(nullptr);
+    const int fd = ::fcntl(target.descriptor, F_DUPFD_CLOEXEC, 0);
+    if (fd < 0) Fail(path, std::strerror(errno));
+    WriteToDescriptor(fd, path, write);
+    return;
   }
-  const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  struct stat status {};
-  if (::stat(path.c_str(), &status) == 0 && !S_ISREG(status.st_mode) &&
-      !S_ISDIR(status.st_mode)) {
-    WriteInPlace(path, write);
+  if (target.kind == OutputTarget::Kind::kSpecial) {
+    // Renaming a temporary onto a device would replace the node with a
+    // regular file (as root, /dev/null itself for everyone).
+    const int fd = ::open(target.path.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0) Fail(path, std::strerror(errno));
+    WriteToDescriptor(fd, path, write);
     return;
   }
 
-  // Create the temporary: same folder, so that rename() is atomic.
+  // The temporary: in the target's folder, so that rename() is atomic.
+  const fs::path final_path(target.path);
+  const std::string folder = final_path.parent_path().string();
+  const std::string name = final_path.filename().string().substr(0, kTempNameBytes);
   std::string temp;
   int fd = -1;
+  TemporaryPath registration;
   for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-    temp = (folder / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) +
-                      "-" + std::to_string(temp_counter.fetch_add(1))))
+    temp = (final_path.parent_path() / ("." + name + ".tmp-" + std::to_string(::getpid()) + "-" +
+                                        std::to_string(temp_counter.fetch_add(1))))
                .string();
-    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    const BlockCleanupSignals blocked;  // create and register as one step
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
     if (fd < 0 && errno != EEXIST) {
-      Fail(path,
-           "cannot create a temporary file in " + folder.string() + ": " + std::strerror(errno));
+      Fail(path, "cannot create a temporary file in " + folder + ": " + std::strerror(errno));
     }
+    if (fd >= 0) registration = TemporaryPath(temp);
   }
-  if (fd < 0) Fail(path, "cannot create a temporary file in " + folder.string());
+  if (fd < 0) Fail(path, "cannot create a temporary file in " + folder);
 
   auto discard = [&]() {
     if (fd >= 0) ::close(fd);
     fd = -1;
     ::unlink(temp.c_str());
+    registration.Release();
   };
+
+  if (target.exists) {
+    // Keep the replaced file's mode (and owner, which only root can give).
+    struct stat old {};
+    if (::stat(target.path.c_str(), &old) == 0) {
+      if (::geteuid() == 0 && (old.st_uid != ::geteuid() || old.st_gid != ::getegid())) {
+        (void)::fchown(fd, old.st_uid, old.st_gid);
+      }
+      if (::fchmod(fd, old.st_mode & 0777) != 0) {
+        const int error = errno;
+        discard();
+        Fail(path, std::string("cannot keep the file's mode: ") + std::strerror(error));
+      }
+    }
+  }
 
   WriteThrough(fd, path, write, discard);
   if (::fsync(fd) != 0) {
@@ -174,11 +302,12 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
     discard();
     Fail(path, std::string("close failed: ") + std::strerror(error));
   }
-  if (::rename(temp.c_str(), path.c_str()) != 0) {
+  if (::rename(temp.c_str(), target.path.c_str()) != 0) {
     const int error = errno;
     discard();
     Fail(path, std::string("rename failed: ") + std::strerror(error));
   }
+  registration.Release();
   // Make the rename itself durable (best effort: not every file system allows it).
   const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dir >= 0) {

@@ -415,7 +415,7 @@ TEST(WriteFileAtomically, DestinationIsAFolder) {
   std::filesystem::create_directory(dir.File("out"));
   PODID_EXPECT_THROW_WITH(
       WriteFileAtomically(dir.File("out"), [](std::ostream& os) { WriteText(os, "x"); }),
-      std::runtime_error, "rename failed");
+      std::runtime_error, "cannot write " + dir.File("out") + ": it is a folder");
   EXPECT_EQ(dir.Entries(), std::vector<std::string>{"out"});
   PODID_EXPECT_THROW_WITH(WriteFileAtomically(dir.path() + "/", [](std::ostream&) {}),
                           std::invalid_argument, "expected a file name");

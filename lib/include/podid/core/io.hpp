@@ -4,6 +4,7 @@
 // error never leaves a partial file and never harms an earlier one.
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <iosfwd>
 #include <string>
@@ -53,14 +54,44 @@ TimeSeries ReadMat(const std::string& path, const MatReadOptions& options = {});
 /// Dispatches on the extension: .csv -> ReadCsv, .mat -> ReadMat.
 TimeSeries ReadTimeSeries(const std::string& path);
 
-/// Writes a file atomically: `write` fills a stream on a temporary file in the
-/// same folder, which is flushed, checked and renamed onto `path`. On any
-/// error (the callback throws, the disk is full, the folder is missing or
-/// read-only) the temporary is removed, `path` is untouched and
-/// std::runtime_error / std::invalid_argument says which file and why.
-/// The temporary is "<folder>/.<name>.tmp-<pid>-<n>", created with mode 0666
-/// minus the umask; the folder is fsync'ed after the rename (best effort).
-/// An exception thrown by `write` is rethrown as the same kind
+/// Where WriteFileAtomically(path) writes: `path` with its symlinks followed
+/// (at most 40; relative links are relative to the link's folder).
+struct OutputTarget {
+  enum class Kind {
+    kFile,        ///< a regular file or nothing yet: a temporary renamed onto `path`
+    kSpecial,     ///< an existing device, FIFO or socket: opened and written in place
+    kDescriptor,  ///< /dev/stdout, /dev/stderr, /dev/fd/N, /proc/self/fd/N: descriptor N
+  };
+  Kind kind = Kind::kFile;
+  std::string path;     ///< the final path (kFile: the name replaced or created)
+  int descriptor = -1;  ///< kDescriptor: N
+  bool exists = false;  ///< something exists at the target: `device` and `inode` name it
+  std::uint64_t device = 0;
+  std::uint64_t inode = 0;
+};
+
+/// Resolves `path` as WriteFileAtomically does and checks, without writing
+/// anything, that it can be written: its folder exists and is writable, the
+/// target is not a folder, not a read-only file, and (kDescriptor) the
+/// descriptor is open. Throws std::runtime_error("cannot write <path>: <why>"),
+/// or std::invalid_argument for an empty path or one ending in '/'.
+OutputTarget ResolveOutput(const std::string& path);
+
+/// Writes a file: `write` fills a stream; the target is ResolveOutput(path).
+///  * kFile: atomically. The stream goes to a temporary in the target's own
+///    folder ("<folder>/.<name>.tmp-<pid>-<n>", O_EXCL, registered for removal
+///    on SIGINT/SIGTERM/SIGHUP, see temp_files.hpp), which is flushed, fsync'ed
+///    and renamed onto the target; the folder is fsync'ed (best effort). A new
+///    file gets mode 0666 minus the umask; an existing one keeps its mode (and,
+///    for root, its owner). Writing through a symlink replaces the file it
+///    points to and keeps the link. A file with several hard links is replaced
+///    at this name only: its other names keep the previous content.
+///  * kSpecial (/dev/null, a FIFO, a terminal) and kDescriptor (/dev/stdout):
+///    written in place, never replaced by a regular file; not atomic.
+/// On any error (the callback throws, the disk is full, the folder is missing
+/// or read-only) the temporary is removed, the target is untouched and
+/// std::runtime_error / std::invalid_argument says which file and why. An
+/// exception thrown by `write` is rethrown as the same kind
 /// (std::invalid_argument, else std::runtime_error) with the file name added.
 void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
