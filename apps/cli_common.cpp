@@ -1,13 +1,25 @@
 #include "cli_common.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cstring>
 #include <filesystem>
+#include <stdexcept>
+
+#include "podid/core/error.hpp"
+#include "podid/core/io.hpp"
 
 namespace podid::cli {
 
 void CaseArguments::AddTo(CLI::App& command) {
   command.add_option("case", path, "Case file (TOML, see docs/case-file.md)")->required();
-  command.add_option("--set", sets,
-                     "Override a case-file key, e.g. --set nonlinearity.0.k3=2.5e9 (repeatable)")
+  command
+      .add_option("--set", sets,
+                  "Override a case-file key, e.g. --set nonlinearity.0.k3=2.5e9 (repeatable)")
       ->type_name("KEY=VALUE");
 }
 
@@ -19,6 +31,104 @@ CaseDocument CaseArguments::Load() const {
 
 std::string DefaultOutput(const std::string& input, const std::string& suffix) {
   return std::filesystem::path(input).stem().string() + suffix;
+}
+
+std::vector<NamedFile> CaseInputFiles(const CaseArguments& arguments) {
+  std::vector<NamedFile> files = {{"case file", arguments.path}};
+  const CaseSpec spec = arguments.Load().ToSpec();
+  if (spec.force.type == ForceType::kFile && !spec.force.file.empty()) {
+    // Relative to the case file's folder, as CaseDocument resolves it.
+    std::filesystem::path force(spec.force.file);
+    if (force.is_relative()) force = std::filesystem::path(arguments.path).parent_path() / force;
+    files.push_back({"force file", force.string()});
+  }
+  return files;
+}
+
+namespace {
+
+/// Device and inode of an existing regular file (symlinks followed).
+bool RegularFileId(const std::string& path, std::uint64_t* device, std::uint64_t* inode) {
+  struct stat status {};
+  if (::stat(path.c_str(), &status) != 0 || !S_ISREG(status.st_mode)) return false;
+  *device = status.st_dev;
+  *inode = status.st_ino;
+  return true;
+}
+
+std::string Describe(const NamedFile& file) { return file.what + " " + file.path; }
+
+}  // namespace
+
+void CheckOutputs(const std::vector<NamedFile>& inputs, const std::vector<NamedFile>& outputs) {
+  std::vector<std::pair<const NamedFile*, OutputTarget>> checked;
+  for (const NamedFile& output : outputs) {
+    if (output.path.empty()) continue;
+    OutputTarget target;
+    try {
+      target = ResolveOutput(output.path);
+    } catch (const std::exception& e) {
+      throw std::invalid_argument(output.what + ": " + e.what());
+    }
+    for (const NamedFile& input : inputs) {
+      std::uint64_t device = 0, inode = 0;
+      if (target.exists && RegularFileId(input.path, &device, &inode) && device == target.device &&
+          inode == target.inode) {
+        ThrowInvalid(
+            output.what,
+            "a file other than the " + Describe(input) + " (writing it would destroy that input)",
+            "\"" + output.path + "\", the same file");
+      }
+    }
+    for (const auto& [other, other_target] : checked) {
+      const bool same =
+          target.exists && other_target.exists
+              ? target.device == other_target.device && target.inode == other_target.inode
+              : target.path == other_target.path;
+      if (same && target.kind == OutputTarget::Kind::kFile) {
+        ThrowInvalid(output.what, "a file other than " + Describe(*other),
+                     "\"" + output.path + "\", the same file");
+      }
+    }
+    checked.emplace_back(&output, target);
+  }
+}
+
+void CheckOutputFolder(const NamedFile& folder) {
+  namespace fs = std::filesystem;
+  if (folder.path.empty()) return;
+  fs::path existing(folder.path);
+  std::error_code error;
+  // The nearest existing ancestor: create_directories makes the rest.
+  while (!fs::exists(existing, error) && existing.has_relative_path() &&
+         existing != existing.parent_path()) {
+    existing = existing.has_parent_path() ? existing.parent_path() : fs::path(".");
+  }
+  if (existing.empty()) existing = ".";
+  if (!fs::is_directory(existing, error)) {
+    ThrowInvalid(folder.what, "a folder (or a path to create one)",
+                 "\"" + folder.path + "\": " + existing.string() + " is not a folder");
+  }
+  if (::faccessat(AT_FDCWD, existing.c_str(), W_OK | X_OK, AT_EACCESS) != 0) {
+    ThrowInvalid(folder.what, "a writable folder",
+                 "\"" + folder.path + "\": " + existing.string() + ": " + std::strerror(errno));
+  }
+}
+
+CLI::Validator IntegerIn(long long lower, long long upper) {
+  const std::string range = "[" + std::to_string(lower) + ", " + std::to_string(upper) + "]";
+  return CLI::Validator(
+      [lower, upper, range](std::string& text) -> std::string {
+        long long value = 0;
+        const char* end = text.data() + text.size();
+        const auto [stop, error] = std::from_chars(text.data(), end, value);
+        if (error != std::errc() || stop != end || value < lower || value > upper) {
+          const std::string shown = text.size() > 40 ? text.substr(0, 40) + "..." : text;
+          return "expected an integer in " + range + ", got \"" + shown + "\"";
+        }
+        return {};
+      },
+      "INT in " + range);
 }
 
 }  // namespace podid::cli

@@ -20,7 +20,44 @@ struct CaseArguments {
   CaseDocument Load() const;
 };
 
+/// Upper bounds of integer options (docs/cli.md), checked by CLI11 before
+/// anything runs. Generous: the real limits (a model's dofs, a file's
+/// channels) are checked once known; these only stop an absurd number early.
+inline constexpr long long kMaxModesPrinted = 1'000'000;    ///< modes --count
+inline constexpr long long kMaxPodModesOption = 1'000'000;  ///< pod --modes
+inline constexpr long long kMaxPomOption = 1'000'000;       ///< cwt --pom
+inline constexpr long long kMaxObjectiveModes = 1'000;      ///< identify/landscape --modes
+
 /// The default output path: `<stem of input><suffix>` in the current folder.
 std::string DefaultOutput(const std::string& input, const std::string& suffix);
+
+/// A file a command reads or writes, with what named it (for messages):
+/// {"-o", "out.csv"}, {"case file", "beam.toml"}.
+struct NamedFile {
+  std::string what;
+  std::string path;
+};
+
+/// The files a case makes a command read: the case file and its [force] file
+/// (after the --set overrides). Throws std::invalid_argument for a bad case.
+std::vector<NamedFile> CaseInputFiles(const CaseArguments& arguments);
+
+/// Run by every command before it computes anything. Each output (empty
+/// paths are skipped) must be writable as WriteFileAtomically will write it
+/// (its folder exists and is writable, it is not a folder, see ResolveOutput),
+/// and must not be the same file as an input or as another output: files are
+/// compared by device and inode after following symlinks, so a symlink, a hard
+/// link or a "./x" spelling of an input is refused too. Throws
+/// std::invalid_argument naming the option and both files (exit status 1).
+void CheckOutputs(const std::vector<NamedFile>& inputs, const std::vector<NamedFile>& outputs);
+
+/// For an output folder that is created if missing (identify --plot-dir):
+/// it is a writable folder, or its nearest existing ancestor is one. Throws
+/// std::invalid_argument.
+void CheckOutputFolder(const NamedFile& folder);
+
+/// A CLI11 check for an integer option in [lower, upper]; its message reads
+/// "expected an integer in [lower, upper], got <text>".
+CLI::Validator IntegerIn(long long lower, long long upper);
 
 }  // namespace podid::cli

@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "cli_common.hpp"
 #include "commands.hpp"
 #include "plot.hpp"
 #include "podid/core/error.hpp"
@@ -62,6 +63,8 @@ Eigen::VectorXd SelectSignal(const CwtArguments& a, const TimeSeries& series, st
 }
 
 void Run(const CwtArguments& a) {
+  CheckOutputs({{"data file", a.data}},
+               {{"-o", a.output}, {"--scalogram", a.scalogram}, {"--plot", a.plot}});
   const TimeSeries series = ReadTimeSeries(a.data);
   std::string label;
   const Eigen::VectorXd signal = SelectSignal(a, series, &label);
@@ -203,7 +206,7 @@ void AddCwtCommand(CLI::App& app) {
   auto* channel = command->add_option("--channel", a->channel, "Channel name, e.g. w6");
   auto* pom =
       command->add_option("--pom", a->pom, "Analyse the k-th POD time mode (right-singular vector)")
-          ->check(CLI::PositiveNumber);
+          ->check(IntegerIn(1, kMaxPomOption));
   channel->excludes(pom);
   pom->excludes(channel);
   command->add_option("--fmin", a->fmin_Hz, "Lowest analysis frequency (Hz)")

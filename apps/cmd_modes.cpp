@@ -15,7 +15,7 @@ void AddModesCommand(CLI::App& app) {
       "modes", "Print the natural frequencies (Hz) and damping ratios of the case's linear beam");
   args->AddTo(*command);
   command->add_option("-n,--count", *count, "Number of modes to print (default: all)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(IntegerIn(0, kMaxModesPrinted));
   command->callback([args, count] {
     const CaseSpec spec = args->Load().ToSpec();
     const BeamModel model = BeamModel::Build(spec);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_common.hpp"
 #include "commands.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
@@ -37,6 +38,7 @@ void RunPod(const PodArguments& a) {
   options.sigma_threshold = a.sigma_threshold;
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
+  CheckOutputs({{"data file", a.data}}, {{"--json", a.json}, {"-o", a.output}});
 
   const TimeSeries series = ReadTimeSeries(a.data);
   if (options.max_modes > std::min(series.channels(), series.samples())) {
@@ -104,7 +106,7 @@ void AddPodCommand(CLI::App& app) {
   command->add_option("--method", a->method, "auto | svd | direct | snapshot")
       ->capture_default_str();
   auto* modes = command->add_option("--modes", a->modes, "Keep at most K modes (0: all)")
-                    ->check(CLI::NonNegativeNumber);
+                    ->check(IntegerIn(0, kMaxPodModesOption));
   auto* energy = command->add_option(
       "--energy", a->energy, "Keep the fewest modes holding this energy fraction, in (0, 1]");
   modes->excludes(energy);

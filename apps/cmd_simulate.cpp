@@ -31,6 +31,9 @@ void AddSimulateCommand(CLI::App& app) {
   command->add_flag("--no-noise", args->no_noise, "Ignore the case's [noise] table");
   command->add_flag("--report", args->report, "Print the full simulation report");
   command->callback([args] {
+    const std::string output =
+        args->output.empty() ? DefaultOutput(args->input.path, "_simulated.csv") : args->output;
+    CheckOutputs(CaseInputFiles(args->input), {{"-o", output}});
     const CaseSpec spec = args->input.Load().ToSpec();
     SimulateOptions options;
     options.add_noise = !args->no_noise;
@@ -38,8 +41,6 @@ void AddSimulateCommand(CLI::App& app) {
     if (result.summary.termination == SimulationTermination::kStaticSolveFailed) {
       throw CommandFailed("simulate: initial state: " + result.summary.message);
     }
-    const std::string output =
-        args->output.empty() ? DefaultOutput(args->input.path, "_simulated.csv") : args->output;
     WriteCsv(output, result.sensors);
     std::printf("%s -> %s (%ld samples x %ld channels)\n", result.summary.BriefReport().c_str(),
                 output.c_str(), static_cast<long>(result.sensors.samples()),

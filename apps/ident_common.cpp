@@ -11,7 +11,7 @@ void ObjectiveArguments::AddTo(CLI::App& command) {
   input.AddTo(command);
   command.add_option("-m,--measured", measured, "Measured time histories (.csv or .mat)")->required();
   command.add_option("--modes", modes, "Number of leading POMs in the objective (K)")->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(IntegerIn(1, kMaxObjectiveModes));
   command.add_flag("--raw-sigma", raw_sigma,
                    "Compare raw singular values (eq. 19) instead of relative ones");
   command.add_option("--fmin", fmin_Hz, "Lowest ridge frequency of the wavelet term (Hz)")->capture_default_str();

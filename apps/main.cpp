@@ -2,8 +2,40 @@
 #include <cstdio>
 #include <exception>
 #include <stdexcept>
+#include <string>
 
 #include "commands.hpp"
+#include "podid/core/temp_files.hpp"
+
+namespace {
+
+/// One line for the terminal: line breaks become "; ", other control
+/// characters \xNN, so no message can move the cursor or fake a prompt.
+std::string OneLine(const std::string& text) {
+  std::string out;
+  std::size_t end = text.size();
+  while (end > 0 && (text[end - 1] == '\n' || text[end - 1] == '\r')) --end;
+  for (std::size_t i = 0; i < end; ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c == '\n') {
+      out += "; ";
+    } else if (c < 0x20 || c == 0x7f) {
+      static const char* const kHex = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out;
+}
+
+void PrintError(const std::string& message) {
+  std::fprintf(stderr, "podid: error: %s\n", OneLine(message).c_str());
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -13,7 +45,10 @@ int main(int argc, char** argv) {
       "podid"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "podid 0.1.0");
-  app.footer("Run 'podid COMMAND --help' for a command's options. Docs: docs/cli.md");
+  app.footer(
+      "Run 'podid COMMAND --help' for a command's options. Docs: docs/cli.md\n"
+      "Exit status: 0 success, 1 invalid input or arguments (one line on stderr),\n"
+      "2 a computation that ran but failed, 130 interrupted.");
 
   podid::cli::AddModesCommand(app);
   podid::cli::AddSimulateCommand(app);
@@ -22,18 +57,24 @@ int main(int argc, char** argv) {
   podid::cli::AddIdentifyCommand(app);
   podid::cli::AddLandscapeCommand(app);
 
+  // SIGINT, SIGTERM, SIGHUP, ... remove the temporary files of a write in progress.
+  podid::InstallTemporaryFileCleanup();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
-  } catch (const podid::cli::CommandFailed& e) {
-    std::fprintf(stderr, "podid: %s\n", e.what());
-    return e.exit_code();
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "podid: error: %s\n", e.what());
+    // --help and --version are "errors" with exit code 0: print them as CLI11 does.
+    if (e.get_exit_code() == 0) return app.exit(e);
+    // Any other argument error: one line, the documented exit status 1.
+    std::string help = "podid --help";
+    const auto parsed = app.get_subcommands();
+    if (!parsed.empty()) help = "podid " + parsed.front()->get_name() + " --help";
+    PrintError(std::string(e.what()) + " (see '" + help + "')");
     return 1;
+  } catch (const podid::cli::CommandFailed& e) {
+    std::fprintf(stderr, "podid: %s\n", OneLine(e.what()).c_str());
+    return e.exit_code();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "podid: error: %s\n", e.what());
+    PrintError(e.what());
     return 1;
   }
   return 0;

@@ -1,12 +1,15 @@
 #include "plot.hpp"
 
+#include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -16,28 +19,55 @@
 
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
+#include "podid/core/temp_files.hpp"
 
 extern char** environ;
 
 namespace podid::cli {
 namespace {
 
-// gnuplot single-quoted string: '' stands for one quote.
-std::string Quote(const std::string& text) {
-  std::string out = "'";
-  for (char c : text) {
-    if (c == '\'') out += '\'';
-    out += c;
+// Every text podid puts in a gnuplot script (titles, labels, curve names from
+// case files and data files, the paths of a kept script) goes through
+// GnuplotString: a double-quoted gnuplot string in which every byte outside
+// [A-Za-z0-9 ._,:/()=+-] is a three-digit octal escape (and so is an octal
+// digit right after an escape, which gnuplot would otherwise read as part of
+// it). No quote, line break, backquote (command substitution) or '@' (macro)
+// from a user ever reaches the script; the value gnuplot sees is the text,
+// byte for byte (bytes >= 0x80, i.e. UTF-8, are kept as they are; a NUL,
+// which would end a C string, becomes '?').
+std::string GnuplotString(const std::string& text) {
+  std::string out = "\"";
+  bool after_escape = false;
+  for (const char ch : text) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    const bool safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                      c == ' ' || c == '.' || c == '_' || c == ',' || c == ':' || c == '/' ||
+                      c == '(' || c == ')' || c == '=' || c == '+' || c == '-' || c >= 0x80;
+    const bool octal_digit = c >= '0' && c <= '7';
+    if (c == 0) {
+      out += '?';
+      after_escape = false;
+    } else if (safe && !(after_escape && octal_digit)) {
+      out += static_cast<char>(c);
+      after_escape = false;
+    } else {
+      const char escape[5] = {'\\', static_cast<char>('0' + (c >> 6)),
+                              static_cast<char>('0' + ((c >> 3) & 7)),
+                              static_cast<char>('0' + (c & 7)), '\0'};
+      out += escape;
+      after_escape = true;
+    }
   }
-  return out + "'";
+  return out + "\"";
 }
 
 std::string Substitute(std::string script, const std::vector<std::string>& paths) {
   for (std::size_t i = 0; i < paths.size(); ++i) {
     const std::string key = "{data" + std::to_string(i) + "}";
+    const std::string quoted = GnuplotString(paths[i]);
     for (std::size_t at = script.find(key); at != std::string::npos;
-         at = script.find(key, at + 1)) {
-      script.replace(at, key.size(), Quote(paths[i]));
+         at = script.find(key, at + quoted.size())) {
+      script.replace(at, key.size(), quoted);
     }
   }
   return script;
@@ -47,26 +77,95 @@ std::string Header(const PlotRequest& r, const std::string& png) {
   std::ostringstream os;
   os << "set terminal pngcairo size " << r.width_px << "," << r.height_px
      << " noenhanced font 'sans,10'\n"
-     << "set output " << Quote(png) << "\n";
+     << "set output " << GnuplotString(png) << "\n";
   return os.str();
-}
-
-void WriteFile(const std::string& path, const std::function<void(std::ostream&)>& write) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("plot: cannot write temporary file " + path);
-  out.precision(10);
-  write(out);
-  out.flush();
-  if (!out) throw std::runtime_error("plot: error writing temporary file " + path);
 }
 
 std::string AxesScript(const Axes& axes) {
   std::ostringstream os;
-  if (!axes.title.empty()) os << "set title " << Quote(axes.title) << "\n";
-  os << "set xlabel " << Quote(axes.x_label) << "\nset ylabel " << Quote(axes.y_label) << "\n";
+  if (!axes.title.empty()) os << "set title " << GnuplotString(axes.title) << "\n";
+  os << "set xlabel " << GnuplotString(axes.x_label) << "\nset ylabel "
+     << GnuplotString(axes.y_label) << "\n";
   if (axes.log_y) os << "set logscale y\nset format y \"%.0e\"\n";
   os << "set grid\n";
   return os.str();
+}
+
+// A private folder (mkdtemp, mode 0700) in $TMPDIR (default /tmp) holding
+// gnuplot's script, data and image under fixed names. Nobody else can create
+// or plant a symlink in it; its files are created with O_EXCL | O_NOFOLLOW,
+// registered for removal on SIGINT/SIGTERM/SIGHUP, and removed (with the
+// folder) by the destructor.
+class PrivateFolder {
+ public:
+  PrivateFolder() {
+    const char* tmpdir = std::getenv("TMPDIR");
+    const std::string base = tmpdir != nullptr && *tmpdir != '\0' ? tmpdir : "/tmp";
+    std::string pattern = base + "/podid-plot-XXXXXX";
+    const BlockCleanupSignals blocked;  // create and register as one step
+    if (::mkdtemp(pattern.data()) == nullptr) {
+      throw std::runtime_error("plot: cannot create a private folder in " + base + ": " +
+                               std::strerror(errno));
+    }
+    path_ = pattern;
+    folder_ = TemporaryPath(path_, TemporaryPath::Kind::kFolder);
+  }
+  PrivateFolder(const PrivateFolder&) = delete;
+  PrivateFolder& operator=(const PrivateFolder&) = delete;
+  ~PrivateFolder() {
+    for (const std::string& file : files_) ::unlink(file.c_str());
+    ::rmdir(path_.c_str());
+  }
+
+  const std::string& path() const { return path_; }
+
+  /// Registers `name` (a file some program will create here); its full path.
+  std::string Expect(const std::string& name) {
+    files_.push_back(path_ + "/" + name);
+    registrations_.emplace_back(files_.back());
+    return files_.back();
+  }
+
+  /// Creates `name` (O_EXCL, O_NOFOLLOW) and fills it with `write`.
+  void Write(const std::string& name, const std::function<void(std::ostream&)>& write) {
+    const std::string file = Expect(name);
+    const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+    if (fd < 0) {
+      throw std::runtime_error("plot: cannot create " + file + ": " + std::strerror(errno));
+    }
+    ::close(fd);
+    std::ofstream out(file);  // the file we just created, in our private folder
+    if (!out) throw std::runtime_error("plot: cannot write temporary file " + file);
+    out.precision(10);
+    write(out);
+    out.flush();
+    if (!out) throw std::runtime_error("plot: error writing temporary file " + file);
+  }
+
+ private:
+  std::string path_;
+  TemporaryPath folder_;
+  std::vector<std::string> files_;
+  std::vector<TemporaryPath> registrations_;
+};
+
+// Runs `gnuplot script` in `folder` without a shell; true when it exits 0.
+bool RunGnuplot(const std::string& gnuplot, const std::string& folder, const std::string& script) {
+  posix_spawn_file_actions_t actions;
+  if (posix_spawn_file_actions_init(&actions) != 0) return false;
+  bool ok = posix_spawn_file_actions_addchdir_np(&actions, folder.c_str()) == 0;
+  pid_t pid = 0;
+  std::vector<char*> argv = {const_cast<char*>(gnuplot.c_str()), const_cast<char*>(script.c_str()),
+                             nullptr};
+  ok = ok && posix_spawn(&pid, gnuplot.c_str(), &actions, nullptr, argv.data(), environ) == 0;
+  posix_spawn_file_actions_destroy(&actions);
+  if (!ok) return false;
+  int status = 0;
+  pid_t waited = 0;
+  do {
+    waited = waitpid(pid, &status, 0);
+  } while (waited < 0 && errno == EINTR);
+  return waited == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
 }  // namespace
@@ -111,46 +210,29 @@ PlotOutcome RenderPlot(const PlotRequest& request) {
     return PlotOutcome::kNoGnuplot;
   }
 
-  const std::string stem = png + ".tmp" + std::to_string(getpid());
-  std::vector<std::string> temporaries;
-  const auto cleanup = [&] {
-    std::error_code ignored;
-    for (const auto& t : temporaries) std::filesystem::remove(t, ignored);
-  };
-  try {
-    std::vector<std::string> paths;
-    for (std::size_t i = 0; i < request.data.size(); ++i) {
-      paths.push_back(stem + ".data" + std::to_string(i));
-      temporaries.push_back(paths.back());
-      WriteFile(paths.back(), request.data[i]);
-    }
-    const std::string script = stem + ".gp", image = stem + ".png";
-    temporaries.push_back(script);
-    temporaries.push_back(image);
-    WriteFile(script, [&](std::ostream& os) {
-      os << Header(request, image) << Substitute(request.script, paths) << "\nunset output\n";
-    });
-    std::vector<char*> argv = {const_cast<char*>(gnuplot.c_str()),
-                               const_cast<char*>(script.c_str()), nullptr};
-    pid_t pid = 0;
-    if (posix_spawn(&pid, gnuplot.c_str(), nullptr, nullptr, argv.data(), environ) != 0) {
-      throw std::runtime_error("plot: cannot run " + gnuplot);
-    }
-    int status = 0;
-    if (waitpid(pid, &status, 0) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-      throw std::runtime_error("plot: gnuplot failed drawing " + png);
-    }
-    std::error_code error;
-    if (!std::filesystem::exists(image) || std::filesystem::file_size(image, error) == 0) {
-      throw std::runtime_error("plot: gnuplot wrote no image for " + png);
-    }
-    std::filesystem::rename(image, png, error);
-    if (error) throw std::runtime_error("plot: cannot rename onto " + png + ": " + error.message());
-  } catch (...) {
-    cleanup();
-    throw;
+  PrivateFolder folder;
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < request.data.size(); ++i) {
+    names.push_back("data" + std::to_string(i));
+    folder.Write(names.back(), request.data[i]);
   }
-  cleanup();
+  const std::string image = folder.Expect("plot.png");
+  folder.Write("plot.gp", [&](std::ostream& os) {
+    os << Header(request, "plot.png") << Substitute(request.script, names) << "\nunset output\n";
+  });
+  if (!RunGnuplot(gnuplot, folder.path(), "plot.gp")) {
+    throw std::runtime_error("plot: gnuplot (" + gnuplot + ") failed drawing " + png);
+  }
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(image, error) ||
+      std::filesystem::file_size(image, error) == 0) {
+    throw std::runtime_error("plot: gnuplot wrote no image for " + png);
+  }
+  // The user's path is written by the same safe writer as every other output.
+  WriteFileAtomically(png, [&](std::ostream& os) {
+    std::ifstream in(image, std::ios::binary);
+    if (!in || !(os << in.rdbuf())) throw std::runtime_error("cannot copy " + image);
+  });
   return PlotOutcome::kWritten;
 }
 
@@ -168,7 +250,7 @@ PlotOutcome PlotLines(const std::string& output_png,
       for (Eigen::Index k = 0; k < s.x.size(); ++k) os << s.x(k) << ' ' << s.y(k) << '\n';
     });
     script << (i ? ", " : "") << "{data" << i << "} using 1:2 with lines lw 1.5 title "
-           << Quote(s.title);
+           << GnuplotString(s.title);
   }
   script << "\n";
   r.script = script.str();
@@ -196,7 +278,7 @@ PlotOutcome PlotHeatMap(const std::string& output_png,
   const double top = z.size() > 0 ? z.maxCoeff() : 0.0;
   std::ostringstream script;
   script << AxesScript(axes) << "unset grid\nset view map\nset pm3d map corners2color c1\n"
-         << "set palette rgbformulae 30,31,32\nset cblabel " << Quote(z_label) << "\n"
+         << "set palette rgbformulae 30,31,32\nset cblabel " << GnuplotString(z_label) << "\n"
          << "set xrange [" << x.minCoeff() << ":" << x.maxCoeff() << "]\n"
          << "set yrange [" << y.minCoeff() << ":" << y.maxCoeff() << "]\n"
          << "set key outside bottom center horizontal\n"
@@ -214,7 +296,7 @@ PlotOutcome PlotHeatMap(const std::string& output_png,
       }
     });
     script << ", {data" << (i + 1) << "} using 1:2:(" << top
-           << ") with lines lw 2 lc rgb 'white' title " << Quote(s.title);
+           << ") with lines lw 2 lc rgb 'white' title " << GnuplotString(s.title);
   }
   script << "\n";
   r.script = script.str();

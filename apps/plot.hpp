@@ -1,15 +1,22 @@
 #pragma once
 // Plots for the podid commands, drawn by gnuplot (Debian's gnuplot-nox).
 //
-// RenderPlot() writes each data file and the script to temporaries next to
-// the PNG, runs `gnuplot SCRIPT`, and renames the temporary PNG onto the
-// requested path, so an error never leaves a partial PNG. The temporaries are
-// removed afterwards.
+// RenderPlot() writes each data file and the script under fixed names
+// (data0, data1, ..., plot.gp) in a private folder (mkdtemp, mode 0700, in
+// $TMPDIR or /tmp), runs gnuplot there without a shell (posix_spawn, argv
+// {gnuplot, "plot.gp"}), and copies the image it draws there (plot.png) to the
+// requested path with WriteFileAtomically, so an error never leaves a partial
+// PNG and the PNG follows the rules of every other output (symlinks written
+// through, devices in place). The folder is removed afterwards, and on
+// SIGINT/SIGTERM/SIGHUP. No user path appears in the script; every user text
+// in it (titles, labels, curve names) is an escaped gnuplot string (see
+// GnuplotString in plot.cpp): it cannot end the string or run a command.
 //
 // Without gnuplot on PATH (or $PODID_GNUPLOT, an explicit program path) it
 // says so on stderr, keeps the data and the script next to the PNG instead
-// (<png>.gp, <png>.data0.txt, ...; run `gnuplot <png>.gp` later) and returns
-// PlotOutcome::kNoGnuplot; the command still writes its other outputs.
+// (<png>.gp, <png>.data0.txt, ...; run `gnuplot <png>.gp` later; the paths in
+// it are escaped the same way) and returns PlotOutcome::kNoGnuplot; the
+// command still writes its other outputs.
 //
 // Usage (a generic script body; {data0}, {data1}, ... become the quoted data
 // file paths; the terminal and output lines are added):
@@ -35,7 +42,7 @@ enum class PlotOutcome {
 
 struct PlotRequest {
   std::string output_png;  ///< final PNG path
-  std::string script;      ///< gnuplot commands; {dataN} = quoted path of data[N]
+  std::string script;      ///< gnuplot commands; {dataN} = quoted name of data[N]
   std::vector<std::function<void(std::ostream&)>> data;  ///< writers of the data files
   int width_px = 1000;
   int height_px = 650;

@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# Plots under hostile input (issue 10 items 1, 2): no user text reaches a
+# gnuplot script unescaped, and plot temporaries never follow a planted
+# symlink. Names with a newline, quotes, a backquote or '@' in a case file's
+# parameter, a data file's channel and a --plot path run nothing (the files
+# X* they would create do not exist) and still give a PNG; the old
+# predictable temporaries (<png>.tmp<PID>.data0, .gp) are not touched; the
+# private folder in $TMPDIR is gone afterwards.
+# Usage: bash tests/cli/hostile_plot.sh PODID (from the repo root).
+set -u
+podid="$(realpath "$1")"
+root="$PWD"
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+if ! command -v gnuplot >/dev/null && [ -z "${PODID_GNUPLOT:-}" ]; then
+  echo "hostile plot: skipped (no gnuplot)"
+  exit 0
+fi
+cd "$out"
+mkdir tmp
+export TMPDIR="$out/tmp"
+# Each evil text tries a gnuplot command (system), a backquote command
+# substitution and a macro, after a newline that would end the string.
+name='knl
+system "touch XA"
+print `touch XB` @x'
+toml_name='knl\\nsystem \\"touch XA\\"\\nprint `touch XB` @x'  # sed: \\ is one \
+sed "s/^name = \"knl\"/name = \"$toml_name\"/" "$root/examples/beam.toml" >evil.toml
+grep -q 'touch XA' evil.toml || fail "could not write the evil case"
+data="$root/tests/data/measured_knl50_T0.1.csv"
+png='p
+system "touch XC"
+`touch XD`.png'
+check_nothing_ran() {
+  ls X* >/dev/null 2>&1 && fail "$1: a command ran: $(ls X*)"
+  [ -z "$(ls -A tmp)" ] || fail "$1: left in TMPDIR: $(ls -A tmp)"
+  ls -A | grep -q '\.tmp' && fail "$1: temporary left: $(ls -A | grep '\.tmp')"
+  return 0
+}
+is_png() { head -c 8 "$1" | od -An -tx1 | tr -d ' \n' | grep -q '^89504e470d0a1a0a$'; }
+
+# landscape --plot: the parameter name is the x label; the path has a newline.
+"$podid" landscape evil.toml -m "$data" --param "$name" --range 0:100:3 \
+  --objective time-free --plot "$png" >stdout 2>stderr || fail "landscape: $(cat stderr)"
+check_nothing_ran landscape
+is_png "$png" || fail "landscape: no PNG at the path with a newline"
+
+# identify --plot-dir: the parameter name is in the titles.
+"$podid" identify evil.toml -m "$data" --objective time-free --max-evaluations 3 \
+  --plot-dir figs >stdout 2>stderr || fail "identify: $(cat stderr)"
+check_nothing_ran identify
+for f in fig2a_start fig2b_optimum convergence; do
+  is_png "figs/$f.png" || fail "identify: no figs/$f.png"
+done
+
+# cwt --plot: the channel name (a CSV header cell) is in the title.
+sed '1s/w6/w`touch XE`@x"q/' "$data" >evil.csv
+"$podid" cwt evil.csv --channel 'w`touch XE`@x"q' --plot cwt.png >stdout 2>stderr \
+  || fail "cwt: $(cat stderr)"
+check_nothing_ran cwt
+is_png cwt.png || fail "cwt: no PNG"
+
+# Planted symlinks at the names the plot temporaries used to have: with the
+# PID known in advance (exec keeps it), they point at a victim file.
+printf 'precious\n' >victim
+bash -c 'for s in data0 data1 data2 gp png; do ln -s victim "planted.png.tmp$$.$s"; done
+         exec "$0" cwt "$1" --channel w6 --plot planted.png' "$podid" "$data" >stdout 2>stderr \
+  || fail "cwt with planted links: $(cat stderr)"
+[ "$(cat victim)" = precious ] || fail "a planted symlink was followed: victim overwritten"
+is_png planted.png || fail "planted: no PNG"
+[ "$(find . -maxdepth 1 -name 'planted.png.tmp*' -type l | wc -l)" -eq 5 ] \
+  || fail "planted links changed"
+rm planted.png.tmp*
+check_nothing_ran planted
+
+# Without gnuplot the script is kept next to the PNG: its paths are escaped
+# too, so running it later runs nothing either.
+PODID_GNUPLOT=/nonexistent "$podid" landscape evil.toml -m "$data" --param "$name" \
+  --range 0:100:3 --objective time-free --plot "$png.kept" >stdout 2>stderr \
+  || fail "landscape without gnuplot: $(cat stderr)"
+[ -f "$png.kept.gp" ] || fail "no kept script"
+gnuplot "$png.kept.gp" 2>gnuplot.err || fail "the kept script fails: $(cat gnuplot.err)"
+check_nothing_ran "kept script"
+is_png "$png.kept" || fail "the kept script drew no PNG"
+echo "hostile plot: ok"
