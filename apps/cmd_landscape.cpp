@@ -1,6 +1,8 @@
 // podid landscape: objectives over a grid of one or two parameters, with metrics.
 #include <atomic>
+#include <cmath>
 #include <csignal>
+#include <limits>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -40,6 +42,14 @@ ident::LandscapeAxis ParseRange(const std::string& option, const std::string& ra
   if (!(lower < upper) || points < 2) {
     ThrowInvalid(option, "LOWER < UPPER and POINTS >= 2", "\"" + range + "\"");
   }
+  if (points > ident::kMaxLandscapePoints) {
+    ThrowInvalid(option, "at most " + ToText(ident::kMaxLandscapePoints) + " POINTS",
+                 "\"" + range + "\"");
+  }
+  // Every grid value lower + (upper - lower) i / (n - 1) finite.
+  if (!std::isfinite(upper - lower)) {
+    ThrowInvalid(option, "bounds whose difference UPPER - LOWER is finite", "\"" + range + "\"");
+  }
   axis.lower = lower;
   axis.upper = upper;
   axis.points = points;
@@ -75,22 +85,20 @@ void AddLandscapeCommand(CLI::App& app) {
       "Evaluate objectives over a grid of one parameter (or two) and print, per objective,\n"
       "the number of local minima, the global minimiser, its basin of attraction and a\n"
       "roughness figure (the paper's figs. 3-6). Parameters not on an axis stay at their\n"
-      "start (--start NAME=VALUE). Ctrl-C stops it without writing files (exit 130).");
+      "start (--start NAME=VALUE). Failed points are nan in the CSV; exit status 2 if no\n"
+      "point succeeded. Ctrl-C stops it without writing files (exit 130).");
   args->objective.AddTo(*command);
   command->add_option("--param", args->param, "Parameter on the x axis (a name from [[identify.parameter]])")
       ->required();
-  command->add_option("--range", args->range, "LOWER:UPPER:POINTS of the x axis")->required();
+  command->add_option("--range", args->range, "LOWER:UPPER:POINTS of the x axis (2 to 1000000 points)")->required();
   command->add_option("--param2", args->param2, "Second parameter, for a 2-D landscape");
-  command->add_option("--range2", args->range2, "LOWER:UPPER:POINTS of the second axis");
+  command->add_option("--range2", args->range2, "LOWER:UPPER:POINTS of the second axis (1000000 points in all)");
   command->add_option("--objective", args->objectives, "Comma-separated presets: full, time-free, wavelet")
       ->capture_default_str();
   command->add_option("-o,--output", args->output, "CSV with a column per objective");
   command->add_option("--json", args->json, "Metrics as JSON");
   command->add_option("--plot", args->plot, "PNG of the curves (1-D) or of the first objective (2-D)");
   command->callback([args] {
-    std::vector<NamedFile> inputs = CaseInputFiles(args->objective.input);
-    inputs.push_back({"measured file", args->objective.measured});
-    CheckOutputs(inputs, {{"-o", args->output}, {"--json", args->json}, {"--plot", args->plot}});
     const std::vector<ident::NamedObjective> objectives = ParseObjectives(args->objectives);
     bool ridges = false;
     for (const auto& o : objectives) ridges = ridges || o.weights.NeedsRidges();
@@ -101,17 +109,27 @@ void AddLandscapeCommand(CLI::App& app) {
     options.objectives = objectives;
     options.x = ParseRange("--range", args->range);
     if (!args->param2.empty()) options.y = ParseRange("--range2", args->range2);
+    if (options.y && static_cast<long long>(options.x.points) * options.y->points >
+                         ident::kMaxLandscapePoints) {
+      ThrowInvalid("--range/--range2", "at most " + ToText(ident::kMaxLandscapePoints) +
+                                           " grid points in all",
+                   ToText(options.x.points) + " x " + ToText(options.y->points));
+    }
     const auto objective = args->objective.Build(ridges);
     SetParameter(*objective, "--param", args->param, &options.x);
     if (options.y) SetParameter(*objective, "--param2", args->param2, &*options.y);
     options.base = args->objective.Start(*objective);  // --start sets the other parameters
     options.progress = true;
     options.cancel = &g_interrupted;
-    const auto previous_handler = std::signal(SIGINT, OnInterrupt);
+    std::signal(SIGINT, OnInterrupt);
     const ident::LandscapeResult result = ident::ComputeLandscape(*objective, options);
-    std::signal(SIGINT, previous_handler);  // podid's temporary-file cleanup
-    if (result.termination != ident::LandscapeTermination::kCompleted) {
+    std::signal(SIGINT, SIG_DFL);
+    if (result.termination == ident::LandscapeTermination::kInterrupted) {
       throw CommandFailed("landscape: " + result.message + "; no file written", 130);
+    }
+    if (result.termination != ident::LandscapeTermination::kCompleted) {
+      // Every point failed: no value, no minimiser (exit 2, CommandFailed).
+      throw CommandFailed(result.BriefReport() + ": " + result.message + "; no file written");
     }
     std::printf("%s\n", result.BriefReport().c_str());
     const bool one_d = !options.y;
@@ -151,7 +169,10 @@ void AddLandscapeCommand(CLI::App& app) {
       for (std::size_t k = 0; k < result.names.size(); ++k) {
         nlohmann::json o;
         const Eigen::MatrixXd& v = result.values[k];
-        o["minimum"] = v.minCoeff();
+        // Over the points that succeeded (failed points are NaN).
+        const Eigen::ArrayXXd finite = v.array().isFinite().select(
+            v.array(), std::numeric_limits<double>::infinity());
+        o["minimum"] = finite.minCoeff();
         if (one_d) {
           const ident::LandscapeMetrics& m = result.metrics[k];
           o = {{"local_minima", m.local_minima},     {"global_minimiser", m.global_minimiser},

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <random>
 #include <sstream>
 
@@ -90,11 +91,10 @@ struct RunState {
   std::string first_failure;  ///< the reason of the first failed evaluation
   std::vector<IterationRecord> history;
   nlopt_result result = NLOPT_FAILURE;
+  std::exception_ptr error;  ///< what stopped this start (rethrown after the parallel region)
 };
 
-double Evaluate(unsigned n, const double* x, double* gradient, void* data) {
-  RunState& s = *static_cast<RunState*>(data);
-  PODID_CHECK(gradient == nullptr);  // derivative-free algorithms only
+double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
   s.x = Eigen::Map<const Eigen::VectorXd>(x, n);
   const TermValues terms = s.objective->Evaluate(s.x, *s.weights, &s.workspace);
   const double value = terms.Combine(*s.weights, s.objective->options().failure_value);
@@ -115,6 +115,21 @@ double Evaluate(unsigned n, const double* x, double* gradient, void* data) {
   s.history.push_back(std::move(record));
   if (s.cancel && s.cancel->load()) nlopt_force_stop(s.opt);
   return value;
+}
+
+// NLopt's C callback: no exception may cross it. Evaluate() never throws; what
+// remains (e.g. no memory for the history) stops this start and is rethrown
+// by Identify() after the parallel region.
+double Evaluate(unsigned n, const double* x, double* gradient, void* data) noexcept {
+  RunState& s = *static_cast<RunState*>(data);
+  PODID_CHECK(gradient == nullptr);  // derivative-free algorithms only
+  try {
+    return EvaluateOrThrow(n, x, s);
+  } catch (...) {
+    s.error = std::current_exception();
+    nlopt_force_stop(s.opt);
+    return s.objective->options().failure_value;
+  }
 }
 
 // Latin hypercube: one point per stratum of each axis, strata shuffled.
@@ -184,9 +199,17 @@ bool IdentifyOptions::IsValid(int parameter_count, std::string* why) const {
     return fail("start: expected " + ToText(parameter_count) + " values, got " + ToText(start.size()));
   if (!(xtol_rel > 0)) return fail("xtol_rel: expected > 0, got " + ToText(xtol_rel));
   if (!(ftol_rel >= 0)) return fail("ftol_rel: expected >= 0, got " + ToText(ftol_rel));
-  if (max_evaluations < 1) return fail("max_evaluations: expected >= 1, got " + ToText(max_evaluations));
+  if (max_evaluations < 1 || max_evaluations > kMaxEvaluations)
+    return fail("max_evaluations: expected 1 to " + ToText(kMaxEvaluations) + ", got " +
+                ToText(max_evaluations));
   if (!(max_time_s >= 0)) return fail("max_time_s: expected >= 0, got " + ToText(max_time_s));
-  if (multistart < 1) return fail("multistart: expected >= 1, got " + ToText(multistart));
+  if (multistart < 1 || multistart > kMaxMultistart)
+    return fail("multistart: expected 1 to " + ToText(kMaxMultistart) + ", got " +
+                ToText(multistart));
+  if (static_cast<long long>(multistart) * max_evaluations > kMaxTotalEvaluations)
+    return fail("multistart * max_evaluations: expected at most " +
+                ToText(kMaxTotalEvaluations) + " evaluations in all, got " +
+                ToText(multistart) + " * " + ToText(max_evaluations));
   return true;
 }
 
@@ -272,34 +295,45 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
 #pragma omp parallel for schedule(dynamic) if (local && starts.size() > 1)
   for (std::size_t s = 0; s < starts.size(); ++s) {
     RunState& run = runs[s];
-    run.objective = &objective;
-    run.weights = &options.weights;
-    run.cancel = options.cancel;
-    run.start = static_cast<int>(s);
-    run.opt = nlopt_create(ToNlopt(options.algorithm), static_cast<unsigned>(n));
-    nlopt_opt local_opt = nullptr;
-    if (options.algorithm == Algorithm::kGnMlslLds) {
-      local_opt = nlopt_create(ToNlopt(options.local_algorithm), static_cast<unsigned>(n));
-      nlopt_set_xtol_rel(local_opt, options.xtol_rel);
-      nlopt_set_ftol_rel(local_opt, options.ftol_rel);
-      nlopt_set_local_optimizer(run.opt, local_opt);
+    // No exception may leave the parallel region: keep it for after.
+    try {
+      run.objective = &objective;
+      run.weights = &options.weights;
+      run.cancel = options.cancel;
+      run.start = static_cast<int>(s);
+      // A first trust region / simplex of a tenth of the box. Allocate before
+      // the NLopt objects, which nothing below may leak: after nlopt_create
+      // only NLopt's C calls run, and its callback does not throw.
+      const Eigen::VectorXd step = 0.1 * (upper - lower);
+      Eigen::VectorXd x = starts[s];
+      run.opt = nlopt_create(ToNlopt(options.algorithm), static_cast<unsigned>(n));
+      nlopt_opt local_opt = nullptr;
+      if (options.algorithm == Algorithm::kGnMlslLds) {
+        local_opt = nlopt_create(ToNlopt(options.local_algorithm), static_cast<unsigned>(n));
+        nlopt_set_xtol_rel(local_opt, options.xtol_rel);
+        nlopt_set_ftol_rel(local_opt, options.ftol_rel);
+        nlopt_set_local_optimizer(run.opt, local_opt);
+      }
+      nlopt_set_lower_bounds(run.opt, lower.data());
+      nlopt_set_upper_bounds(run.opt, upper.data());
+      nlopt_set_min_objective(run.opt, Evaluate, &run);
+      nlopt_set_xtol_rel(run.opt, options.xtol_rel);
+      nlopt_set_ftol_rel(run.opt, options.ftol_rel);
+      nlopt_set_maxeval(run.opt, options.max_evaluations);
+      if (options.max_time_s > 0) nlopt_set_maxtime(run.opt, options.max_time_s);
+      nlopt_set_initial_step(run.opt, step.data());
+      double f = 0.0;
+      run.result = nlopt_optimize(run.opt, x.data(), &f);
+      if (local_opt) nlopt_destroy(local_opt);
+      nlopt_destroy(run.opt);
+      run.opt = nullptr;
+    } catch (...) {
+      run.error = std::current_exception();
     }
-    nlopt_set_lower_bounds(run.opt, lower.data());
-    nlopt_set_upper_bounds(run.opt, upper.data());
-    nlopt_set_min_objective(run.opt, Evaluate, &run);
-    nlopt_set_xtol_rel(run.opt, options.xtol_rel);
-    nlopt_set_ftol_rel(run.opt, options.ftol_rel);
-    nlopt_set_maxeval(run.opt, options.max_evaluations);
-    if (options.max_time_s > 0) nlopt_set_maxtime(run.opt, options.max_time_s);
-    // A first trust region / simplex of a tenth of the box.
-    const Eigen::VectorXd step = 0.1 * (upper - lower);
-    nlopt_set_initial_step(run.opt, step.data());
-    Eigen::VectorXd x = starts[s];
-    double f = 0.0;
-    run.result = nlopt_optimize(run.opt, x.data(), &f);
-    if (local_opt) nlopt_destroy(local_opt);
-    nlopt_destroy(run.opt);
-    run.opt = nullptr;
+  }
+
+  for (const RunState& run : runs) {
+    if (run.error) std::rethrow_exception(run.error);
   }
 
   IdentifySummary summary;

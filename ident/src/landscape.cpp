@@ -4,7 +4,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <exception>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -34,8 +36,18 @@ bool LandscapeOptions::IsValid(int parameter_count, std::string* why) const {
     if (!(axis->lower < axis->upper) || !std::isfinite(axis->lower) || !std::isfinite(axis->upper))
       return fail("range: expected lower < upper, got " + ToText(axis->lower) + ":" +
                   ToText(axis->upper));
-    if (axis->points < 2) return fail("range: expected >= 2 points, got " + ToText(axis->points));
+    if (axis->points < 2 || axis->points > kMaxLandscapePoints)
+      return fail("range: expected 2 to " + ToText(kMaxLandscapePoints) + " points, got " +
+                  ToText(axis->points));
+    // Every grid value finite: lower + (upper - lower) i / (n - 1) overflows
+    // for bounds like -1.7e308:1.7e308.
+    if (!std::isfinite(axis->upper - axis->lower))
+      return fail("range: expected a finite width upper - lower, got " + ToText(axis->lower) +
+                  ":" + ToText(axis->upper));
   }
+  if (y && static_cast<long long>(x.points) * y->points > kMaxLandscapePoints)
+    return fail("range: expected at most " + ToText(kMaxLandscapePoints) +
+                " points in all, got " + ToText(x.points) + " x " + ToText(y->points));
   if (base.size() != 0 && base.size() != parameter_count)
     return fail("base: expected " + ToText(parameter_count) + " values, got " + ToText(base.size()));
   if (y && y->parameter == x.parameter)
@@ -43,9 +55,21 @@ bool LandscapeOptions::IsValid(int parameter_count, std::string* why) const {
   return true;
 }
 
-LandscapeMetrics ComputeMetrics(const Eigen::VectorXd& x, const Eigen::VectorXd& f) {
-  PODID_CHECK(x.size() == f.size() && x.size() >= 2);
-  const Eigen::Index n = f.size();
+LandscapeMetrics ComputeMetrics(const Eigen::VectorXd& x_all, const Eigen::VectorXd& f_all) {
+  if (x_all.size() != f_all.size()) {
+    ThrowInvalid("ComputeMetrics", "x and f of one size " + ToText(x_all.size()),
+                 ToText(f_all.size()));
+  }
+  // The curve through the points that succeeded.
+  Eigen::Index n = 0;
+  for (Eigen::Index i = 0; i < f_all.size(); ++i) n += std::isfinite(f_all[i]) ? 1 : 0;
+  if (n == 0) ThrowInvalid("ComputeMetrics", "at least one finite value", "none");
+  Eigen::VectorXd x(n), f(n);
+  for (Eigen::Index i = 0, k = 0; i < f_all.size(); ++i) {
+    if (!std::isfinite(f_all[i])) continue;
+    x[k] = x_all[i];
+    f[k++] = f_all[i];
+  }
   LandscapeMetrics m;
   Eigen::Index best = 0;
   for (Eigen::Index i = 1; i < n; ++i)
@@ -74,7 +98,8 @@ LandscapeMetrics ComputeMetrics(const Eigen::VectorXd& x, const Eigen::VectorXd&
   while (hi + 1 < n && f[hi + 1] >= f[hi]) ++hi;
   m.basin_lower = x[lo];
   m.basin_upper = x[hi];
-  m.basin_fraction = (x[hi] - x[lo]) / (x[n - 1] - x[0]);
+  const double width = x_all[x_all.size() - 1] - x_all[0];
+  m.basin_fraction = width > 0 ? (x[hi] - x[lo]) / width : 1.0;
 
   double variation = 0.0;
   for (Eigen::Index i = 1; i < n; ++i) variation += std::abs(f[i] - f[i - 1]);
@@ -85,9 +110,15 @@ LandscapeMetrics ComputeMetrics(const Eigen::VectorXd& x, const Eigen::VectorXd&
 
 std::string LandscapeResult::BriefReport() const {
   std::ostringstream os;
-  os << "landscape: " << (termination == LandscapeTermination::kCompleted ? "completed" : "interrupted")
-     << ", " << evaluations << " points (" << failed_evaluations << " failed), " << wall_time_s
-     << " s";
+  const char* state = "not run";
+  switch (termination) {
+    case LandscapeTermination::kNotRun: break;
+    case LandscapeTermination::kCompleted: state = "completed"; break;
+    case LandscapeTermination::kNoneSucceeded: state = "no point succeeded"; break;
+    case LandscapeTermination::kInterrupted: state = "interrupted"; break;
+  }
+  os << "landscape: " << state << ", " << evaluations << " points (" << failed_evaluations
+     << " failed), " << wall_time_s << " s";
   return os.str();
 }
 
@@ -122,36 +153,58 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
   const Eigen::VectorXd base = options.base.size() ? options.base : objective.StartValues();
   const bool progress = options.progress && isatty(STDERR_FILENO);
   int finished = 0;
+  // No exception may leave the parallel region: the first one stops the
+  // remaining points and is rethrown after it. (Evaluate itself never throws;
+  // this covers the buffers, e.g. std::bad_alloc.)
+  std::exception_ptr error;
+  std::atomic<bool> stop{false};
 
 #pragma omp parallel
   {
-    EvaluationWorkspace workspace;
-    Eigen::VectorXd values = base;
+    try {
+      EvaluationWorkspace workspace;
+      Eigen::VectorXd values = base;
 #pragma omp for schedule(dynamic)
-    for (Eigen::Index p = 0; p < total; ++p) {
-      if (options.cancel && options.cancel->load()) continue;
-      const Eigen::Index i = p / ny, j = p % ny;
-      values[options.x.parameter] = result.x[i];
-      if (options.y) values[options.y->parameter] = result.y[j];
-      result.terms[p] = objective.Evaluate(values, all, &workspace);
-      done[p] = 1;
-      if (progress) {
+      for (Eigen::Index p = 0; p < total; ++p) {
+        if (stop.load(std::memory_order_relaxed) || (options.cancel && options.cancel->load()))
+          continue;
+        try {
+          const Eigen::Index i = p / ny, j = p % ny;
+          values[options.x.parameter] = result.x[i];
+          if (options.y) values[options.y->parameter] = result.y[j];
+          result.terms[p] = objective.Evaluate(values, all, &workspace);
+          done[p] = 1;
+        } catch (...) {
+#pragma omp critical(podid_landscape_error)
+          if (!error) error = std::current_exception();
+          stop.store(true);
+        }
+        if (progress) {
 #pragma omp critical(podid_landscape_progress)
-        {
-          ++finished;
-          std::fprintf(stderr, "\rlandscape: %d/%ld points", finished, static_cast<long>(total));
-          std::fflush(stderr);
+          {
+            ++finished;
+            std::fprintf(stderr, "\rlandscape: %d/%ld points", finished, static_cast<long>(total));
+            std::fflush(stderr);
+          }
         }
       }
+    } catch (...) {  // the workspace or the parameter vector
+#pragma omp critical(podid_landscape_error)
+      if (!error) error = std::current_exception();
+      stop.store(true);
     }
   }
   if (progress) std::fprintf(stderr, "\n");
+  if (error) std::rethrow_exception(error);
 
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const NamedObjective& o : options.objectives) {
     Eigen::MatrixXd v(nx, ny);
     for (Eigen::Index p = 0; p < total; ++p) {
-      v(p / ny, p % ny) = done[p] ? result.terms[p].Combine(o.weights, objective.options().failure_value) : nan;
+      // A failed point is NaN, never the failure value (which is not an objective).
+      v(p / ny, p % ny) = done[p] && !result.terms[p].failed
+                              ? result.terms[p].Combine(o.weights, nan)
+                              : nan;
     }
     result.values.push_back(v);
   }
@@ -161,12 +214,37 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
     if (result.terms[p].failed) ++result.failed_evaluations;
   }
   const bool complete = result.evaluations == total;
-  result.termination = complete ? LandscapeTermination::kCompleted : LandscapeTermination::kInterrupted;
-  result.message = complete ? "completed " + ToText(total) + " points"
-                            : "interrupted after " + ToText(result.evaluations) + " of " +
-                                  ToText(total) + " points";
-  if (complete && !options.y) {
-    for (const Eigen::MatrixXd& v : result.values) result.metrics.push_back(ComputeMetrics(result.x, v.col(0)));
+  const bool none_succeeded = complete && result.failed_evaluations == total;
+  if (!complete) {
+    result.termination = LandscapeTermination::kInterrupted;
+    result.message = "interrupted after " + ToText(result.evaluations) + " of " + ToText(total) +
+                     " points";
+  } else if (none_succeeded) {
+    result.termination = LandscapeTermination::kNoneSucceeded;
+    result.message = "none of the " + ToText(total) + " points succeeded; e.g. at " +
+                     result.parameter_names[0] + " = " + ToText(result.x[0]) +
+                     (options.y ? ", " + result.parameter_names[1] + " = " + ToText(result.y[0])
+                                : std::string()) +
+                     ": " +
+                     result.terms[0].failure;
+  } else {
+    result.termination = LandscapeTermination::kCompleted;
+    result.message = "completed " + ToText(total) + " points";
+    if (result.failed_evaluations > 0) {
+      result.message += " (" + ToText(result.failed_evaluations) + " failed, NaN)";
+    }
+  }
+  if (result.termination == LandscapeTermination::kCompleted && !options.y) {
+    for (const Eigen::MatrixXd& v : result.values) {
+      if (v.col(0).array().isFinite().any()) {
+        result.metrics.push_back(ComputeMetrics(result.x, v.col(0)));
+      } else {  // every successful point gave a non-finite value of this objective
+        LandscapeMetrics none;
+        none.global_minimiser = none.global_minimum = nan;
+        none.basin_lower = none.basin_upper = none.basin_fraction = none.roughness = nan;
+        result.metrics.push_back(none);
+      }
+    }
   }
   result.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();

@@ -1,7 +1,9 @@
 #include "podid/ident/objective.hpp"
 
 #include <cmath>
+#include <new>
 #include <sstream>
+#include <utility>
 
 #include "podid/core/error.hpp"
 
@@ -228,16 +230,35 @@ TermValues ObjectiveFunction::Evaluate(const Eigen::VectorXd& values,
 TermValues ObjectiveFunction::Evaluate(const Eigen::VectorXd& values, const ObjectiveWeights& weights,
                                        EvaluationWorkspace* workspace) const {
   PODID_CHECK(workspace != nullptr);
-  TermValues terms;
-  SimulationResult sim;
-  try {
-    sim = SimulateAt(values);
-  } catch (const std::invalid_argument& e) {
-    // A value the case rejects (e.g. a negative damping ratio): a failed point.
+  // The evaluation boundary: nothing may leave it as an exception (NLopt's C
+  // callback and OpenMP regions call it). A failed point keeps the reason.
+  auto failed = [](const char* prefix, const char* reason) noexcept {
+    TermValues terms;
     terms.failed = true;
-    terms.failure = e.what();
+    try {
+      terms.failure = std::string(prefix) + reason;
+    } catch (...) {  // no memory for the reason: the point still fails
+    }
     return terms;
+  };
+  try {
+    return EvaluateOrThrow(values, weights, workspace);
+  } catch (const std::invalid_argument& e) {
+    return failed("", e.what());  // e.g. a value the case rejects, a zero response
+  } catch (const std::bad_alloc&) {
+    return failed("out of memory during the evaluation", "");
+  } catch (const std::exception& e) {
+    return failed("evaluation failed: ", e.what());
+  } catch (...) {
+    return failed("evaluation failed: unknown exception", "");
   }
+}
+
+TermValues ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values,
+                                              const ObjectiveWeights& weights,
+                                              EvaluationWorkspace* workspace) const {
+  TermValues terms;
+  const SimulationResult sim = SimulateAt(values);
   if (!sim.summary.IsSolutionUsable()) {
     terms.failed = true;
     terms.failure = sim.summary.message;

@@ -13,12 +13,14 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "podid/ident/identify.hpp"
 #include "podid/ident/landscape.hpp"
 #include "podid/ident/objective.hpp"
 #include "reference_case.hpp"
+#include "test_support.hpp"
 
 namespace podid::ident {
 namespace {
@@ -146,11 +148,130 @@ TEST(LandscapeFailure, FailingPointsAreCountedAndTheOthersComputed) {
   EXPECT_EQ(result.termination, LandscapeTermination::kCompleted) << result.message;
   EXPECT_EQ(result.evaluations, 7);
   EXPECT_EQ(result.failed_evaluations, 2);
+  // Failed points are NaN, not the failure value (issue 10 item 9).
   const Eigen::MatrixXd& v = result.values[0];
-  EXPECT_EQ(v(0, 0), kDefaultFailureValue);
-  EXPECT_EQ(v(1, 0), kDefaultFailureValue);
+  EXPECT_TRUE(std::isnan(v(0, 0)));
+  EXPECT_TRUE(std::isnan(v(1, 0)));
   for (int i = 2; i < 7; ++i) EXPECT_LT(v(i, 0), kDefaultFailureValue) << "x = " << result.x[i];
   EXPECT_EQ(result.metrics[0].global_minimiser, 50.0);
+  EXPECT_NE(result.message.find("(2 failed, NaN)"), std::string::npos) << result.message;
+}
+
+// Issue 10 item 9: every point diverging said "completed", wrote the penalty
+// 1000 as values and reported a global minimiser.
+TEST(LandscapeFailure, EveryPointFailingIsNotCompletedAndHasNoMinimiser) {
+  const ObjectiveFunction f = KnlObjective(-100.0, -60.0, -80.0);
+  LandscapeOptions options;
+  options.objectives = {{"time-free", kTimeFree}};
+  options.x = {.parameter = 0, .lower = -100.0, .upper = -60.0, .points = 3};
+  const LandscapeResult result = ComputeLandscape(f, options);
+  EXPECT_EQ(result.termination, LandscapeTermination::kNoneSucceeded) << result.message;
+  EXPECT_EQ(result.evaluations, 3);
+  EXPECT_EQ(result.failed_evaluations, 3);
+  EXPECT_TRUE(result.metrics.empty());
+  EXPECT_TRUE(result.values[0].array().isNaN().all()) << result.values[0];
+  EXPECT_NE(result.message.find("none of the 3 points succeeded; e.g. at knl = -100: "),
+            std::string::npos)
+      << result.message;
+  EXPECT_NE(result.BriefReport().find("no point succeeded"), std::string::npos)
+      << result.BriefReport();
+}
+
+TEST(LandscapeFailure, MetricsLeaveFailedPointsOut) {
+  // f = (x - 2)^2 on x = 0..4 with x = 1 failed (NaN): the curve through
+  // x = 0, 2, 3, 4 (f = 4, 0, 1, 4) has one minimum at 2, basin 0..4 and
+  // total variation 4 + 1 + 3 = 8 over the range 4.
+  Eigen::VectorXd x(5), f(5);
+  x << 0, 1, 2, 3, 4;
+  f << 4, std::numeric_limits<double>::quiet_NaN(), 0, 1, 4;
+  const LandscapeMetrics m = ComputeMetrics(x, f);
+  EXPECT_EQ(m.local_minima, 1);
+  EXPECT_EQ(m.global_minimiser, 2.0);
+  EXPECT_EQ(m.global_minimum, 0.0);
+  EXPECT_EQ(m.basin_lower, 0.0);
+  EXPECT_EQ(m.basin_upper, 4.0);
+  EXPECT_EQ(m.basin_fraction, 1.0);
+  constexpr double kRoundoff = 1e-15;  // one division
+  EXPECT_NEAR(m.roughness, 8.0 / 4.0, kRoundoff);
+  f.setConstant(std::numeric_limits<double>::quiet_NaN());
+  PODID_EXPECT_THROW_WITH(ComputeMetrics(x, f), std::invalid_argument,
+                          "ComputeMetrics: expected at least one finite value, got none");
+}
+
+// Issue 10 item 8: counts are bounded before anything is allocated, and a
+// grid whose width overflows (an inf point) is rejected.
+TEST(LandscapeFailure, GridSizesAndBoundsAreChecked) {
+  const ObjectiveFunction f = KnlObjective(-100.0, 200.0, 40.0);
+  LandscapeOptions options;
+  options.objectives = {{"time-free", kTimeFree}};
+  options.x = {.parameter = 0, .lower = -1.7e308, .upper = 1.7e308, .points = 3};
+  PODID_EXPECT_THROW_WITH(ComputeLandscape(f, options), std::invalid_argument,
+                          "landscape options: range: expected a finite width upper - lower, got "
+                          "-1.7e+308:1.7e+308");
+  options.x = {.parameter = 0, .lower = 0.0, .upper = 1.0, .points = 10'000'000};
+  PODID_EXPECT_THROW_WITH(ComputeLandscape(f, options), std::invalid_argument,
+                          "range: expected 2 to 1000000 points, got 10000000");
+}
+
+TEST(IdentifyFailure, CountsAreBoundedBeforeAllocation) {
+  const ObjectiveFunction f = KnlObjective(-100.0, 200.0, 40.0);
+  IdentifyOptions options;
+  options.weights = kTimeFree;
+  options.multistart = 100'000'000;
+  PODID_EXPECT_THROW_WITH(Identify(f, options), std::invalid_argument,
+                          "identify options: multistart: expected 1 to 10000, got 100000000");
+  options.multistart = 1;
+  options.max_evaluations = 2'000'000'000;
+  PODID_EXPECT_THROW_WITH(Identify(f, options), std::invalid_argument,
+                          "max_evaluations: expected 1 to 1000000, got 2000000000");
+  options.multistart = 1000;
+  options.max_evaluations = 10'000;
+  PODID_EXPECT_THROW_WITH(Identify(f, options), std::invalid_argument,
+                          "multistart * max_evaluations: expected at most 1000000 evaluations in "
+                          "all, got 1000 * 10000");
+}
+
+// Issue 10 item 7: with no static tip force the response is zero and the CWT
+// of the simulated time mode throws; that used to cross NLopt's C callback
+// and an OpenMP region (SIGABRT). Now each such point is a failed evaluation.
+ObjectiveFunction ZeroResponseObjective() {
+  CaseDocument document = CaseDocument::Load(testing::ExamplePath("beam.toml"));
+  document.Set("initial.static_tip_force", "0");
+  return ObjectiveFunction(document, testing::ReferenceData("measured_knl50_T1.0.csv"),
+                           ObjectiveOptions{}, /*weights_needing_ridges=*/true);
+}
+
+TEST(ObjectiveFailure, ExceptionInsideAnEvaluationIsAFailedPoint) {
+  const ObjectiveFunction f = ZeroResponseObjective();
+  const TermValues terms =
+      f.Evaluate(Eigen::VectorXd::Constant(1, 50.0), ObjectiveWeights::Preset("wavelet"));
+  EXPECT_TRUE(terms.failed);
+  EXPECT_FALSE(terms.failure.empty());
+  std::printf("zero response: %s\n", terms.failure.c_str());
+}
+
+TEST(IdentifyFailure, ExceptionsNeverCrossTheCallbackOrTheParallelRegion) {
+  const ObjectiveFunction f = ZeroResponseObjective();
+  IdentifyOptions options;
+  options.weights = ObjectiveWeights::Preset("wavelet");
+  options.max_evaluations = 5;
+  options.multistart = 2;  // the parallel starts
+  const IdentifySummary summary = Identify(f, options);
+  EXPECT_EQ(summary.termination, Termination::kAllEvaluationsFailed) << summary.FullReport();
+  EXPECT_EQ(summary.failed_evaluations, summary.evaluations);
+  EXPECT_NE(summary.message.find("every evaluation failed; e.g. at the start: "),
+            std::string::npos)
+      << summary.message;
+}
+
+TEST(LandscapeFailure, ExceptionsNeverCrossTheParallelRegion) {
+  const ObjectiveFunction f = ZeroResponseObjective();
+  LandscapeOptions options;
+  options.objectives = {{"wavelet", ObjectiveWeights::Preset("wavelet")}};
+  options.x = {.parameter = 0, .lower = 0.0, .upper = 100.0, .points = 4};
+  const LandscapeResult result = ComputeLandscape(f, options);
+  EXPECT_EQ(result.termination, LandscapeTermination::kNoneSucceeded) << result.message;
+  EXPECT_EQ(result.failed_evaluations, 4);
 }
 
 TEST(LandscapeFailure, CancelledBeforeTheFirstPointComputesNothing) {

@@ -34,6 +34,13 @@ Algorithm ParseAlgorithm(std::string_view name);
 const char* ToString(Algorithm algorithm);
 bool IsLocal(Algorithm algorithm);
 
+/// Upper bounds of the counts a user gives, checked before anything is
+/// allocated: every evaluation keeps an IterationRecord (~100 bytes), so the
+/// total budget multistart * max_evaluations is bounded too (~100 MB).
+inline constexpr int kMaxMultistart = 10'000;
+inline constexpr int kMaxEvaluations = 1'000'000;
+inline constexpr long long kMaxTotalEvaluations = 1'000'000;
+
 struct IdentifyOptions {
   Algorithm algorithm = Algorithm::kLnBobyqa;
   Algorithm local_algorithm = Algorithm::kLnBobyqa;  ///< for GN_MLSL_LDS; must be local
@@ -42,9 +49,10 @@ struct IdentifyOptions {
   Eigen::VectorXd start;
   double xtol_rel = 1e-6;   ///< stop when |dx| < xtol_rel |x| (> 0)
   double ftol_rel = 1e-10;  ///< stop when |df| < ftol_rel |f| (>= 0)
-  int max_evaluations = 500;  ///< per start (>= 1)
+  int max_evaluations = 500;  ///< per start, in [1, kMaxEvaluations]
   double max_time_s = 0.0;    ///< per start, 0 = none
-  int multistart = 1;          ///< local algorithms: number of starts (>= 1)
+  int multistart = 1;          ///< local algorithms: number of starts, in [1, kMaxMultistart];
+                              ///< multistart * max_evaluations <= kMaxTotalEvaluations
   std::uint64_t seed = 1;      ///< Latin hypercube and random global algorithms
   const std::atomic<bool>* cancel = nullptr;  ///< stops the run when it becomes true
   bool IsValid(int parameter_count, std::string* why) const;

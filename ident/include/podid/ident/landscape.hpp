@@ -20,12 +20,16 @@ struct NamedObjective {
   ObjectiveWeights weights;
 };
 
+/// The most grid points of a landscape (per axis and in total, nx * ny):
+/// about 100 MB of results, and hours of simulations at ~10 ms a point.
+inline constexpr long long kMaxLandscapePoints = 1'000'000;
+
 /// A uniform grid lower..upper with `points` values of parameter `parameter`.
 struct LandscapeAxis {
   int parameter = 0;  ///< index into ObjectiveFunction::parameters()
   double lower = 0.0;
   double upper = 1.0;
-  int points = 101;   ///< >= 2
+  int points = 101;   ///< in [2, kMaxLandscapePoints]
   Eigen::VectorXd Values() const;
 };
 
@@ -44,7 +48,9 @@ struct LandscapeOptions {
 };
 
 /// Metrics of a 1-D landscape f(x) on its grid, for comparing objectives.
-/// Failed points (the failure value) count as ordinary values.
+/// Failed points (NaN, or any non-finite value) are left out: the metrics are
+/// those of the curve through the points that succeeded. Throws
+/// std::invalid_argument when no value is finite.
 struct LandscapeMetrics {
   /// Grid local minima, the ends included: after merging runs of equal values,
   /// a point lower than each of its neighbours.
@@ -64,14 +70,19 @@ struct LandscapeMetrics {
 
 LandscapeMetrics ComputeMetrics(const Eigen::VectorXd& x, const Eigen::VectorXd& f);
 
-enum class LandscapeTermination { kNotRun, kCompleted, kInterrupted };
+/// kCompleted: every point evaluated and at least one succeeded (failed points
+/// are NaN); kNoneSucceeded: every point evaluated and every one failed (no
+/// metrics, no minimiser); kInterrupted: the cancel flag stopped it.
+enum class LandscapeTermination { kNotRun, kCompleted, kNoneSucceeded, kInterrupted };
 
 struct LandscapeResult {
   std::vector<std::string> names;      ///< objective names
   std::vector<std::string> parameter_names;  ///< x (and y) parameter names
   Eigen::VectorXd x;                   ///< (dim nx) grid
   Eigen::VectorXd y;                   ///< (dim ny) grid, empty for 1-D
-  std::vector<Eigen::MatrixXd> values; ///< per objective, (nx x max(ny, 1))
+  /// per objective, (nx x max(ny, 1)); NaN where the point failed or was not
+  /// computed (never the objective's failure_value)
+  std::vector<Eigen::MatrixXd> values;
   std::vector<TermValues> terms;       ///< per point, row-major (i * ny + j)
   std::vector<LandscapeMetrics> metrics;  ///< per objective (1-D landscapes only)
   LandscapeTermination termination = LandscapeTermination::kNotRun;

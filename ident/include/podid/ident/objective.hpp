@@ -118,8 +118,11 @@ class ObjectiveFunction {
   const std::vector<std::string>& notes() const { return notes_; }
 
   /// The terms at `values` (dim parameter_count()). Thread-safe with one
-  /// workspace per thread. Never throws for a numerical failure or a value the
-  /// case rejects: the result is marked failed with the reason.
+  /// workspace per thread. Never throws: a numerical failure, a value the case
+  /// rejects or any exception of the simulation, POD or wavelet stages (e.g.
+  /// the CWT of an all-zero response, std::bad_alloc) marks the result failed
+  /// with the reason, so that it may be called from NLopt's C callback and
+  /// from OpenMP regions.
   TermValues Evaluate(const Eigen::VectorXd& values, const ObjectiveWeights& weights,
                       EvaluationWorkspace* workspace) const;
   TermValues Evaluate(const Eigen::VectorXd& values, const ObjectiveWeights& weights) const;
@@ -130,6 +133,9 @@ class ObjectiveFunction {
   SimulationResult SimulateAt(const Eigen::VectorXd& values) const;
 
  private:
+  TermValues EvaluateOrThrow(const Eigen::VectorXd& values, const ObjectiveWeights& weights,
+                             EvaluationWorkspace* workspace) const;
+
   CaseDocument document_;
   TimeSeries measured_;
   ObjectiveOptions options_;
