@@ -141,9 +141,9 @@ void AddIdentifyCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--multistart", args->multistart,
                       "Local algorithms: number of starts (the start + Latin hypercube points), at most 10000")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(IntegerIn(1, 10000));  // ident::kMaxMultistart
   command->add_option("--max-evaluations", args->max_evaluations, "Evaluation budget per start, at most 1000000 (and 1000000 times --multistart in all)")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(IntegerIn(1, 1000000));  // ident::kMaxEvaluations
   command->add_option("--xtol", args->xtol_rel, "Relative parameter tolerance")->capture_default_str();
   command->add_option("--seed", args->seed, "Seed of the Latin hypercube and random algorithms")
       ->capture_default_str();
@@ -153,6 +153,20 @@ void AddIdentifyCommand(CLI::App& app) {
                       "ridge.png) to this folder");
   command->add_flag("--report", args->report, "Print the full report");
   command->callback([args] {
+    std::vector<NamedFile> inputs = CaseInputFiles(args->objective.input);
+    inputs.push_back({"measured file", args->objective.measured});
+    std::vector<NamedFile> outputs = {{"--json", args->json}};
+    if (!args->plot_dir.empty()) {
+      CheckOutputFolder({"--plot-dir", args->plot_dir});
+      // An existing folder's files must not be inputs (a new one has none).
+      if (std::filesystem::is_directory(args->plot_dir)) {
+        for (const char* name : {"signals.csv", "fig2a_start.png", "fig2b_optimum.png",
+                                 "convergence.png", "ridge.png"}) {
+          outputs.push_back({"--plot-dir", args->plot_dir + "/" + name});
+        }
+      }
+    }
+    CheckOutputs(inputs, outputs);
     const ident::ObjectiveWeights weights = WeightsFrom(args->preset, args->terms, args->weights);
     const auto objective = args->objective.Build(weights.NeedsRidges());
     ident::IdentifyOptions options;

@@ -99,6 +99,9 @@ void AddLandscapeCommand(CLI::App& app) {
   command->add_option("--json", args->json, "Metrics as JSON");
   command->add_option("--plot", args->plot, "PNG of the curves (1-D) or of the first objective (2-D)");
   command->callback([args] {
+    std::vector<NamedFile> inputs = CaseInputFiles(args->objective.input);
+    inputs.push_back({"measured file", args->objective.measured});
+    CheckOutputs(inputs, {{"-o", args->output}, {"--json", args->json}, {"--plot", args->plot}});
     const std::vector<ident::NamedObjective> objectives = ParseObjectives(args->objectives);
     bool ridges = false;
     for (const auto& o : objectives) ridges = ridges || o.weights.NeedsRidges();
@@ -121,9 +124,9 @@ void AddLandscapeCommand(CLI::App& app) {
     options.base = args->objective.Start(*objective);  // --start sets the other parameters
     options.progress = true;
     options.cancel = &g_interrupted;
-    std::signal(SIGINT, OnInterrupt);
+    const auto previous_handler = std::signal(SIGINT, OnInterrupt);
     const ident::LandscapeResult result = ident::ComputeLandscape(*objective, options);
-    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGINT, previous_handler);  // podid's temporary-file cleanup
     if (result.termination == ident::LandscapeTermination::kInterrupted) {
       throw CommandFailed("landscape: " + result.message + "; no file written", 130);
     }
