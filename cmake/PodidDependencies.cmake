@@ -3,6 +3,9 @@ find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET GLOBAL fftw3)
 pkg_check_modules(MATIO REQUIRED IMPORTED_TARGET GLOBAL matio)
+# v7.3 .mat files: dataset storage checked and HDF5's own error printing
+# silenced before libmatio reads them (the HDF5 libmatio is built with).
+pkg_check_modules(HDF5 REQUIRED IMPORTED_TARGET GLOBAL hdf5)
 find_package(ZLIB REQUIRED)  # .mat structure checks inflate compressed variables
 find_package(GSL REQUIRED)
 find_package(NLopt REQUIRED)

@@ -173,7 +173,12 @@ TimeSeries ReadCsv(const std::string& path) {
   std::vector<std::unique_ptr<double[]>> blocks;
   double* row_out = nullptr;
   std::size_t rows = 0;
-  double t_previous = 0.0, step = 0.0;
+  double t_previous = 0.0;
+  // Per row: the time stamp's own rounding (half a unit of its last printed
+  // digit) and line; per column: the most significant digits and decimals.
+  std::vector<float> time_rounding;
+  std::vector<long long> time_lines;
+  int max_significant = 0, max_decimals = -1;
   while (reader.Next(line)) {
     if (IsBlank(line)) continue;
     if (rows % block_rows == 0) {
@@ -211,6 +216,12 @@ TimeSeries ReadCsv(const std::string& path) {
                      Quote(cell));
       }
       row_out[c] = value;
+      if (c == 0) {
+        const internal::PrintedNumber printed = internal::Printed(cell);
+        time_rounding.push_back(static_cast<float>(printed.half_unit));
+        max_significant = std::max(max_significant, printed.significant);
+        max_decimals = std::max(max_decimals, printed.decimals);
+      }
       position = cell_end;
     }
     if (position < line.size()) {
@@ -218,23 +229,13 @@ TimeSeries ReadCsv(const std::string& path) {
                    std::to_string(columns) + " cells as in the header",
                    "more cells (a ragged row)");
     }
-    // The time column: increasing and uniform.
+    // The time column: increasing here, uniform when all is read.
     const double t = row_out[0];
-    if (rows > 0) {
-      const double d = t - t_previous;
-      if (!(d > 0.0)) {
-        ThrowInvalid(where(line_number, 1),
-                     "an increasing time (after t = " + ToText(t_previous) + ")", ToText(t));
-      }
-      if (rows == 1) {
-        step = d;
-      } else if (!internal::IsUniformStep(d, step, t)) {
-        ThrowInvalid(where(line_number, 1),
-                     "a uniform time step " + ToText(step) + " s (relative tolerance " +
-                         ToText(kTimeStepRelativeTolerance) + ")",
-                     "a step of " + ToText(d) + " s");
-      }
+    if (rows > 0 && !(t - t_previous > 0.0)) {
+      ThrowInvalid(where(line_number, 1),
+                   "an increasing time (after t = " + ToText(t_previous) + ")", ToText(t));
     }
+    time_lines.push_back(line_number);
     t_previous = t;
     ++rows;
   }
@@ -260,6 +261,24 @@ TimeSeries ReadCsv(const std::string& path) {
     }
     blocks[b].reset();
   }
+  // The stamps' rounding: the column's printed precision, at most the stamp's own.
+  const double decimals_half_unit = max_decimals >= 0 ? 0.5 * std::pow(10.0, -max_decimals) : 0.0;
+  const auto rounding = [&](std::size_t i) {
+    const double t = series.time_s(static_cast<Eigen::Index>(i));
+    double digits_half_unit = 0.0;
+    if (t != 0.0) {
+      double exponent = std::floor(std::log10(std::abs(t)));  // of the leading digit
+      if (std::pow(10.0, exponent + 1) <= std::abs(t)) exponent += 1;
+      if (std::pow(10.0, exponent) > std::abs(t)) exponent -= 1;
+      digits_half_unit = 0.5 * std::pow(10.0, exponent - max_significant + 1);
+    }
+    return std::min(static_cast<double>(time_rounding[i]),
+                    std::max(digits_half_unit, decimals_half_unit));
+  };
+  const internal::UniformGrid grid = internal::FitUniformGrid(
+      series.time_s.data(), rows, rounding,
+      [&](std::size_t i) { return where(time_lines[i], 1); });
+  series.time_s = internal::GridOrStamps(series.time_s.data(), rows, grid);
   return series;
 }
 
@@ -299,18 +318,6 @@ void WriteCsv(const std::string& path, const TimeSeries& series) {
       os.write(buffer.data(), p - buffer.data());
     }
   });
-}
-
-TimeSeries ReadTimeSeries(const std::string& path) {
-  auto ends_with = [&](std::string_view suffix) {
-    if (path.size() < suffix.size()) return false;
-    return std::equal(suffix.rbegin(), suffix.rend(), path.rbegin(), [](char a, char b) {
-      return a == static_cast<char>(std::tolower(static_cast<unsigned char>(b)));
-    });
-  };
-  if (ends_with(".csv")) return ReadCsv(path);
-  if (ends_with(".mat")) return ReadMat(path);
-  ThrowInvalid(path, "a time-series file ending in .csv or .mat", "\"" + path + "\"");
 }
 
 }  // namespace podid

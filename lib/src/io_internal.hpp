@@ -1,16 +1,51 @@
 #pragma once
 // Helpers shared by the time-series readers (not installed).
 
-#include <cmath>
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <string_view>
 
 #include "podid/core/io.hpp"
 
 namespace podid::internal {
 
-/// True when `step` equals the reference step `h` within the tolerance of
-/// io.hpp (kTimeStepRelativeTolerance, plus the rounding of %.12e at time t).
-inline bool IsUniformStep(double step, double h, double t) {
-  return std::abs(step - h) <= kTimeStepRelativeTolerance * h + 2e-12 * std::abs(t);
-}
+/// A uniform time grid t0 + i * step_s fitted to stamps.
+struct UniformGrid {
+  double start_s = 0.0;
+  double step_s = 0.0;
+};
+
+/// Fits t_i = t0 + i h by least squares to n >= 2 increasing stamps and checks
+/// them (io.hpp, kTimeStepRelativeTolerance): each step within the rounding of
+/// its two stamps plus 1e-6 of the median step of the median step, and each
+/// stamp within its rounding plus 1e-6 h of the fitted grid. `rounding(i)`
+/// is the half-unit rounding bound of stamp i (s); `where(i)` names it in
+/// messages. Throws std::invalid_argument: "<where(i)>: expected an increasing
+/// time ...", "... a uniform time step <h> s ..., got a step of <d> s", or
+/// "... a time on the uniform grid ...".
+UniformGrid FitUniformGrid(const double* t,
+                           std::size_t n,
+                           const std::function<double(std::size_t)>& rounding,
+                           const std::function<std::string(std::size_t)>& where);
+
+/// The stamps as given when each is within 1e-9 of a step of `grid`, else
+/// (rounded stamps) the grid itself.
+Eigen::VectorXd GridOrStamps(const double* t, std::size_t n, const UniformGrid& grid);
+
+/// How precisely a number is printed: half a unit of its last digit, its
+/// significant digits, and its decimals (-1 in exponent notation).
+/// "0.0009766" -> 5e-8, 4, 7; "1.953e-3" -> 5e-7, 4, -1; "12" -> 0.5, 2, 0.
+struct PrintedNumber {
+  double half_unit = 0.0;
+  int significant = 0;
+  int decimals = -1;
+};
+PrintedNumber Printed(std::string_view number);
+
+/// Text from a file made safe to print and to put in JSON: valid UTF-8 is
+/// kept, other bytes are read as Latin-1 (as Windows writers store "m/s²"),
+/// control characters become '?', and spaces at both ends are trimmed.
+std::string CleanText(std::string_view bytes);
 
 }  // namespace podid::internal

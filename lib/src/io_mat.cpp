@@ -1,4 +1,5 @@
-// MATLAB .mat time series through libmatio.
+// MATLAB .mat time series through libmatio: the file's variables, the choice
+// of what to read, numeric matrices and vectors (structs: io_mat_struct.cpp).
 #include <matio.h>
 #include <sys/stat.h>
 
@@ -11,50 +12,26 @@
 #include <vector>
 
 #include "io_internal.hpp"
+#include "io_mat_internal.hpp"
 #include "mat_structure.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
 
 namespace podid {
-namespace {
+namespace internal {
 
-struct MatCloser {
-  void operator()(mat_t* mat) const { Mat_Close(mat); }
-};
-struct VarFreer {
-  void operator()(matvar_t* var) const { Mat_VarFree(var); }
-};
-using MatPtr = std::unique_ptr<mat_t, MatCloser>;
-using VarPtr = std::unique_ptr<matvar_t, VarFreer>;
-
-struct VarInfo {
-  std::string name;
-  bool numeric = false;  // real, non-sparse, numeric class, rank 2
-  std::size_t rows = 0, cols = 0;
-};
-
-/// Largest ratio of uncompressed to compressed size that deflate reaches.
-constexpr double kMaxDeflateRatio = 1032.0;
-
-/// Throws when the variable's declared size cannot be stored in a file of
-/// `file_bytes`: each element takes at least one byte (matio may store doubles
-/// as int8), times the deflate ratio when compressed (v5 compressed, v7.3).
-/// Checked before anything is allocated from the header's dimensions.
-void CheckSizeFitsFile(const matvar_t& var,
-                       bool may_be_compressed,
-                       double file_bytes,
-                       const std::string& path) {
-  double elements = 1.0;
-  for (int i = 0; i < var.rank; ++i) elements *= static_cast<double>(var.dims[i]);
-  const double limit = may_be_compressed ? file_bytes * kMaxDeflateRatio : file_bytes;
-  if (elements > limit) {
-    ThrowInvalid(path + ": variable '" + std::string(var.name ? var.name : "") + "'",
-                 "dimensions whose data fits the file (" + ToText(file_bytes) + " bytes)",
-                 ToText(elements) + " elements (a corrupt header)");
-  }
+std::size_t MatElements(const matvar_t& var) {
+  std::size_t n = 1;
+  for (int i = 0; i < var.rank; ++i) n *= var.dims[i];
+  return n;
 }
 
-std::string ClassText(const matvar_t& var) {
+bool IsMatNumeric(const matvar_t& var) {
+  return var.class_type >= MAT_C_DOUBLE && var.class_type <= MAT_C_UINT64 && !var.isComplex &&
+         var.rank == 2;
+}
+
+std::string MatClassText(const matvar_t& var) {
   switch (var.class_type) {
     case MAT_C_CELL:
       return "a cell array";
@@ -71,10 +48,11 @@ std::string ClassText(const matvar_t& var) {
   }
   if (var.isComplex) return "a complex matrix";
   if (var.rank != 2) return "an array of rank " + std::to_string(var.rank);
+  if (IsMatNumeric(var)) return "a numeric matrix";
   return "an object of matio class " + std::to_string(static_cast<int>(var.class_type));
 }
 
-bool IsNumericClass(matio_classes c) { return c >= MAT_C_DOUBLE && c <= MAT_C_UINT64; }
+namespace {
 
 template <typename T>
 void Convert(const void* data, std::size_t n, std::vector<double>& out) {
@@ -83,73 +61,213 @@ void Convert(const void* data, std::size_t n, std::vector<double>& out) {
   for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<double>(p[i]);
 }
 
-/// Reads a numeric variable's data as doubles (column-major); `expected` is
-/// the element count its header gave when the file was listed.
-std::vector<double> ReadDoubles(mat_t* mat,
-                                const std::string& path,
-                                const std::string& name,
-                                std::size_t expected) {
-  VarPtr var(Mat_VarRead(mat, name.c_str()));
-  if (!var || var->data == nullptr) {
-    ThrowInvalid(path + ": variable '" + name + "'", "readable numeric data", "a read failure");
+void AppendUtf8(std::string& out, std::uint32_t c) {
+  if (c < 0x80) {
+    out += static_cast<char>(c);
+  } else if (c < 0x800) {
+    out += static_cast<char>(0xC0 | (c >> 6));
+    out += static_cast<char>(0x80 | (c & 0x3F));
+  } else {
+    out += static_cast<char>(0xE0 | (c >> 12));
+    out += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (c & 0x3F));
   }
-  std::size_t n = 1;
-  for (int i = 0; i < var->rank; ++i) n *= var->dims[i];
-  if (n != expected) {  // the data must fill the buffers sized from the listing
-    ThrowInvalid(path + ": variable '" + name + "'",
-                 std::to_string(expected) + " elements, as listed", std::to_string(n));
+}
+
+}  // namespace
+
+std::vector<double> MatDoubles(const matvar_t& var, const std::string& where) {
+  const std::size_t n = MatElements(var);
+  if (n > 0 && var.data == nullptr) ThrowInvalid(where, "readable numeric data", "a read failure");
+  if (var.nbytes / std::max(1, var.data_size) < n && var.data_size > 0) {
+    ThrowInvalid(where, std::to_string(n) + " elements of data",
+                 std::to_string(var.nbytes / var.data_size));
   }
   std::vector<double> out;
-  switch (var->data_type) {
+  switch (var.data_type) {
     case MAT_T_DOUBLE:
-      Convert<double>(var->data, n, out);
+      Convert<double>(var.data, n, out);
       break;
     case MAT_T_SINGLE:
-      Convert<float>(var->data, n, out);
+      Convert<float>(var.data, n, out);
       break;
     case MAT_T_INT8:
-      Convert<std::int8_t>(var->data, n, out);
+      Convert<std::int8_t>(var.data, n, out);
       break;
     case MAT_T_UINT8:
-      Convert<std::uint8_t>(var->data, n, out);
+      Convert<std::uint8_t>(var.data, n, out);
       break;
     case MAT_T_INT16:
-      Convert<std::int16_t>(var->data, n, out);
+      Convert<std::int16_t>(var.data, n, out);
       break;
     case MAT_T_UINT16:
-      Convert<std::uint16_t>(var->data, n, out);
+      Convert<std::uint16_t>(var.data, n, out);
       break;
     case MAT_T_INT32:
-      Convert<std::int32_t>(var->data, n, out);
+      Convert<std::int32_t>(var.data, n, out);
       break;
     case MAT_T_UINT32:
-      Convert<std::uint32_t>(var->data, n, out);
+      Convert<std::uint32_t>(var.data, n, out);
       break;
     case MAT_T_INT64:
-      Convert<std::int64_t>(var->data, n, out);
+      Convert<std::int64_t>(var.data, n, out);
       break;
     case MAT_T_UINT64:
-      Convert<std::uint64_t>(var->data, n, out);
+      Convert<std::uint64_t>(var.data, n, out);
       break;
     default:
-      ThrowInvalid(path + ": variable '" + name + "'", "numeric data",
-                   "matio data type " + std::to_string(static_cast<int>(var->data_type)));
+      ThrowInvalid(where, "numeric data",
+                   "matio data type " + std::to_string(static_cast<int>(var.data_type)));
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(out[i])) {
-      ThrowInvalid(path + ": variable '" + name + "' element " + std::to_string(i + 1),
-                   "finite numbers", ToText(out[i]));
+      ThrowInvalid(where + " element " + std::to_string(i + 1), "finite numbers", ToText(out[i]));
     }
   }
   return out;
 }
 
+std::string MatText(const matvar_t* var) {
+  if (var == nullptr || var->class_type != MAT_C_CHAR || var->rank != 2 || var->data == nullptr)
+    return "";
+  const std::size_t rows = var->dims[0], cols = var->dims[1];
+  const std::size_t n = rows * cols;
+  const bool wide = var->data_type == MAT_T_UINT16 || var->data_type == MAT_T_INT16 ||
+                    var->data_type == MAT_T_UTF16;
+  const bool narrow =
+      var->data_type == MAT_T_UINT8 || var->data_type == MAT_T_INT8 || var->data_type == MAT_T_UTF8;
+  if ((!wide && !narrow) || var->nbytes < n * (wide ? 2 : 1)) return "";
+  std::string out;
+  for (std::size_t r = 0; r < rows; ++r) {
+    if (r > 0) out += '\n';
+    std::string row;
+    for (std::size_t c = 0; c < cols; ++c) {
+      const std::size_t at = r + c * rows;  // column-major
+      if (wide) {
+        AppendUtf8(row, static_cast<const std::uint16_t*>(var->data)[at]);
+      } else {
+        row += static_cast<const char*>(var->data)[at];
+      }
+    }
+    out += CleanText(row);
+  }
+  return out;
+}
+
+Eigen::VectorXd MatTimeVector(const std::vector<double>& t,
+                              matio_classes time_class,
+                              const std::string& where) {
+  // Half a unit in the last place of the stored precision.
+  const double relative = time_class == MAT_C_SINGLE ? 0.5 * 1.1920929e-7 : 0.0;
+  const UniformGrid grid = FitUniformGrid(
+      t.data(), t.size(), [&](std::size_t i) { return relative * std::abs(t[i]); },
+      [&](std::size_t i) { return where + " element " + std::to_string(i + 1); });
+  return GridOrStamps(t.data(), t.size(), grid);
+}
+
+namespace {
+
+using MatPtr = std::unique_ptr<mat_t, decltype([](mat_t* mat) { Mat_Close(mat); })>;
+
+/// Largest ratio of uncompressed to compressed size that deflate reaches.
+constexpr double kMaxDeflateRatio = 1032.0;
+
+/// Throws when a variable's declared size (numeric and char arrays at any depth
+/// of structs and cells) cannot be stored in a file of `file_bytes` (each
+/// element takes at least one byte, as int8, times the deflate ratio when
+/// compressed) or exceeds kMaxReadValues. Checked before anything is read.
+void CheckDeclaredSize(const matvar_t& var,
+                       bool may_be_compressed,
+                       double file_bytes,
+                       const std::string& path) {
+  double elements = 0.0;
+  const auto count = [&](const auto& self, const matvar_t& v, int depth) -> void {
+    if (depth > 64) return;  // mat_structure.cpp bounds the depth of v5 files
+    double n = 1.0;
+    for (int i = 0; i < v.rank; ++i) n *= static_cast<double>(v.dims[i]);
+    if (v.class_type == MAT_C_STRUCT || v.class_type == MAT_C_CELL) {
+      if (v.data == nullptr) return;
+      const double children = v.class_type == MAT_C_STRUCT
+                                  ? n * Mat_VarGetNumberOfFields(const_cast<matvar_t*>(&v))
+                                  : n;
+      auto* const* cells = static_cast<matvar_t* const*>(v.data);
+      const double available = static_cast<double>(v.nbytes / sizeof(matvar_t*));
+      for (double i = 0; i < std::min(children, available); ++i) {
+        if (cells[static_cast<std::size_t>(i)] != nullptr)
+          self(self, *cells[static_cast<std::size_t>(i)], depth + 1);
+      }
+    } else if (v.class_type != MAT_C_SPARSE) {
+      elements += n * (v.isComplex ? 2.0 : 1.0);
+    }
+  };
+  count(count, var, 0);
+  const std::string where = path + ": variable '" + std::string(var.name ? var.name : "") + "'";
+  const double limit = may_be_compressed ? file_bytes * kMaxDeflateRatio : file_bytes;
+  if (elements > limit) {
+    ThrowInvalid(where, "dimensions whose data fits the file (" + ToText(file_bytes) + " bytes)",
+                 ToText(elements) + " elements (a corrupt header)");
+  }
+  if (elements > static_cast<double>(kMaxReadValues)) {
+    ThrowInvalid(where,
+                 "at most " + std::to_string(kMaxReadValues) +
+                     " values (podid's memory budget, kMaxReadValues)",
+                 ToText(elements));
+  }
+}
+
+/// Samples x channels from a matrix, given the number of samples if known
+/// (0: the longer dimension, rows on a tie).
+Eigen::MatrixXd Oriented(const std::vector<double>& data,
+                         std::size_t rows,
+                         std::size_t cols,
+                         std::size_t samples,
+                         const std::string& where) {
+  bool transpose = false;
+  if (samples == 0) {
+    transpose = cols > rows;
+  } else if (rows == samples) {
+    transpose = false;
+  } else if (cols == samples) {
+    transpose = true;
+  } else {
+    ThrowInvalid(where, "a matrix with " + std::to_string(samples) + " samples (rows or columns)",
+                 std::to_string(rows) + " x " + std::to_string(cols));
+  }
+  const Eigen::Map<const Eigen::MatrixXd> m(data.data(), static_cast<Eigen::Index>(rows),
+                                            static_cast<Eigen::Index>(cols));
+  if (transpose) return m.transpose();
+  return m;
+}
+
+/// Reads a numeric variable; `expected` is the element count its header gave
+/// when the file was listed (the data must fill the buffers sized from it).
+std::vector<double> ReadNumeric(mat_t* mat,
+                                const std::string& path,
+                                const std::string& name,
+                                std::size_t expected) {
+  MatVarPtr var(Mat_VarRead(mat, name.c_str()));
+  const std::string where = path + ": variable '" + name + "'";
+  if (!var) ThrowInvalid(where, "readable numeric data", "a read failure");
+  if (MatElements(*var) != expected) {
+    ThrowInvalid(where, std::to_string(expected) + " elements, as listed",
+                 std::to_string(MatElements(*var)));
+  }
+  return MatDoubles(*var, where);
+}
+
 }  // namespace
 
-TimeSeries ReadMat(const std::string& path, const MatReadOptions& options) {
+TimeSeries ReadMatFile(const std::string& path,
+                       const std::string& variable,
+                       const std::string& time_variable,
+                       double step_s,
+                       bool* has_time,
+                       std::vector<std::string>* notes) {
   // libmatio allocates what the headers declare, from Mat_Open on: check them
-  // against the file first.
-  internal::CheckMatStructure(path);
+  // against the file first (v5, v4 here; v7.3 with libhdf5).
+  CheckMatStructure(path);
+  std::optional<Hdf5Quiet> quiet;
+  if (CheckMat73Storage(path)) quiet.emplace();
   MatPtr mat(Mat_Open(path.c_str(), MAT_ACC_RDONLY));
   if (!mat)
     ThrowInvalid(path, "a readable MATLAB .mat file (v4, v5 or v7.3)", "a file matio cannot open");
@@ -159,141 +277,170 @@ TimeSeries ReadMat(const std::string& path, const MatReadOptions& options) {
       ::stat(path.c_str(), &file_status) == 0 ? static_cast<double>(file_status.st_size) : 0.0;
   const bool v73 = Mat_GetVersion(mat.get()) == MAT_FT_MAT73;
 
-  std::vector<VarInfo> vars;
+  std::vector<MatVarPtr> vars;  // information only, no data
+  std::string names;
   while (true) {
-    VarPtr var(Mat_VarReadNextInfo(mat.get()));
+    MatVarPtr var(Mat_VarReadNextInfo(mat.get()));
     if (!var) break;
-    if (IsNumericClass(var->class_type) || var->class_type == MAT_C_CHAR) {
-      CheckSizeFitsFile(*var, v73 || var->compression != MAT_COMPRESSION_NONE, file_bytes, path);
-    }
-    VarInfo info;
-    info.name = var->name ? var->name : "";
+    const std::string name = var->name ? var->name : "";
+    CheckDeclaredSize(*var, v73 || var->compression != MAT_COMPRESSION_NONE, file_bytes, path);
     for (const auto& v : vars) {
       // Mat_VarRead finds a variable by name: a second one could not be read.
-      if (v.name.substr(0, v.name.find('\0')) == info.name) {
-        ThrowInvalid(path, "variables with distinct names", "'" + info.name + "' twice");
-      }
+      if (name == v->name)
+        ThrowInvalid(path, "variables with distinct names", "'" + name + "' twice");
     }
-    info.numeric = IsNumericClass(var->class_type) && !var->isComplex && var->rank == 2;
-    if (var->rank == 2) {
-      info.rows = var->dims[0];
-      info.cols = var->dims[1];
-    }
-    if (!info.numeric) {
-      // Keep the description for messages.
-      info.name += '\0' + ClassText(*var);
-    }
-    vars.push_back(std::move(info));
+    names += (names.empty() ? "" : ", ") + CleanText(name);
+    vars.push_back(std::move(var));
   }
-  auto find = [&](const std::string& name) -> const VarInfo* {
+  auto find = [&](const std::string& name) -> matvar_t* {
     for (const auto& v : vars) {
-      if (v.name.substr(0, v.name.find('\0')) == name) return &v;
+      if (name == v->name) return v.get();
     }
     return nullptr;
   };
-  auto describe = [](const VarInfo& v) {
-    const auto zero = v.name.find('\0');
-    return zero == std::string::npos ? std::string("a numeric matrix") : v.name.substr(zero + 1);
-  };
-  std::string names;
-  for (const auto& v : vars)
-    names += (names.empty() ? "" : ", ") + v.name.substr(0, v.name.find('\0'));
 
   // The time vector.
-  const VarInfo* time = nullptr;
-  if (!options.time_variable.empty()) {
-    time = find(options.time_variable);
+  const matvar_t* time = nullptr;
+  if (!time_variable.empty()) {
+    time = find(time_variable);
     if (time == nullptr) {
-      ThrowInvalid(path,
-                   "a time variable '" + options.time_variable + "' (variables: " + names + ")",
+      ThrowInvalid(path, "a time variable '" + time_variable + "' (variables: " + names + ")",
                    "none");
     }
   } else {
     time = find("t");
     if (time == nullptr) time = find("time");
   }
-  // The data matrix.
-  const VarInfo* data = nullptr;
-  if (!options.variable.empty()) {
-    data = find(options.variable);
-    if (data == nullptr) {
-      ThrowInvalid(path, "a variable '" + options.variable + "' (variables: " + names + ")",
-                   "none");
+
+  // What to read: one matrix, the vectors of one length, or a struct.
+  std::vector<matvar_t*> columns;  // numeric variables, each a channel or a matrix of channels
+  matvar_t* group = nullptr;       // a struct
+  if (!variable.empty()) {
+    matvar_t* v = find(variable);
+    if (v == nullptr) {
+      ThrowInvalid(path, "a variable '" + variable + "' (variables: " + names + ")", "none");
+    }
+    if (v->class_type == MAT_C_STRUCT) {
+      group = v;
+    } else if (IsMatNumeric(*v)) {
+      columns.push_back(v);
+    } else {
+      ThrowInvalid(path + ": variable '" + variable + "'",
+                   "a real numeric matrix or a struct of channels", MatClassText(*v));
     }
   } else {
     for (const auto& v : vars) {
-      if (&v != time && v.numeric && v.rows * v.cols > 0) {
-        data = &v;
-        break;
+      if (v.get() == time || !IsMatNumeric(*v) || MatElements(*v) < 2) continue;
+      const bool vector = v->dims[0] == 1 || v->dims[1] == 1;
+      if (columns.empty()) {
+        columns.push_back(v.get());
+        if (!vector) break;
+      } else if (vector && MatElements(*v) == MatElements(*columns[0])) {
+        columns.push_back(v.get());
       }
     }
-    if (data == nullptr) {
-      ThrowInvalid(path, "a numeric matrix variable (samples x channels)",
+    if (columns.empty()) {
+      for (const auto& v : vars) {
+        if (v->class_type == MAT_C_STRUCT && IsMatSeriesStruct(*v)) {
+          group = v.get();
+          break;
+        }
+      }
+    }
+    if (columns.empty() && group == nullptr) {
+      ThrowInvalid(path, "a numeric matrix or vector variable, or a struct of channels",
                    vars.empty() ? std::string("no variables") : "only " + names);
     }
   }
-  if (!data->numeric) {
-    ThrowInvalid(path + ": variable '" + options.variable + "'",
-                 "a real numeric matrix (samples x channels)", describe(*data));
-  }
-  const std::string data_name = data->name;
-  const bool vector = data->rows == 1 || data->cols == 1;
-  const std::size_t samples = vector ? data->rows * data->cols : data->rows;
-  const std::size_t channels = vector ? 1 : data->cols;
-  if (samples < 2) {
-    ThrowInvalid(path + ": variable '" + data_name + "'", "at least 2 samples (rows)",
-                 std::to_string(samples));
+
+  if (group != nullptr) {
+    if (time != nullptr && !time_variable.empty()) {
+      ThrowInvalid(path,
+                   "a time variable only with a matrix (the struct '" + std::string(group->name) +
+                       "' has its own)",
+                   "'" + time_variable + "'");
+    }
+    const std::string name = group->name;
+    MatVarPtr full(Mat_VarRead(mat.get(), name.c_str()));
+    if (!full)
+      ThrowInvalid(path + ": variable '" + name + "'", "a readable struct", "a read failure");
+    return MatStructSeries(*full, path, step_s, has_time, notes);
   }
 
-  TimeSeries series;
-  series.values.resize(static_cast<Eigen::Index>(samples), static_cast<Eigen::Index>(channels));
-  {
-    const auto values = ReadDoubles(mat.get(), path, data_name, samples * channels);
-    std::copy(values.begin(), values.end(), series.values.data());  // both column-major
-  }
-  for (std::size_t j = 0; j < channels; ++j) {
-    series.channel_names.push_back(data_name + std::to_string(j + 1));
-  }
-
-  series.time_s.resize(static_cast<Eigen::Index>(samples));
+  // Samples: the time vector's length, else each matrix's longer dimension.
+  std::size_t samples = 0;
   if (time != nullptr) {
-    const std::string time_name = time->name.substr(0, time->name.find('\0'));
-    const std::string where = path + ": variable '" + time_name + "'";
-    if (!time->numeric || (time->rows != 1 && time->cols != 1)) {
-      ThrowInvalid(where, "a real numeric time vector", describe(*time));
+    const std::string where = path + ": variable '" + std::string(time->name) + "'";
+    if (!IsMatNumeric(*time) || (time->dims[0] != 1 && time->dims[1] != 1)) {
+      ThrowInvalid(where, "a real numeric time vector", MatClassText(*time));
     }
-    if (time->rows * time->cols != samples) {
-      ThrowInvalid(where, std::to_string(samples) + " times (one per row of '" + data_name + "')",
-                   std::to_string(time->rows * time->cols));
+    samples = MatElements(*time);
+  }
+  TimeSeries series;
+  std::vector<Eigen::MatrixXd> blocks;
+  for (matvar_t* v : columns) {
+    const std::string name = v->name;
+    const std::string where = path + ": variable '" + name + "'";
+    const std::size_t rows = v->dims[0], cols = v->dims[1];
+    const bool vector = rows == 1 || cols == 1;
+    if (time != nullptr && rows != samples && cols != samples) {
+      ThrowInvalid(
+          path + ": variable '" + std::string(time->name) + "'",
+          std::to_string(vector ? rows * cols : rows) + " times (one per sample of '" + name + "')",
+          std::to_string(samples));
     }
-    const auto t = ReadDoubles(mat.get(), path, time_name, samples);
-    const double h = t[1] - t[0];
-    for (std::size_t i = 1; i < samples; ++i) {
-      const double d = t[i] - t[i - 1];
-      if (!(d > 0.0)) {
-        ThrowInvalid(where + " element " + std::to_string(i + 1),
-                     "an increasing time (after t = " + ToText(t[i - 1]) + ")", ToText(t[i]));
-      }
-      if (!internal::IsUniformStep(d, h, t[i])) {
-        ThrowInvalid(where + " element " + std::to_string(i + 1),
-                     "a uniform time step " + ToText(h) + " s (relative tolerance " +
-                         ToText(kTimeStepRelativeTolerance) + ")",
-                     "a step of " + ToText(d) + " s");
-      }
+    const std::size_t own = samples != 0 ? samples : vector ? rows * cols : std::max(rows, cols);
+    if (own < 2) ThrowInvalid(where, "at least 2 samples", std::to_string(own));
+    if (samples == 0 && !blocks.empty() && own != static_cast<std::size_t>(blocks[0].rows())) {
+      ThrowInvalid(where, std::to_string(blocks[0].rows()) + " samples as the other channels",
+                   std::to_string(own));
     }
-    std::copy(t.begin(), t.end(), series.time_s.data());
+    blocks.push_back(
+        Oriented(ReadNumeric(mat.get(), path, name, rows * cols), rows, cols, own, where));
+    if (vector) {
+      series.channel_names.push_back(CleanText(name));
+    } else {
+      for (Eigen::Index j = 0; j < blocks.back().cols(); ++j)
+        series.channel_names.push_back(CleanText(name) + std::to_string(j + 1));
+    }
+  }
+  Eigen::Index channels = 0;
+  for (const auto& b : blocks) channels += b.cols();
+  series.values.resize(blocks[0].rows(), channels);
+  for (Eigen::Index at = 0; auto& b : blocks) {
+    series.values.middleCols(at, b.cols()) = b;
+    at += b.cols();
+    b.resize(0, 0);
+  }
+  series.units.assign(series.channel_names.size(), "");
+
+  if (time != nullptr) {
+    const std::string name = time->name;
+    series.time_s = MatTimeVector(ReadNumeric(mat.get(), path, name, samples), time->class_type,
+                                  path + ": variable '" + name + "'");
+    if (has_time) *has_time = true;
   } else {
-    if (!(options.step_s > 0.0) || !std::isfinite(options.step_s)) {
+    if (!(step_s > 0.0) || !std::isfinite(step_s)) {
       ThrowInvalid(path,
                    "a time vector variable ('t' or 'time') or a sampling step "
-                   "MatReadOptions::step_s > 0",
+                   "(--rate, --step, MatReadOptions::step_s > 0)",
                    "neither");
     }
-    for (std::size_t i = 0; i < samples; ++i) {
-      series.time_s(static_cast<Eigen::Index>(i)) = static_cast<double>(i) * options.step_s;
-    }
+    series.time_s.resize(series.values.rows());
+    for (Eigen::Index i = 0; i < series.values.rows(); ++i)
+      series.time_s(i) = static_cast<double>(i) * step_s;
+    if (has_time) *has_time = false;
   }
   return series;
+}
+
+}  // namespace internal
+
+TimeSeries ReadMat(const std::string& path,
+                   const MatReadOptions& options,
+                   std::vector<std::string>* notes) {
+  return internal::ReadMatFile(path, options.variable, options.time_variable, options.step_s,
+                               nullptr, notes);
 }
 
 }  // namespace podid

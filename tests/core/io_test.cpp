@@ -169,12 +169,16 @@ TEST_F(ReadCsvRejects, TimeNotIncreasingOrNotUniform) {
   EXPECT_CSV_ERROR("t,w1\n0,1\n0,1\n", ":3:1: expected an increasing time (after t = 0), got 0");
   EXPECT_CSV_ERROR("t,w1\n0,1\n0.1,1\n0.05,1\n",
                    ":4:1: expected an increasing time (after t = 0.1), got 0.05");
-  EXPECT_CSV_ERROR("t,w1\n0,1\n0.1,1\n0.2,1\n0.31,1\n",
-                   ":5:1: expected a uniform time step 0.1 s (relative tolerance 1e-06), got a "
-                   "step of 0.11");
-  // 1e-6 relative is the limit: 1.0000005 is accepted, 1.000002 is not.
+  // A missing sample (io.hpp: steps against the median step, within the
+  // stamps' printed rounding and 1e-6 of a step).
+  EXPECT_CSV_ERROR("t,w1\n0,1\n0.10,1\n0.20,1\n0.40,1\n",
+                   ":5:1: expected a uniform time step 0.1 s (within 0.02 s: the stamps' "
+                   "rounding and 1e-06 of a step), got a step of 0.2 s");
+  // 1.0000005 is within its rounding (5e-8) and 1e-6 of a step; in a column
+  // printed to 5 decimals, a step off by 5 units of the last digit is not
+  // (allowed: the two stamps' rounding and twice the column's, 4 units).
   EXPECT_NO_THROW(ReadCsv(Write("t,w1\n0,1\n1,1\n2.0000005,1\n")));
-  EXPECT_CSV_ERROR("t,w1\n0,1\n1,1\n2.000002,1\n", ":4:1: expected a uniform time step 1 s");
+  EXPECT_CSV_ERROR("t,w1\n0,1\n1,1\n2.00005,1\n", ":4:1: expected a uniform time step 1 s");
 }
 
 TEST_F(ReadCsvRejects, OverlongLineWithoutReadingIt) {
@@ -304,14 +308,14 @@ TEST(ReadMat, Rejections) {
   PODID_EXPECT_THROW_WITH(ReadMat(path), std::invalid_argument,
                           path +
                               ": expected a time vector variable ('t' or 'time') or a sampling "
-                              "step MatReadOptions::step_s > 0, got neither");
+                              "step (--rate, --step, MatReadOptions::step_s > 0), got neither");
   MatReadOptions options;
   options.variable = "v";
   PODID_EXPECT_THROW_WITH(ReadMat(path, options), std::invalid_argument,
                           path + ": expected a variable 'v' (variables: w), got none");
-  WriteMat(path, MAT_FT_MAT5, {{"t", Eigen::Vector2d(0, 1)}, {"w", data}});
+  WriteMat(path, MAT_FT_MAT5, {{"t", Eigen::Vector4d(0, 1, 2, 3)}, {"w", data}});
   PODID_EXPECT_THROW_WITH(ReadMat(path), std::invalid_argument,
-                          path + ": variable 't': expected 3 times (one per row of 'w'), got 2");
+                          path + ": variable 't': expected 3 times (one per sample of 'w'), got 4");
   WriteMat(path, MAT_FT_MAT5, {{"t", Eigen::Vector3d(0, 1, 3)}, {"w", data}});
   PODID_EXPECT_THROW_WITH(ReadMat(path), std::invalid_argument,
                           path + ": variable 't' element 3: expected a uniform time step 1 s");
@@ -325,12 +329,17 @@ TEST(ReadMat, Rejections) {
   WriteMat(path, MAT_FT_MAT5, {{"t", Eigen::Vector3d(0, 1, 2)}});
   PODID_EXPECT_THROW_WITH(
       ReadMat(path), std::invalid_argument,
-      path + ": expected a numeric matrix variable (samples x channels), got only t");
+      path + ": expected a numeric matrix or vector variable, or a struct of channels, got only t");
   WriteMat(path, MAT_FT_MAT5, {{"w", Eigen::MatrixXd::Ones(1, 1)}});
   options = {};
   options.step_s = 1.0;
   PODID_EXPECT_THROW_WITH(ReadMat(path, options), std::invalid_argument,
-                          "variable 'w': expected at least 2 samples (rows), got 1");
+                          "expected a numeric matrix or vector variable, or a struct of channels, "
+                          "got only w");
+  options.variable = "w";
+  PODID_EXPECT_THROW_WITH(ReadMat(path, options), std::invalid_argument,
+                          "variable 'w': expected at least 2 samples, got 1");
+  options.variable.clear();
   {
     mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
     size_t dims[2] = {1, 3};
@@ -343,13 +352,12 @@ TEST(ReadMat, Rejections) {
   options.variable = "s";
   PODID_EXPECT_THROW_WITH(
       ReadMat(path, options), std::invalid_argument,
-      "variable 's': expected a real numeric matrix (samples x channels), got a "
-      "char array");
+      "variable 's': expected a real numeric matrix or a struct of channels, got a char array");
   const std::string not_mat = dir.Write("y.mat", "this is not a mat file");
   PODID_EXPECT_THROW_WITH(ReadMat(not_mat), std::invalid_argument,
                           "y.mat: expected a readable MATLAB .mat file");
   PODID_EXPECT_THROW_WITH(ReadTimeSeries(dir.File("y.txt")), std::invalid_argument,
-                          "y.txt: expected a time-series file ending in .csv or .mat");
+                          "y.txt: expected a time-series file ending in .csv, .mat, .uff or .unv");
 }
 
 // --- WriteFileAtomically -----------------------------------------------------

@@ -8,6 +8,7 @@
 #include <functional>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include "podid/core/time_series.hpp"
 
@@ -17,16 +18,27 @@ namespace podid {
 /// is rejected without reading the rest of it.
 inline constexpr std::size_t kMaxCsvLineBytes = std::size_t{1} << 20;
 
-/// Relative tolerance on the uniformity of a time column: each step d must
-/// satisfy |d - h| <= 1e-6 h + 2e-12 |t| (h the first step; the second term is
-/// the rounding of 13 significant digits, the %.12e format, at time t).
+/// Time stamps: a time column or vector must be increasing and lie on a
+/// uniform grid t0 + i h, with t0 and h fitted by least squares, each stamp
+/// within its rounding plus kTimeStepRelativeTolerance h. The rounding of a
+/// printed stamp (CSV) is half a unit of its column's precision: the most
+/// significant digits, or (fixed-point columns) the most decimals, that any
+/// stamp of the column prints, and never more than half a unit of the stamp's
+/// own last digit; so spreadsheet stamps such as 0.0009766, 0.001953 at
+/// 1024 Hz are accepted and replaced by the fitted grid, while a gap or a
+/// jitter beyond the printing precision is rejected. Binary stamps (.mat)
+/// round at their floating-point precision.
 inline constexpr double kTimeStepRelativeTolerance = 1e-6;
+
+/// Most values (samples x channels) a reader allocates: 2^27 doubles (1 GiB).
+/// Checked against the sizes a file declares before any data is read.
+inline constexpr std::size_t kMaxReadValues = std::size_t{1} << 27;
 
 /// Reads a CSV in the reference data's format: a header `t,<name>,...`, then one
 /// row per sample. Throws std::invalid_argument naming file:line:column for a
 /// missing header, a non-numeric cell, a ragged row, NaN/Inf, fewer than 2
-/// samples, or a time column that is not increasing and uniform (relative
-/// tolerance 1e-6 on the step).
+/// samples, or a time column that is not increasing and uniform (see
+/// kTimeStepRelativeTolerance).
 /// The file is streamed in 1 MiB blocks and parsed with std::from_chars: memory
 /// is the result plus one block of 16384 rows. Cells may be surrounded by spaces;
 /// CRLF line ends and empty lines are accepted. The first column is the time
@@ -39,19 +51,67 @@ TimeSeries ReadCsv(const std::string& path);
 void WriteCsv(const std::string& path, const TimeSeries& series);
 
 struct MatReadOptions {
-  std::string variable;  ///< numeric matrix (samples x channels); empty: the only/first 2-D matrix
+  std::string variable;  ///< the variable or struct to read; empty: chosen as ReadMat says
   std::string time_variable;  ///< time vector variable; empty: looks for "t" or "time"
-  double step_s = 0.0;        ///< used when there is no time vector (> 0)
+  double step_s = 0.0;        ///< used when there is no time (> 0)
 };
 
-/// Reads a MATLAB .mat file (libmatio, v4/v5/v7.3). The matrix may be of any
-/// real numeric class (converted to double); a vector is one channel. Channel
-/// names are the variable's name followed by 1..n_channels ("w" -> w1..w6).
-/// The time vector must have one entry per sample and be increasing and
-/// uniform, as for ReadCsv; without one, t = i * step_s.
-TimeSeries ReadMat(const std::string& path, const MatReadOptions& options = {});
+/// Reads a MATLAB .mat file (libmatio: v4, v5, v7.3 (HDF5)); docs/data-files.md.
+/// What it reads (`variable`, or else the first of these in the file):
+///  * a real numeric matrix of any class (converted to double): channels
+///    "<name>1".."<name>n"; a vector is one channel named "<name>". Without a
+///    variable, all the top-level vectors of the first one's length are read
+///    together, one channel each (V1, V2 in the Silverbox file);
+///  * a test-system export struct: x_values.{start_value, increment,
+///    number_of_values}, y_values.values, function_record.name (channel names,
+///    a string or a cell of strings), y_values.quantity (label: the unit; when
+///    its unit_transformation is not the identity, the values are in SI and the
+///    unit is derived from quantity_terms, e.g. "m/s^2" although the label says g);
+///  * a plain struct: a time field ("t", "time", case-insensitive) and one
+///    numeric field per channel (vectors, or matrices as above).
+/// Orientation: a matrix is samples x channels or channels x samples, decided by
+/// the time vector's length (or number_of_values), else the longer dimension is
+/// the samples (rows on a tie). The time vector must be increasing and uniform
+/// (kTimeStepRelativeTolerance); without time, t = i * step_s. The declared
+/// sizes are checked against the file's size and kMaxReadValues before reading.
+/// Notes (fields skipped, units derived) are appended to `notes` when given.
+TimeSeries ReadMat(const std::string& path,
+                   const MatReadOptions& options = {},
+                   std::vector<std::string>* notes = nullptr);
 
-/// Dispatches on the extension: .csv -> ReadCsv, .mat -> ReadMat.
+/// Longest header or data line ReadUff accepts (bytes).
+inline constexpr std::size_t kMaxUffLineBytes = std::size_t{1} << 16;
+
+/// Reads a universal file (UFF, .uff/.unv): data sets 58 (ASCII) and 58b
+/// (binary, either byte order, single or double precision, IEEE 754) of
+/// function type 1 (time response) with an even abscissa become channels named
+/// "<node><direction>" from record 6 (e.g. "3+Z", "12-X", "5S" for scalar;
+/// "_<k>" appended to the k-th repeat of a name), with the units of record 9.
+/// All such data sets must share one grid (count, start, increment). Other data
+/// sets and function types are skipped with a note. Counts are checked against
+/// the bytes left in the file and kMaxReadValues before allocation.
+TimeSeries ReadUff(const std::string& path, std::vector<std::string>* notes = nullptr);
+
+/// What ReadTimeSeries reads from a data file.
+struct DataReadOptions {
+  std::string variable;  ///< .mat: the variable or struct (MatReadOptions::variable)
+  /// Channels to keep, in this order, by name; empty: all. At most 65536.
+  std::vector<std::string> channels;
+  double rate_Hz = 0.0;  ///< sampling rate for a file without time (or step_s; not both)
+  double step_s = 0.0;   ///< sampling step for a file without time
+  /// Throws std::invalid_argument when the fields contradict each other.
+  void Check() const;
+};
+
+/// Dispatches on the extension: .csv -> ReadCsv, .mat -> ReadMat, .uff/.unv ->
+/// ReadUff; then keeps `options.channels`. A rate or step given for a file
+/// that has its own time must agree with it (relative 1e-6). `variable` is
+/// only for .mat files.
+TimeSeries ReadTimeSeries(const std::string& path,
+                          const DataReadOptions& options,
+                          std::vector<std::string>* notes = nullptr);
+
+/// Dispatches on the extension with default options.
 TimeSeries ReadTimeSeries(const std::string& path);
 
 /// Where WriteFileAtomically(path) writes: `path` with its symlinks followed

@@ -12,6 +12,9 @@ struct TimeSeries {
   Eigen::VectorXd time_s;                  ///< (dim n_samples) uniform, increasing
   std::vector<std::string> channel_names;  ///< (dim n_channels), e.g. "w1".."w6"
   Eigen::MatrixXd values;                  ///< (n_samples x n_channels)
+  /// (dim n_channels, or empty when unknown) each channel's unit as the file
+  /// states it ("m/s^2", "N"; "" for one the file does not name).
+  std::vector<std::string> units;
 
   Eigen::Index samples() const { return values.rows(); }
   Eigen::Index channels() const { return values.cols(); }
