@@ -32,6 +32,8 @@ struct CwtArguments {
   std::string normalisation = "amplitude";
   double coi_factor = 1.0;
   bool band_limited = false;
+  int threads = 1;
+  double max_memory_MB = 2048.0;
   std::string output;
   std::string scalogram;
   std::string plot;
@@ -77,6 +79,10 @@ void Run(const CwtArguments& a) {
   cwt.wavelet.normalisation = wavelet::ParseNormalisation(a.normalisation);
   cwt.padding = wavelet::ParsePadding(a.padding);
   cwt.coi_factor = a.coi_factor;
+  cwt.threads = a.threads;
+  // --scalogram copies |W| (8 more bytes per coefficient) before writing.
+  cwt.memory_budget_bytes =
+      a.max_memory_MB * 1048576.0 * (a.scalogram.empty() ? 1.0 : 16.0 / 24.0);
   cwt.frequencies.min_frequency_Hz = a.fmin_Hz;
   cwt.frequencies.max_frequency_Hz = a.fmax_Hz;
   if (a.bins > 0) {
@@ -157,7 +163,7 @@ void Run(const CwtArguments& a) {
       std::snprintf(name, sizeof name, "%.6gHz", sg.frequencies_Hz(k));
       magnitude.channel_names.push_back(name);
     }
-    magnitude.values = sg.coefficients.cwiseAbs();
+    magnitude.values = sg.coefficients.cwiseAbs() * sg.coefficient_scale;
     WriteCsv(a.scalogram, magnitude);
     std::printf("|W| -> %s\n", a.scalogram.c_str());
   }
@@ -169,7 +175,7 @@ void Run(const CwtArguments& a) {
     Eigen::MatrixXd z(columns, sg.frequencies());
     for (Eigen::Index i = 0; i < columns; ++i) {
       t(i) = sg.time_s(i * stride);
-      z.row(i) = sg.coefficients.row(i * stride).cwiseAbs();
+      z.row(i) = sg.coefficients.row(i * stride).cwiseAbs() * sg.coefficient_scale;
     }
     Eigen::VectorXd coi = sg.coi_frequency_Hz;
     for (Eigen::Index j = 0; j < coi.size(); ++j) {
@@ -231,6 +237,13 @@ void AddCwtCommand(CLI::App& app) {
   command
       ->add_option("--coi-factor", a->coi_factor,
                    "Widen the cone of influence (1 = Torrence & Compo)")
+      ->capture_default_str();
+  command->add_option("--threads", a->threads, "Threads over the scales (1..256)")
+      ->capture_default_str();
+  command
+      ->add_option("--max-memory", a->max_memory_MB,
+                   "Refuse transforms needing more than this many MB (1..16777216; the\n"
+                   "coefficients take n_times x n_frequencies x 16 bytes, 24 with --scalogram)")
       ->capture_default_str();
   command->add_flag("--band-limited", a->band_limited,
                     "Decimated output (what identification uses); IF values are unchanged");

@@ -26,6 +26,7 @@ void AddModesCommand(CLI::App& app);
 void AddSimulateCommand(CLI::App& app);
 void AddPodCommand(CLI::App& app);
 void AddCwtCommand(CLI::App& app);
+void AddPlanCommand(CLI::App& app);
 void AddIdentifyCommand(CLI::App& app);
 void AddLandscapeCommand(CLI::App& app);
 

@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
   podid::cli::AddSimulateCommand(app);
   podid::cli::AddPodCommand(app);
   podid::cli::AddCwtCommand(app);
+  podid::cli::AddPlanCommand(app);
   podid::cli::AddIdentifyCommand(app);
   podid::cli::AddLandscapeCommand(app);
 

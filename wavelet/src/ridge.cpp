@@ -166,18 +166,39 @@ std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeO
   // 1e300 signal); a non-finite coefficient is a forbidden cell (+inf).
   const Eigen::Map<const Eigen::ArrayXd> parts(
       reinterpret_cast<const double*>(scalogram.coefficients.data()), 2 * times * freqs);
-  double top = 0.0;
-  for (Eigen::Index i = 0; i < parts.size(); ++i) {
-    if (std::isfinite(parts(i))) top = std::max(top, std::abs(parts(i)));
+  double top = parts.abs().template maxCoeff<Eigen::PropagateNaN>();
+  const bool all_finite = std::isfinite(top);
+  if (!all_finite) {
+    top = 0.0;
+    for (Eigen::Index i = 0; i < parts.size(); ++i) {
+      if (std::isfinite(parts(i))) top = std::max(top, std::abs(parts(i)));
+    }
   }
   int exponent = 0;
   std::frexp(top, &exponent);
   const double scale = std::ldexp(1.0, -exponent);
-  Eigen::MatrixXd cost =
-      (-0.5 * (scalogram.coefficients * scale).cwiseAbs2().cwiseMax(kTiny).array().log())
-          .transpose();
-  for (Eigen::Index i = 0; i < cost.size(); ++i) {
-    if (!std::isfinite(cost.data()[i])) cost.data()[i] = kInf;
+  // Blocks of kBlock times: |W|^2 of each frequency's contiguous segment,
+  // then Eigen's vectorised log on a plain array, stored frequency-major
+  // (the block of cost stays in cache).
+  constexpr Eigen::Index kBlock = 64;
+  Eigen::MatrixXd cost(freqs, times);
+  Eigen::ArrayXd power(kBlock);
+  for (Eigen::Index j0 = 0; j0 < times; j0 += kBlock) {
+    const Eigen::Index count = std::min(kBlock, times - j0);
+    for (Eigen::Index k = 0; k < freqs; ++k) {
+      const double* w = reinterpret_cast<const double*>(scalogram.coefficients.col(k).data() + j0);
+      for (Eigen::Index i = 0; i < count; ++i) {
+        const double re = w[2 * i] * scale, im = w[2 * i + 1] * scale;
+        power(i) = std::max(re * re + im * im, kTiny);
+      }
+      power.head(count) = -0.5 * power.head(count).log();
+      for (Eigen::Index i = 0; i < count; ++i) cost(k, j0 + i) = power(i);
+    }
+  }
+  if (!all_finite) {
+    for (Eigen::Index i = 0; i < cost.size(); ++i) {
+      if (!std::isfinite(cost.data()[i])) cost.data()[i] = kInf;
+    }
   }
   const Eigen::VectorXd x = scalogram.frequencies_Hz.array().log();
   const double lambda = options.penalty_s / scalogram.step_s;
@@ -186,7 +207,7 @@ std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeO
   for (int r = 0; r < options.ridges; ++r) {
     Eigen::VectorXi path = options.method == RidgeMethod::kMaximum ? MaximumPath(cost)
                                                                    : PenalisedPath(cost, x, lambda);
-    for (Eigen::Index j = 0; j < times; ++j) {
+    for (Eigen::Index j = 0; j < times && r + 1 < options.ridges; ++j) {
       if (path(j) < 0) continue;
       const Eigen::Index c = path(j);
       // Exclude the ridge's own peak: both flanks while |W| keeps falling

@@ -1,0 +1,118 @@
+// podid plan: measure FFTW plans ahead of time into the on-disk wisdom cache,
+// so that later `podid cwt` / `identify` runs plan nothing (docs/wavelet.md,
+// "Planning").
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "podid/core/error.hpp"
+#include "podid/core/io.hpp"
+#include "podid/wavelet/cwt.hpp"
+#include "podid/wavelet/plans.hpp"
+
+namespace podid::cli {
+namespace {
+
+constexpr long kMaxSamples = 1L << 26;  // 67 M samples: P <= 2^27 with reflect padding
+constexpr std::size_t kMaxRecords = 64;
+
+struct PlanArguments {
+  std::vector<std::string> data;
+  std::vector<long> samples;
+  double fs_Hz = 0.0;
+  double fmin_Hz = 10.0;
+  double fmax_Hz = 120.0;
+  int voices = 32;
+  double omega0 = 6.0;
+  std::string padding = "reflect";
+};
+
+void Run(const PlanArguments& a) {
+  // (samples, step) of every record to plan for.
+  std::vector<std::pair<long, double>> records;
+  for (const std::string& path : a.data) {
+    const TimeSeries series = ReadTimeSeries(path);
+    records.emplace_back(static_cast<long>(series.samples()), series.step_s());
+  }
+  if (!a.samples.empty() && !(a.fs_Hz > 0.0)) {
+    ThrowInvalid("plan --samples", "--fs HZ (the sampling frequency) as well", "no --fs");
+  }
+  for (long n : a.samples) {
+    if (n < 4 || n > kMaxSamples) {
+      ThrowInvalid("plan --samples", "4.." + ToText(kMaxSamples), ToText(n));
+    }
+    records.emplace_back(n, 1.0 / a.fs_Hz);
+  }
+  if (records.empty()) ThrowInvalid("plan", "DATA files or --samples N --fs HZ", "neither");
+  if (records.size() > kMaxRecords) {
+    ThrowInvalid("plan", "at most " + ToText(kMaxRecords) + " records", ToText(records.size()));
+  }
+  // The lengths of the full-rate transform (podid cwt) and of the
+  // band-limited one (identification, cwt --band-limited).
+  std::set<int> forward, backward;
+  for (const auto& [n, step] : records) {
+    wavelet::CwtOptions options;
+    options.wavelet.omega0 = a.omega0;
+    options.padding = wavelet::ParsePadding(a.padding);
+    options.frequencies.min_frequency_Hz = a.fmin_Hz;
+    options.frequencies.max_frequency_Hz = std::min(a.fmax_Hz, 0.5 / step);
+    options.frequencies.voices_per_octave = a.voices;
+    std::string why;
+    if (!options.IsValid(&why)) throw std::invalid_argument("plan: " + why);
+    for (bool band_limited : {false, true}) {
+      options.band_limited = band_limited;
+      const wavelet::FftLengths lengths = wavelet::CwtFftLengths(options, n, step);
+      forward.insert(lengths.real_forward.begin(), lengths.real_forward.end());
+      backward.insert(lengths.complex_backward.begin(), lengths.complex_backward.end());
+    }
+  }
+  wavelet::FftLengths lengths;
+  lengths.real_forward.assign(forward.begin(), forward.end());
+  lengths.complex_backward.assign(backward.begin(), backward.end());
+  const wavelet::PlanSummary summary = wavelet::MeasureFftPlans(lengths);
+  std::string list;
+  for (int n : lengths.real_forward) list += (list.empty() ? "" : ", ") + ToText(n) + " real";
+  for (int n : lengths.complex_backward) list += ", " + ToText(n) + " complex";
+  std::printf("podid plan: FFT lengths %s\n", list.c_str());
+  std::printf("measured %d plan(s) in %.3g s, %d already measured\n", summary.measured,
+              summary.seconds, summary.known);
+  if (summary.saved) {
+    std::printf("wisdom -> %s\n", summary.wisdom_path.c_str());
+  } else if (!summary.message.empty()) {
+    std::printf("wisdom not saved: %s (plans are measured again next time)\n",
+                summary.message.c_str());
+  }
+}
+
+}  // namespace
+
+void AddPlanCommand(CLI::App& app) {
+  auto a = std::make_shared<PlanArguments>();
+  CLI::App* command = app.add_subcommand(
+      "plan",
+      "Measure the FFT plans of `podid cwt` and identification for these records ahead of\n"
+      "time, into the cache $XDG_CACHE_HOME/podid (else ~/.cache/podid). Without it each\n"
+      "process uses quick estimated plans. docs/wavelet.md, \"Planning\"");
+  command->add_option("data", a->data,
+                      "Time series (.csv or .mat) whose length and step to plan for");
+  command->add_option("--samples", a->samples, "Record lengths N[,N...] (4..67108864), with --fs")
+      ->delimiter(',');
+  command->add_option("--fs", a->fs_Hz, "Sampling frequency (Hz) of --samples");
+  command->add_option("--fmin", a->fmin_Hz, "Lowest analysis frequency (Hz), as for cwt")
+      ->capture_default_str();
+  command->add_option("--fmax", a->fmax_Hz, "Highest analysis frequency (Hz), capped at Nyquist")
+      ->capture_default_str();
+  command->add_option("--voices", a->voices, "Frequencies per octave, as for cwt")
+      ->capture_default_str();
+  command->add_option("--omega0", a->omega0, "Morlet centre frequency, as for cwt")
+      ->capture_default_str();
+  command->add_option("--padding", a->padding, "reflect, zero or periodic, as for cwt")
+      ->capture_default_str();
+  command->callback([a] { Run(*a); });
+}
+
+}  // namespace podid::cli

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# End-to-end tests of `podid plan` (the FFTW wisdom cache) and of `podid cwt`
+# on hostile input (issue 10 item 8b, issue 13 item 1).
+# Usage: bash tests/cli/wavelet_engine.sh PODID (from the repo root).
+set -u
+podid="$1"
+data=tests/data/measured_knl50_T1.0.csv
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+export XDG_CACHE_HOME="$out/cache"  # never the user's real cache
+
+# plan: measures once into $XDG_CACHE_HOME/podid, then finds the wisdom.
+"$podid" plan "$data" >"$out/plan1" || fail "plan exited $?"
+grep -q "FFT lengths 10240 real, 640 complex, 10240 complex" "$out/plan1" || fail "plan lengths"
+grep -q "measured 3 plan(s)" "$out/plan1" || fail "first plan did not measure 3"
+[ -s "$out/cache/podid/fftw3-wisdom" ] || fail "no wisdom file"
+"$podid" plan "$data" >"$out/plan2" || fail "second plan exited $?"
+grep -q "measured 0 plan(s) .* 3 already measured" "$out/plan2" || fail "second plan measured again"
+ls "$out/cache/podid" | grep -qv '^fftw3-wisdom$' && fail "temporary files left in the cache"
+"$podid" cwt "$data" --channel w6 >/dev/null || fail "cwt with wisdom exited $?"
+"$podid" plan --samples 5001 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--samples without --fs not exit 1"
+grep -q "expected --fs HZ" "$out/stderr" || fail "--fs message"
+"$podid" plan --samples 3 --fs 100 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--samples 3 not exit 1"
+# An unwritable cache costs speed, never an error.
+XDG_CACHE_HOME=/proc/podid-no-such-dir "$podid" plan --samples 999 --fs 1000 --fmin 20 --fmax 400 \
+  >"$out/plan3" || fail "plan with an unwritable cache exited $?"
+grep -q "wisdom not saved" "$out/plan3" || fail "unwritable cache not reported"
+
+# cwt: any finite amplitude gives the tone's IF (1e300 aborted, 1e200 crashed).
+for amplitude in 1e300 1e200 1e-150; do
+  awk -v a="$amplitude" 'BEGIN { print "t,x"; for (i = 0; i <= 5000; ++i) {
+    t = i / 5000; printf "%.17g,%.17g\n", t, a * cos(2 * 3.141592653589793 * 33 * t) } }' \
+    >"$out/tone.csv"
+  "$podid" cwt "$out/tone.csv" --channel x >"$out/stdout" 2>&1 || fail "cwt amplitude $amplitude exited $?"
+  grep -q "mean 33 Hz" "$out/stdout" || fail "amplitude $amplitude: $(grep mean "$out/stdout")"
+done
+# --bins is bounded by memory before allocating (was 8 GB then bad_alloc).
+start=$(date +%s)
+"$podid" cwt "$data" --channel w6 --bins 100000 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--bins 100000 not exit 1"
+grep -q "Cwt: memory: expected at most 2147483648 bytes" "$out/stderr" || fail "memory message"
+[ $(( $(date +%s) - start )) -le 5 ] || fail "--bins 100000 took more than 5 s"
+"$podid" cwt "$data" --channel w6 --bins 2000 --max-memory 100 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--max-memory 100 not exit 1"
+"$podid" cwt "$data" --channel w6 --threads 2 >"$out/t2" || fail "--threads 2 exited $?"
+"$podid" cwt "$data" --channel w6 >"$out/t1" || fail "cwt exited $?"
+cmp -s "$out/t1" "$out/t2" || fail "--threads 2 changed the output"
+echo "wavelet_engine: ok"

@@ -1,0 +1,155 @@
+// Tests of podid/wavelet/plans.hpp: the on-disk FFTW wisdom cache.
+// Every test in this binary runs with XDG_CACHE_HOME pointing at a private
+// temporary folder (set below, before main), so none reads or writes the
+// user's real cache.
+#include "podid/wavelet/plans.hpp"
+
+#include <fftw3.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace podid::wavelet {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The private cache root, made before any test runs.
+const std::string& CacheRoot() {
+  static const std::string root = [] {
+    std::string pattern = fs::temp_directory_path().string() + "/podid-wavelet-test-XXXXXX";
+    const char* made = ::mkdtemp(pattern.data());
+    if (made == nullptr) std::abort();
+    ::setenv("XDG_CACHE_HOME", made, 1);
+    return std::string(made);
+  }();
+  return root;
+}
+const bool kCacheRedirected = !CacheRoot().empty();
+// Removes the private cache root when the test binary exits.
+struct RemoveRoot {
+  ~RemoveRoot() {
+    std::error_code ec;
+    fs::remove_all(CacheRoot(), ec);
+  }
+} remove_root;
+
+struct ScopedCache {
+  explicit ScopedCache(const std::string& name) : folder(CacheRoot() + "/" + name) {
+    fs::create_directories(folder);
+    ::setenv("XDG_CACHE_HOME", folder.c_str(), 1);
+  }
+  ~ScopedCache() { ::setenv("XDG_CACHE_HOME", CacheRoot().c_str(), 1); }
+  std::string folder;
+};
+
+TEST(FftWisdom, PathFollowsXdgThenHome) {
+  ASSERT_TRUE(kCacheRedirected);
+  ScopedCache cache("path");
+  EXPECT_EQ(FftWisdomPath(), cache.folder + "/podid/fftw3-wisdom");
+  ::setenv("XDG_CACHE_HOME", "relative/dir", 1);  // not absolute: ignored (XDG spec)
+  const char* home = std::getenv("HOME");
+  if (home != nullptr && home[0] != '\0') {
+    EXPECT_EQ(FftWisdomPath(), std::string(home) + "/.cache/podid/fftw3-wisdom");
+  }
+}
+
+TEST(FftWisdom, MeasuringSavesWisdomOnceAndItIsReused) {
+  ScopedCache cache("measure");
+  const FftLengths lengths{{1176}, {1350}};  // lengths no other test plans
+  const PlanSummary first = MeasureFftPlans(lengths);
+  EXPECT_EQ(first.measured, 2);
+  EXPECT_EQ(first.known, 0);
+  EXPECT_TRUE(first.saved) << first.message;
+  EXPECT_EQ(first.wisdom_path, cache.folder + "/podid/fftw3-wisdom");
+  ASSERT_TRUE(fs::exists(first.wisdom_path));
+  EXPECT_GT(fs::file_size(first.wisdom_path), 0u);
+  EXPECT_EQ(fs::status(cache.folder + "/podid").permissions() & fs::perms::all,
+            fs::perms::owner_all);
+  EXPECT_EQ(fftw_import_wisdom_from_filename(first.wisdom_path.c_str()), 1);
+  const PlanSummary second = MeasureFftPlans(lengths);
+  EXPECT_EQ(second.measured, 0);
+  EXPECT_EQ(second.known, 2);
+  EXPECT_FALSE(second.saved);  // nothing new to write
+}
+
+TEST(FftWisdom, EstimatedPlansWriteNothing) {
+  // kEstimate (the default) never measures and never writes the cache;
+  // kMeasure measures what the cache lacks and stores it.
+  ScopedCache cache("estimate");
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(177, 0.0, 1.0).array().sin();
+  CwtOptions options;
+  options.frequencies.min_frequency_Hz = 100.0;
+  options.frequencies.max_frequency_Hz = 400.0;
+  Cwt(x, 1e-3, options);
+  EXPECT_FALSE(fs::exists(cache.folder + "/podid"));
+  options.planning = FftPlanning::kMeasure;
+  Cwt(x, 1e-3, options);
+  EXPECT_TRUE(fs::exists(cache.folder + "/podid/fftw3-wisdom"));
+}
+
+TEST(FftWisdom, ConcurrentProcessesLeaveAReadableFileAndNoTemporaries) {
+  // Four processes measure different lengths and save at once: each writes
+  // a unique temporary file and renames it, so the file is always complete.
+  ScopedCache cache("concurrent");
+  std::vector<pid_t> children;
+  for (int c = 0; c < 4; ++c) {
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      const PlanSummary s = MeasureFftPlans({{202 + 2 * c}, {333 + 3 * c}});
+      if (!(s.saved && s.measured == 2))
+        std::fprintf(stderr, "child %d: measured %d known %d saved %d %s\n", c, s.measured, s.known,
+                     s.saved, s.message.c_str());
+      ::_exit(s.saved && s.measured == 2 ? 0 : 1);
+    }
+    children.push_back(pid);
+  }
+  for (pid_t pid : children) {
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  }
+  const std::string path = cache.folder + "/podid/fftw3-wisdom";
+  EXPECT_EQ(fftw_import_wisdom_from_filename(path.c_str()), 1);
+  for (const auto& entry : fs::directory_iterator(cache.folder + "/podid")) {
+    EXPECT_EQ(entry.path().filename(), "fftw3-wisdom") << "left behind: " << entry.path();
+  }
+}
+
+TEST(FftWisdom, AnUnwritableCacheIsReportedNotFatal) {
+  ScopedCache cache("unwritable");
+  const std::string blocker = cache.folder + "/file";
+  std::ofstream(blocker) << "not a folder\n";
+  ::setenv("XDG_CACHE_HOME", blocker.c_str(), 1);  // .../file/podid cannot be made
+  PlanSummary s;
+  ASSERT_NO_THROW(s = MeasureFftPlans({{1456}, {}}));
+  EXPECT_EQ(s.measured, 1);
+  EXPECT_FALSE(s.saved);
+  EXPECT_NE(s.message.find("cannot create " + blocker + "/podid"), std::string::npos) << s.message;
+  // A garbage cache file is ignored (estimated plans), never an error.
+  ScopedCache garbage("garbage");
+  fs::create_directories(garbage.folder + "/podid");
+  std::ofstream(garbage.folder + "/podid/fftw3-wisdom") << "(fftw-3.3.10 fftw_wisdom\n(garbage";
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(901, 0.0, 1.0).array().cos();
+  EXPECT_NO_THROW(Cwt(x, 1e-3));
+}
+
+TEST(FftWisdom, BadLengthsAreRejectedBeforeMeasuring) {
+  ScopedCache cache("bad");
+  PODID_EXPECT_THROW_WITH(MeasureFftPlans({{1024, 0}, {}}), std::invalid_argument,
+                          "FFT length: expected 1..134217728, got 0");
+  EXPECT_FALSE(fs::exists(cache.folder + "/podid"));
+}
+
+}  // namespace
+}  // namespace podid::wavelet
