@@ -49,6 +49,7 @@ void RunPod(const PodArguments& a) {
                  std::to_string(options.max_modes));
   }
   const PodResult r = ComputePod(series, options);
+  if (r.IsDegenerate()) throw CommandFailed("pod: " + a.data + ": " + r.message + "; no file written");
 
   std::printf("%s: %lld channels x %lld samples, method %s, numerical rank %d\n", a.data.c_str(),
               static_cast<long long>(r.sensors), static_cast<long long>(r.samples),

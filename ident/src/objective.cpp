@@ -175,6 +175,9 @@ ObjectiveFunction::ObjectiveFunction(const CaseDocument& case_document, const Ti
   }
 
   measured_pod_ = ComputePod(measured_, MeasuredPodOptions());
+  if (measured_pod_.IsDegenerate()) {
+    ThrowInvalid("measured data", "a record with a nonzero POD", measured_pod_.message);
+  }
 
   if (weights_needing_ridges) {
     // The record must hold the cone of influence at the lowest frequency:
@@ -266,6 +269,11 @@ TermValues ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values,
   }
   if (!workspace->pod) workspace->pod = std::make_unique<PodSolver>(MeasuredPodOptions());
   PodResult pod = workspace->pod->Compute(sim.sensors);
+  if (pod.IsDegenerate()) {  // e.g. no excitation: a zero response
+    terms.failed = true;
+    terms.failure = "simulated response: " + pod.message;
+    return terms;
+  }
   AlignToReference(measured_pod_, &pod);
 
   const int k = options_.modes;

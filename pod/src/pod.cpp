@@ -386,6 +386,22 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
     r.cumulative_energy(j) = cumulative;
   }
   r.numerical_rank = static_cast<int>(rank);
+  r.message.clear();
+  if (rank == 0) {  // degenerate data: say why
+    double largest = 0.0;
+    for (Index j = 0; j < n; ++j) {
+      for (Index i = 0; i < m; ++i) largest = std::max(largest, std::abs(xt(j, i) - r.mean(i)));
+    }
+    r.message = largest == 0.0
+                    ? std::string(options_.remove_mean
+                                      ? "degenerate data: numerical rank 0, every value equals "
+                                        "its sensor's mean"
+                                      : "degenerate data: numerical rank 0, every value is zero")
+                    : "degenerate data: numerical rank 0, the largest deviation " +
+                          ToText(largest) +
+                          " is too small for double precision (its square underflows); "
+                          "rescale the data";
+  }
   return r;
 }
 

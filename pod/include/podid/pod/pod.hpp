@@ -110,6 +110,12 @@ struct PodResult {
   Eigen::VectorXd mean;                      ///< removed mean (dim M); zeros without remove_mean
   double total_energy = 0.0;                 ///< sum of all min(M, N) lambda = ||Y||_F^2 / N
   int numerical_rank = 0;                    ///< nonzero modes of Y among all min(M, N)
+  /// Empty, or why the data are degenerate (numerical_rank == 0: every value
+  /// equal to its sensor's mean, or deviations so small, below ~1e-154, that
+  /// their squares underflow). No mode of degenerate data carries information.
+  std::string message;
+
+  bool IsDegenerate() const { return numerical_rank == 0; }
 
   Eigen::Index modes() const { return poms.cols(); }
 };
