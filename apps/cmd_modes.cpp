@@ -22,8 +22,12 @@ void AddModesCommand(CLI::App& app) {
     const ModalAnalysis modes = model.Modes();
     const int n = *count > 0 ? std::min<int>(*count, modes.frequencies_Hz.size())
                              : static_cast<int>(modes.frequencies_Hz.size());
-    std::printf("%s: %d Euler-Bernoulli elements, %d dofs\n", spec.source.c_str(), spec.beam.elements,
-                model.dofs());
+    if (spec.model.type == ModelType::kMatrices) {
+      std::printf("%s: imported matrices, %d dofs\n", spec.source.c_str(), model.dofs());
+    } else {
+      std::printf("%s: %d Euler-Bernoulli elements, %d dofs\n", spec.source.c_str(), spec.beam.elements,
+                  model.dofs());
+    }
     if (spec.damping.type == DampingType::kRayleigh) {
       std::printf("Rayleigh damping: alpha = %.6g 1/s, beta = %.6g s\n", model.rayleigh_alpha_per_s(),
                   model.rayleigh_beta_s());

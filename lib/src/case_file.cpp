@@ -14,17 +14,22 @@
 #include <set>
 #include <sstream>
 
+#include "case_internal.hpp"
+#include "case_limits.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
 
 namespace podid {
+using namespace case_detail;  // NOLINT: the reader's shared machinery
 namespace {
 
 // ---------------------------------------------------------------------------
 // The schema: every key a case file may hold, in one place. Array indices are
 // written "*". To add a key (e.g. for [identify]), add a row here and read it
 // in ToSpec() or with CaseDocument::GetNumber().
-enum class Kind { kTable, kTableArray, kReal, kInteger, kString, kRealArray, kIntegerArray };
+enum class Kind {
+  kTable, kTableArray, kReal, kInteger, kString, kRealArray, kIntegerArray, kStringArray
+};
 
 struct SchemaEntry {
   std::string_view pattern;
@@ -32,6 +37,13 @@ struct SchemaEntry {
 };
 
 constexpr SchemaEntry kSchema[] = {
+    {"model", Kind::kTable},
+    {"model.type", Kind::kString},
+    {"model.file", Kind::kString},
+    {"model.mass", Kind::kString},
+    {"model.stiffness", Kind::kString},
+    {"model.damping", Kind::kString},
+    {"model.labels", Kind::kStringArray},
     {"beam", Kind::kTable},
     {"beam.length", Kind::kReal},
     {"beam.elements", Kind::kInteger},
@@ -40,6 +52,27 @@ constexpr SchemaEntry kSchema[] = {
     {"beam.area", Kind::kReal},
     {"beam.width", Kind::kReal},
     {"beam.height", Kind::kReal},
+    {"beam.left", Kind::kString},
+    {"beam.right", Kind::kString},
+    {"beam.segment", Kind::kTableArray},
+    {"beam.segment.*.length", Kind::kReal},
+    {"beam.segment.*.elements", Kind::kInteger},
+    {"beam.segment.*.youngs_modulus", Kind::kReal},
+    {"beam.segment.*.density", Kind::kReal},
+    {"beam.segment.*.area", Kind::kReal},
+    {"beam.segment.*.width", Kind::kReal},
+    {"beam.segment.*.height", Kind::kReal},
+    {"beam.segment.*.second_moment", Kind::kReal},
+    {"beam.second_moment", Kind::kReal},
+    {"mass", Kind::kTableArray},
+    {"mass.*.node", Kind::kInteger},
+    {"mass.*.mass", Kind::kReal},
+    {"mass.*.inertia", Kind::kReal},
+    {"spring", Kind::kTableArray},
+    {"spring.*.node", Kind::kInteger},
+    {"spring.*.dof", Kind::kString},
+    {"spring.*.stiffness", Kind::kReal},
+    {"spring.*.damping", Kind::kReal},
     {"damping", Kind::kTable},
     {"damping.type", Kind::kString},
     {"damping.modal_ratios", Kind::kRealArray},
@@ -49,6 +82,9 @@ constexpr SchemaEntry kSchema[] = {
     {"nonlinearity", Kind::kTableArray},
     {"nonlinearity.*.type", Kind::kString},
     {"nonlinearity.*.node", Kind::kInteger},
+    {"nonlinearity.*.nodes", Kind::kIntegerArray},
+    {"nonlinearity.*.dof", Kind::kInteger},
+    {"nonlinearity.*.dofs", Kind::kIntegerArray},
     {"nonlinearity.*.k1", Kind::kReal},
     {"nonlinearity.*.k2", Kind::kReal},
     {"nonlinearity.*.k3", Kind::kReal},
@@ -59,12 +95,15 @@ constexpr SchemaEntry kSchema[] = {
     {"nonlinearity.*.velocity_scale", Kind::kReal},
     {"initial", Kind::kTable},
     {"initial.static_tip_force", Kind::kReal},
+    {"initial.static_force", Kind::kReal},
     {"initial.node", Kind::kInteger},
+    {"initial.dof", Kind::kInteger},
     {"initial.displacement", Kind::kRealArray},
     {"initial.velocity", Kind::kRealArray},
     {"force", Kind::kTable},
     {"force.type", Kind::kString},
     {"force.node", Kind::kInteger},
+    {"force.dof", Kind::kInteger},
     {"force.amplitude", Kind::kReal},
     {"force.frequency", Kind::kReal},
     {"force.start_frequency", Kind::kReal},
@@ -77,6 +116,9 @@ constexpr SchemaEntry kSchema[] = {
     {"sensors", Kind::kTable},
     {"sensors.dof", Kind::kString},
     {"sensors.nodes", Kind::kIntegerArray},
+    {"sensors.dofs", Kind::kIntegerArray},
+    {"sensors.names", Kind::kStringArray},
+    {"sensors.quantity", Kind::kString},
     {"noise", Kind::kTable},
     {"noise.relative", Kind::kReal},
     {"noise.seed", Kind::kInteger},
@@ -96,7 +138,6 @@ constexpr SchemaEntry kSchema[] = {
     {"identify.parameter.*.upper", Kind::kReal},
 };
 
-constexpr int kMaxElements = 1000000;  // keeps 2 * elements and mode numbers in int
 constexpr double kMaxSamples = 1e9;    // keeps TimeSpec::samples() in int
 constexpr long long kMaxIterations = 1000000;
 
@@ -142,6 +183,7 @@ std::optional<Kind> LookupKind(std::string_view pattern) {
     const auto parent = LookupKind(pattern.substr(0, pattern.size() - 2));
     if (parent == Kind::kRealArray) return Kind::kReal;
     if (parent == Kind::kIntegerArray) return Kind::kInteger;
+    if (parent == Kind::kStringArray) return Kind::kString;
   }
   return std::nullopt;
 }
@@ -168,98 +210,9 @@ std::string AllowedChildren(std::string_view parent_pattern) {
   return out;
 }
 
-std::string FormatReal(double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, result.ptr);
-}
-
-std::string Describe(const toml::node* node) {
-  if (node == nullptr) return "nothing";
-  if (const auto* v = node->as_integer()) return std::to_string(v->get());
-  if (const auto* v = node->as_floating_point()) return FormatReal(v->get());
-  if (const auto* v = node->as_string()) return "\"" + v->get() + "\"";
-  if (const auto* v = node->as_boolean()) return v->get() ? "true" : "false";
-  if (node->is_array()) return "an array";
-  if (node->is_table()) return "a table";
-  return "a date/time";
-}
-
-/// Allowed range of a real value, printed as "a number > 0 (m)".
-struct RealRule {
-  double lower = -std::numeric_limits<double>::infinity();
-  bool lower_open = false;
-  double upper = std::numeric_limits<double>::infinity();
-  bool upper_open = false;
-  std::string_view unit;
-
-  bool Accepts(double x) const {
-    if (!std::isfinite(x)) return false;
-    if (lower_open ? !(x > lower) : !(x >= lower)) return false;
-    if (upper_open ? !(x < upper) : !(x <= upper)) return false;
-    return true;
-  }
-  std::string Text() const {
-    std::string out;
-    const bool has_lower = std::isfinite(lower), has_upper = std::isfinite(upper);
-    if (has_lower && has_upper) {
-      out = "a number in " + std::string(lower_open ? "(" : "[") + FormatReal(lower) + ", " +
-            FormatReal(upper) + (upper_open ? ")" : "]");
-    } else if (has_lower) {
-      out = "a number " + std::string(lower_open ? "> " : ">= ") + FormatReal(lower);
-    } else if (has_upper) {
-      out = "a number " + std::string(upper_open ? "< " : "<= ") + FormatReal(upper);
-    } else {
-      out = "a finite number";
-    }
-    if (!unit.empty()) out += " (" + std::string(unit) + ")";
-    return out;
-  }
-};
-
-RealRule Positive(std::string_view unit) { return {0.0, true, RealRule{}.upper, false, unit}; }
-RealRule NonNegative(std::string_view unit) { return {0.0, false, RealRule{}.upper, false, unit}; }
-RealRule AnyReal(std::string_view unit) { return RealRule{.unit = unit}; }
-
-struct IntRule {
-  long long lower = std::numeric_limits<long long>::min();
-  long long upper = std::numeric_limits<long long>::max();
-  bool Accepts(long long x) const { return x >= lower && x <= upper; }
-  std::string Text() const {
-    const bool has_upper = upper != std::numeric_limits<long long>::max();
-    if (has_upper)
-      return "an integer in [" + std::to_string(lower) + ", " + std::to_string(upper) + "]";
-    return "an integer >= " + std::to_string(lower);
-  }
-};
-
-/// A force file read once per document family (copies share it).
-struct ForceFileCache {
-  std::mutex mutex;
-  std::map<std::string, std::shared_ptr<const TimeSeries>> files;
-};
-
 }  // namespace
 
 // ---------------------------------------------------------------------------
-struct CaseDocument::Impl {
-  toml::table root;
-  std::string source;
-  std::string base_directory;
-  /// Line of each key in the source file (toml++ does not copy source
-  /// positions with a node, so they are kept here, shared by copies).
-  std::shared_ptr<const std::map<std::string, int>> lines;
-  /// Keys whose value came from Set()/SetNumber(), with the text for messages.
-  std::map<std::string, std::string, std::less<>> origins;
-  std::shared_ptr<ForceFileCache> force_files;
-
-  std::string Where(std::string_view key) const;
-  [[noreturn]] void Fail(std::string_view key,
-                         std::string_view expected,
-                         std::string_view got) const {
-    ThrowInvalid(Where(key) + ": " + std::string(key), expected, got);
-  }
-};
 
 std::string CaseDocument::Impl::Where(std::string_view key) const {
   // A value set from outside wins over the file's lines, for the key and for
@@ -342,336 +295,29 @@ void CheckKnown(const CaseDocument::Impl& doc,
   }
 }
 
-/// A table of the document being validated, e.g. "beam" or "nonlinearity.0".
-class Section {
- public:
-  Section(const CaseDocument::Impl& doc, const toml::table* table, std::string key)
-      : doc_(doc), table_(table), key_(std::move(key)) {}
-
-  bool present() const { return table_ != nullptr; }
-  const std::string& key() const { return key_; }
-  std::string Full(std::string_view name) const { return key_ + "." + std::string(name); }
-  bool Has(std::string_view name) const { return Node(name) != nullptr; }
-  const toml::node* Node(std::string_view name) const {
-    return table_ ? table_->get(name) : nullptr;
-  }
-  [[noreturn]] void Fail(std::string_view name,
-                         std::string_view expected,
-                         std::string_view got) const {
-    doc_.Fail(Full(name), expected, got);
-  }
-  [[noreturn]] void FailSection(std::string_view expected, std::string_view got) const {
-    doc_.Fail(key_, expected, got);
-  }
-
-  std::optional<double> OptionalReal(std::string_view name, const RealRule& rule) const {
-    const toml::node* node = Node(name);
-    if (node == nullptr) return std::nullopt;
-    return RealValue(node, Full(name), rule);
-  }
-  double Real(std::string_view name, const RealRule& rule) const {
-    const auto value = OptionalReal(name, rule);
-    if (!value) Fail(name, rule.Text(), "nothing (the key is required)");
-    return *value;
-  }
-  double Real(std::string_view name, const RealRule& rule, double fallback) const {
-    return OptionalReal(name, rule).value_or(fallback);
-  }
-
-  std::optional<long long> OptionalInteger(std::string_view name, const IntRule& rule) const {
-    const toml::node* node = Node(name);
-    if (node == nullptr) return std::nullopt;
-    return IntegerValue(node, Full(name), rule);
-  }
-  long long Integer(std::string_view name, const IntRule& rule) const {
-    const auto value = OptionalInteger(name, rule);
-    if (!value) Fail(name, rule.Text(), "nothing (the key is required)");
-    return *value;
-  }
-
-  std::optional<std::string> OptionalString(std::string_view name) const {
-    const toml::node* node = Node(name);
-    if (node == nullptr) return std::nullopt;
-    const auto* s = node->as_string();
-    if (s == nullptr || s->get().empty()) Fail(name, "a non-empty string", Describe(node));
-    return s->get();
-  }
-  std::string String(std::string_view name) const {
-    const auto value = OptionalString(name);
-    if (!value) Fail(name, "a non-empty string", "nothing (the key is required)");
-    return *value;
-  }
-
-  /// One of `choices`; `fallback` when absent (required when fallback is empty).
-  std::string Choice(std::string_view name,
-                     std::initializer_list<std::string_view> choices,
-                     std::string_view fallback = {}) const {
-    std::string expected = "one of";
-    for (const auto c : choices)
-      expected += std::string(c == *choices.begin() ? " " : ", ") + "\"" + std::string(c) + "\"";
-    const toml::node* node = Node(name);
-    if (node == nullptr) {
-      if (fallback.empty()) Fail(name, expected, "nothing (the key is required)");
-      return std::string(fallback);
-    }
-    const auto* s = node->as_string();
-    if (s == nullptr || std::find(choices.begin(), choices.end(), s->get()) == choices.end()) {
-      Fail(name, expected, Describe(node));
-    }
-    return s->get();
-  }
-
-  std::vector<double> RealArray(std::string_view name,
-                                std::size_t size,
-                                const RealRule& rule) const {
-    const auto* array = ArrayNode(name, size, "numbers");
-    std::vector<double> out;
-    for (std::size_t i = 0; i < array->size(); ++i) {
-      out.push_back(RealValue(array->get(i), Full(name) + "." + std::to_string(i), rule));
-    }
-    return out;
-  }
-  /// size 0: any non-empty length.
-  std::vector<long long> IntegerArray(std::string_view name,
-                                      std::size_t size,
-                                      const IntRule& rule) const {
-    const auto* array = ArrayNode(name, size, "integers");
-    std::vector<long long> out;
-    for (std::size_t i = 0; i < array->size(); ++i) {
-      out.push_back(IntegerValue(array->get(i), Full(name) + "." + std::to_string(i), rule));
-    }
-    return out;
-  }
-
-  /// Rejects keys of this table that `type` does not use.
-  void OnlyKeys(std::initializer_list<std::string_view> allowed, std::string_view why) const {
-    if (table_ == nullptr) return;
-    for (const auto& [name, node] : *table_) {
-      if (std::find(allowed.begin(), allowed.end(), name.str()) != allowed.end()) continue;
-      std::string list;
-      for (const auto a : allowed) list += std::string(list.empty() ? "" : ", ") + std::string(a);
-      Fail(name.str(), "only the keys " + list + " " + std::string(why),
-           std::string(name.str()) + " = " + Describe(&node));
-    }
-  }
-
- private:
-  const toml::array* ArrayNode(std::string_view name,
-                               std::size_t size,
-                               std::string_view what) const {
-    const toml::node* node = Node(name);
-    const std::string expected =
-        size > 0 ? "an array of " + std::to_string(size) + " " + std::string(what)
-                 : "a non-empty array of " + std::string(what);
-    if (node == nullptr) Fail(name, expected, "nothing (the key is required)");
-    const auto* array = node->as_array();
-    if (array == nullptr) Fail(name, expected, Describe(node));
-    if ((size > 0 && array->size() != size) || array->empty()) {
-      Fail(name, expected, "an array of " + std::to_string(array->size()));
-    }
-    return array;
-  }
-  double RealValue(const toml::node* node, const std::string& key, const RealRule& rule) const {
-    double value = 0.0;
-    if (const auto* f = node->as_floating_point()) {
-      value = f->get();
-    } else if (const auto* i = node->as_integer()) {
-      value = static_cast<double>(i->get());
-    } else {
-      doc_.Fail(key, rule.Text(), Describe(node));
-    }
-    if (!rule.Accepts(value)) doc_.Fail(key, rule.Text(), Describe(node));
-    return value;
-  }
-  long long IntegerValue(const toml::node* node,
-                         const std::string& key,
-                         const IntRule& rule) const {
-    const auto* i = node->as_integer();
-    if (i == nullptr || !rule.Accepts(i->get())) doc_.Fail(key, rule.Text(), Describe(node));
-    return i->get();
-  }
-
-  const CaseDocument::Impl& doc_;
-  const toml::table* table_;
-  std::string key_;
-};
-
-Section SubSection(const CaseDocument::Impl& doc, std::string_view name, bool required) {
-  const toml::node* node = doc.root.get(name);
-  if (node == nullptr && required) {
-    doc.Fail(name, "a [" + std::string(name) + "] table", "nothing (the table is required)");
-  }
-  return Section(doc, node ? node->as_table() : nullptr, std::string(name));
-}
-
 // --- the sections ----------------------------------------------------------
 
-BeamSpec ReadBeam(const CaseDocument::Impl& doc) {
-  const Section s = SubSection(doc, "beam", true);
-  BeamSpec beam;
-  beam.length_m = s.Real("length", Positive("m"));
-  beam.elements = static_cast<int>(s.Integer("elements", {1, kMaxElements}));
-  beam.youngs_modulus_Pa = s.Real("youngs_modulus", Positive("Pa"));
-  beam.density_kg_per_m3 = s.Real("density", Positive("kg/m^3"));
-  const auto area = s.OptionalReal("area", Positive("m^2"));
-  const auto width = s.OptionalReal("width", Positive("m"));
-  const auto height = s.OptionalReal("height", Positive("m"));
-  if (area) {
-    if (width || height) {
-      s.Fail(width ? "width" : "height",
-             "either beam.area (square section) or beam.width and beam.height", "both");
-    }
-    beam.area_m2 = *area;
-    beam.second_moment_m4 = *area * *area / 12.0;  // square: side^4 / 12
-  } else if (width && height) {
-    beam.area_m2 = *width * *height;
-    beam.second_moment_m4 = *width * std::pow(*height, 3) / 12.0;
-  } else {
-    s.FailSection("beam.area (square section) or beam.width and beam.height",
-                  width ? "only beam.width" : (height ? "only beam.height" : "neither"));
-  }
-  return beam;
-}
-
-DampingSpec ReadDamping(const CaseDocument::Impl& doc, int dofs) {
-  const Section s = SubSection(doc, "damping", false);
-  DampingSpec damping;
-  if (!s.present()) return damping;
-  const std::string type = s.Choice("type", {"rayleigh", "none"});
-  if (type == "none") {
-    // The other keys are ignored, so that `--set damping.type=none` works.
-    damping.type = DampingType::kNone;
-    return damping;
-  }
-  damping.type = DampingType::kRayleigh;
-  s.OnlyKeys({"type", "modal_ratios", "modes", "alpha", "beta"}, "for type \"rayleigh\"");
-  if (s.Has("modal_ratios")) {
-    if (s.Has("alpha") || s.Has("beta")) {
-      s.Fail(s.Has("alpha") ? "alpha" : "beta", "either damping.modal_ratios or damping.alpha/beta",
-             "both");
-    }
-    damping.from_modal_ratios = true;
-    const auto ratios = s.RealArray("modal_ratios", 2, {0.0, false, 1.0, true, ""});
-    damping.modal_ratios = {ratios[0], ratios[1]};
-    if (s.Has("modes")) {
-      const auto modes = s.IntegerArray("modes", 2, {1, dofs});
-      if (modes[0] == modes[1]) {
-        s.Fail("modes", "two different mode numbers",
-               "[" + std::to_string(modes[0]) + ", " + std::to_string(modes[1]) + "]");
-      }
-      damping.modes = {static_cast<int>(modes[0]), static_cast<int>(modes[1])};
-    }
-  } else if (s.Has("alpha") || s.Has("beta")) {
-    if (s.Has("modes")) s.Fail("modes", "damping.modes only with damping.modal_ratios", "modes");
-    damping.alpha_per_s = s.Real("alpha", NonNegative("1/s"), 0.0);
-    damping.beta_s = s.Real("beta", NonNegative("s"), 0.0);
-  } else {
-    s.FailSection("damping.modal_ratios = [z1, z2] or damping.alpha/beta for type \"rayleigh\"",
-                  "neither");
-  }
-  return damping;
-}
-
-std::vector<NonlinearitySpec> ReadNonlinearities(const CaseDocument::Impl& doc, int elements) {
-  std::vector<NonlinearitySpec> out;
-  const toml::node* node = doc.root.get("nonlinearity");
-  if (node == nullptr) return out;
-  const auto& array = *node->as_array();  // shape checked by CheckKnown
-  for (std::size_t i = 0; i < array.size(); ++i) {
-    const Section s(doc, array.get(i)->as_table(), "nonlinearity." + std::to_string(i));
-    NonlinearitySpec n;
-    const std::string type = s.Choice("type", {"cubic", "polynomial", "gap", "friction"});
-    n.node = static_cast<int>(s.OptionalInteger("node", {1, elements}).value_or(elements));
-    const std::string why = "for type \"" + type + "\"";
-    if (type == "cubic") {
-      s.OnlyKeys({"type", "node", "k3"}, why);
-      n.type = NonlinearType::kCubic;
-      n.k3_N_per_m3 = s.Real("k3", AnyReal("N/m^3"));
-    } else if (type == "polynomial") {
-      s.OnlyKeys({"type", "node", "k1", "k2", "k3"}, why);
-      n.type = NonlinearType::kPolynomial;
-      n.k1_N_per_m = s.Real("k1", AnyReal("N/m"), 0.0);
-      n.k2_N_per_m2 = s.Real("k2", AnyReal("N/m^2"), 0.0);
-      n.k3_N_per_m3 = s.Real("k3", AnyReal("N/m^3"), 0.0);
-    } else if (type == "gap") {
-      s.OnlyKeys({"type", "node", "gap", "stiffness"}, why);
-      n.type = NonlinearType::kGap;
-      n.gap_m = s.Real("gap", NonNegative("m"));
-      n.contact_stiffness_N_per_m = s.Real("stiffness", Positive("N/m"));
-    } else {
-      s.OnlyKeys({"type", "node", "mu", "normal_force", "velocity_scale"}, why);
-      n.type = NonlinearType::kFriction;
-      n.friction_coefficient = s.Real("mu", NonNegative(""));
-      n.normal_force_N = s.Real("normal_force", NonNegative("N"));
-      n.regularisation_velocity_m_per_s = s.Real("velocity_scale", Positive("m/s"));
-    }
-    out.push_back(n);
-  }
-  return out;
-}
-
-InitialSpec ReadInitial(const CaseDocument::Impl& doc, int elements) {
-  const Section s = SubSection(doc, "initial", false);
-  InitialSpec initial;
-  const int dofs = 2 * elements;
-  if (s.Has("static_tip_force")) {
-    if (s.Has("displacement") || s.Has("velocity")) {
-      s.Fail(s.Has("displacement") ? "displacement" : "velocity",
-             "either initial.static_tip_force or initial.displacement/velocity", "both");
-    }
-    initial.type = InitialType::kStaticForce;
-    initial.static_force_N = s.Real("static_tip_force", AnyReal("N"));
-    initial.static_force_node =
-        static_cast<int>(s.OptionalInteger("node", {1, elements}).value_or(elements));
-  } else if (s.Has("displacement") || s.Has("velocity")) {
-    if (s.Has("node")) {
-      s.Fail("node", "initial.node only with initial.static_tip_force", Describe(s.Node("node")));
-    }
-    initial.type = InitialType::kExplicit;
-    initial.displacement = Eigen::VectorXd::Zero(dofs);
-    initial.velocity = Eigen::VectorXd::Zero(dofs);
-    const auto n = static_cast<std::size_t>(dofs);
-    if (s.Has("displacement")) {
-      const auto x = s.RealArray("displacement", n, AnyReal("m and rad, 2 * elements values"));
-      initial.displacement = Eigen::Map<const Eigen::VectorXd>(x.data(), dofs);
-    }
-    if (s.Has("velocity")) {
-      const auto v = s.RealArray("velocity", n, AnyReal("m/s and rad/s, 2 * elements values"));
-      initial.velocity = Eigen::Map<const Eigen::VectorXd>(v.data(), dofs);
-    }
-  } else if (s.Has("node")) {
-    s.Fail("node", "initial.node only with initial.static_tip_force", Describe(s.Node("node")));
-  }
-  return initial;
-}
-
-std::string ResolvePath(const CaseDocument::Impl& doc, const std::string& file) {
-  const std::filesystem::path p(file);
-  if (p.is_absolute() || doc.base_directory.empty()) return p.lexically_normal().string();
-  return (std::filesystem::path(doc.base_directory) / p).lexically_normal().string();
-}
-
-ForceSpec ReadForce(const CaseDocument::Impl& doc, int elements) {
+ForceSpec ReadForce(const CaseDocument::Impl& doc, const CaseSpec& spec) {
   const Section s = SubSection(doc, "force", false);
   ForceSpec force;
   if (!s.present()) return force;
   const std::string type = s.Choice("type", {"none", "harmonic", "sweep", "file"});
   const std::string why = "for type \"" + type + "\"";
   if (type == "none") return force;  // other keys ignored, as for damping
-  force.node = static_cast<int>(s.OptionalInteger("node", {1, elements}).value_or(elements));
+  ReadNodeOrDof(s, spec, &force.node, &force.dof);
   if (type == "harmonic") {
-    s.OnlyKeys({"type", "node", "amplitude", "frequency"}, why);
+    s.OnlyKeys({"type", "node", "dof", "amplitude", "frequency"}, why);
     force.type = ForceType::kHarmonic;
     force.amplitude_N = s.Real("amplitude", AnyReal("N"));
     force.frequency_Hz = s.Real("frequency", Positive("Hz"));
   } else if (type == "sweep") {
-    s.OnlyKeys({"type", "node", "amplitude", "start_frequency", "end_frequency"}, why);
+    s.OnlyKeys({"type", "node", "dof", "amplitude", "start_frequency", "end_frequency"}, why);
     force.type = ForceType::kSweep;
     force.amplitude_N = s.Real("amplitude", AnyReal("N"));
     force.start_frequency_Hz = s.Real("start_frequency", Positive("Hz"));
     force.end_frequency_Hz = s.Real("end_frequency", Positive("Hz"));
   } else {
-    s.OnlyKeys({"type", "node", "file", "column"}, why);
+    s.OnlyKeys({"type", "node", "dof", "file", "column"}, why);
     force.type = ForceType::kFile;
     force.file = s.String("file");
     force.column = s.String("column");
@@ -717,25 +363,6 @@ TimeSpec ReadTime(const CaseDocument::Impl& doc) {
            FormatReal(time.duration_s / time.step_s) + " steps");
   }
   return time;
-}
-
-SensorSpec ReadSensors(const CaseDocument::Impl& doc, int elements) {
-  const Section s = SubSection(doc, "sensors", false);
-  SensorSpec sensors;
-  sensors.dof = s.Choice("dof", {"w", "theta"}, "w") == "w" ? SensorDof::kW : SensorDof::kTheta;
-  if (s.Has("nodes")) {
-    const auto nodes = s.IntegerArray("nodes", 0, {1, elements});
-    std::set<long long> seen;
-    for (std::size_t i = 0; i < nodes.size(); ++i) {
-      if (!seen.insert(nodes[i]).second) {
-        s.Fail("nodes", "distinct node numbers", "node " + std::to_string(nodes[i]) + " twice");
-      }
-      sensors.nodes.push_back(static_cast<int>(nodes[i]));
-    }
-  } else {
-    for (int i = 1; i <= elements; ++i) sensors.nodes.push_back(i);
-  }
-  return sensors;
 }
 
 NoiseSpec ReadNoise(const CaseDocument::Impl& doc) {
@@ -829,18 +456,16 @@ CaseDocument::~CaseDocument() = default;
 const std::string& CaseDocument::source_name() const { return impl_->source; }
 
 CaseDocument CaseDocument::Load(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) ThrowInvalid(path, "a readable case file", "a file that cannot be opened");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) ThrowInvalid(path, "a readable case file", "a read error");
+  // At most kMaxCaseFileBytes + 1 bytes are read, also from /dev/zero or a FIFO.
+  const std::string text = case_detail::ReadCaseText(path);
   std::string base = std::filesystem::path(path).parent_path().string();
-  return Parse(text.str(), path, std::move(base));
+  return Parse(text, path, std::move(base));
 }
 
 CaseDocument CaseDocument::Parse(std::string_view text,
                                  std::string source_name,
                                  std::string base_directory) {
+  case_detail::CheckCaseText(text, source_name);  // size and nesting, before toml++
   auto impl = std::make_unique<Impl>();
   try {
     impl->root = toml::parse(text, source_name);
@@ -942,6 +567,7 @@ void CaseDocument::Set(std::string_view key, std::string_view value_text) {
   CheckSchemaKey(parts, key, origin);
   const Kind kind = *LookupKind(Join(parts, parts.size(), true));
 
+  case_detail::CheckCaseText(value_text, origin);
   toml::table parsed;
   bool ok = false;
   try {
@@ -1046,14 +672,9 @@ CaseSpec ReadModel(const CaseDocument::Impl& doc) {
   CheckKnown(doc, doc.root, "", "", Kind::kTable);
   CaseSpec spec;
   spec.source = doc.source;
-  spec.beam = ReadBeam(doc);
-  const int elements = spec.beam.elements;
-  spec.damping = ReadDamping(doc, 2 * elements);
-  spec.nonlinearities = ReadNonlinearities(doc, elements);
-  spec.initial = ReadInitial(doc, elements);
-  spec.force = ReadForce(doc, elements);
+  ReadStructure(doc, &spec);
+  spec.force = ReadForce(doc, spec);
   spec.time = ReadTime(doc);
-  spec.sensors = ReadSensors(doc, elements);
   spec.noise = ReadNoise(doc);
   spec.integrator = ReadIntegrator(doc);
   return spec;

@@ -17,7 +17,7 @@ State InitialState(const CaseSpec& spec, const BeamModel& model, StaticSolveSumm
       break;
     case InitialType::kExplicit:
       if (spec.initial.displacement.size() != n || spec.initial.velocity.size() != n) {
-        ThrowInvalid("initial.displacement/velocity", ToText(n) + " values each (2 per free node)",
+        ThrowInvalid("initial.displacement/velocity", ToText(n) + " values each (one per model dof)",
                      ToText(spec.initial.displacement.size()) + " and " +
                          ToText(spec.initial.velocity.size()));
       }
@@ -25,12 +25,11 @@ State InitialState(const CaseSpec& spec, const BeamModel& model, StaticSolveSumm
       state.velocity = spec.initial.velocity;
       break;
     case InitialType::kStaticForce: {
-      const int node = spec.initial.static_force_node;
-      if (node < 1 || node > spec.beam.elements) {
-        ThrowInvalid("initial.node", "a node in 1.." + ToText(spec.beam.elements), ToText(node));
-      }
+      const int dof = ResolveDof(spec, spec.initial.static_force_node, spec.initial.static_force_dof,
+                                 SensorDof::kW,
+                                 spec.initial.static_force_dof > 0 ? "initial.dof" : "initial.node");
       Eigen::VectorXd force = Eigen::VectorXd::Zero(n);
-      force[TransverseDof(node)] = spec.initial.static_force_N;
+      force[dof] = spec.initial.static_force_N;
       StaticSolveSummary local;
       state.displacement = SolveStatic(model, force, StaticSolveOptions{}, &local);
       if (static_summary) *static_summary = local;
@@ -44,10 +43,7 @@ ExternalLoad BuildLoad(const CaseSpec& spec) {
   ExternalLoad load;
   const ForceSpec& f = spec.force;
   if (f.type == ForceType::kNone) return load;
-  if (f.node < 1 || f.node > spec.beam.elements) {
-    ThrowInvalid("force.node", "a node in 1.." + ToText(spec.beam.elements), ToText(f.node));
-  }
-  load.dof = TransverseDof(f.node);
+  load.dof = ResolveDof(spec, f.node, f.dof, SensorDof::kW, f.dof > 0 ? "force.dof" : "force.node");
   const int samples = spec.time.samples();
   const double dt = spec.time.step_s;
   const double duration = (samples - 1) * dt;
@@ -88,11 +84,15 @@ ExternalLoad BuildLoad(const CaseSpec& spec) {
 
 std::vector<int> SensorDofs(const CaseSpec& spec) {
   std::vector<int> dofs;
-  for (int node : spec.sensors.nodes) {
-    if (node < 1 || node > spec.beam.elements) {
-      ThrowInvalid("sensors.nodes", "nodes in 1.." + ToText(spec.beam.elements), ToText(node));
+  if (!spec.sensors.dofs.empty()) {
+    for (int dof : spec.sensors.dofs) {
+      if (dof < 1) ThrowInvalid("sensors.dofs", "model dofs in 1.." + ToText(spec.dofs()), ToText(dof));
+      dofs.push_back(ResolveDof(spec, 0, dof, spec.sensors.dof, "sensors.dofs"));
     }
-    dofs.push_back(spec.sensors.dof == SensorDof::kW ? TransverseDof(node) : RotationDof(node));
+    return dofs;
+  }
+  for (int node : spec.sensors.nodes) {
+    dofs.push_back(ResolveDof(spec, node, 0, spec.sensors.dof, "sensors.nodes"));
   }
   return dofs;
 }
@@ -105,6 +105,8 @@ SimulationResult Simulate(const CaseSpec& spec, const SimulateOptions& options) 
   const NewmarkIntegrator integrator(model, newmark);
   Recording recording;
   recording.dofs = SensorDofs(spec);
+  recording.record_velocity = spec.sensors.quantity == SensorQuantity::kVelocity;
+  recording.record_acceleration = spec.sensors.quantity == SensorQuantity::kAcceleration;
   result.sensors.channel_names = spec.sensors.ChannelNames();
   if (spec.initial.type == InitialType::kStaticForce && !result.static_solve.converged) {
     result.summary.termination = SimulationTermination::kStaticSolveFailed;
@@ -116,7 +118,11 @@ SimulationResult Simulate(const CaseSpec& spec, const SimulateOptions& options) 
   }
   result.summary = integrator.Run(initial, BuildLoad(spec), &recording);
   const int rows = result.summary.steps_completed + 1;
-  result.sensors.values = recording.displacement.topRows(rows);
+  const Eigen::MatrixXd& recorded =
+      spec.sensors.quantity == SensorQuantity::kVelocity       ? recording.velocity
+      : spec.sensors.quantity == SensorQuantity::kAcceleration ? recording.acceleration
+                                                               : recording.displacement;
+  result.sensors.values = recorded.topRows(rows);
   result.sensors.time_s.resize(rows);
   for (int i = 0; i < rows; ++i) result.sensors.time_s[i] = i * newmark.step_s;
   if (options.add_noise && spec.noise.relative > 0.0) {

@@ -414,7 +414,8 @@ TEST(CaseFileRejects, MissingFile) {
 TEST(CaseFileRejects, UnknownKeys) {
   EXPECT_CASE_ERROR(Edit("length = 0.593", "lenght = 0.593"),
                     "case.toml:2: beam.lenght: expected a key of the case-file schema (here: "
-                    "length, elements, youngs_modulus, density, area, width, height), got an "
+                    "length, elements, youngs_modulus, density, area, width, height, left, right, segment, "
+                    "second_moment), got an "
                     "unknown key");
   EXPECT_CASE_ERROR(Edit("[noise]", "[noisy]"), "case.toml:27: noisy: expected a key");
   EXPECT_CASE_ERROR(Edit("k3 = 5.0e9", "k3 = 5.0e9\nk4 = 1"),
@@ -548,7 +549,7 @@ TEST(CaseFileRejects, Nonlinearity) {
                     "case.toml:13: nonlinearity.0.type: expected one of \"cubic\", \"polynomial\", "
                     "\"gap\", \"friction\", got \"quintic\"");
   EXPECT_CASE_ERROR(Edit("k3 = 5.0e9", "k3 = 5.0e9\ngap = 0.1"),
-                    "case.toml:16: nonlinearity.0.gap: expected only the keys type, node, k3 for "
+                    "case.toml:16: nonlinearity.0.gap: expected only the keys type, node, nodes, dof, dofs, k3 for "
                     "type \"cubic\", got gap = 0.1");
   EXPECT_CASE_ERROR(
       Edit("k3 = 5.0e9", ""),
@@ -578,7 +579,8 @@ TEST(CaseFileRejects, Initial) {
                     "array of 3");
   EXPECT_CASE_ERROR(
       Edit("static_tip_force = 20.0", "node = 2"),
-      "initial.node: expected initial.node only with initial.static_tip_force, got 2");
+      "initial.node: expected initial.node only with initial.static_tip_force (or static_force), "
+      "got 2");
   EXPECT_CASE_ERROR(Edit("static_tip_force = 20.0", "static_tip_force = \"big\""),
                     "initial.static_tip_force: expected a finite number (N), got \"big\"");
 }
@@ -671,7 +673,7 @@ TEST(CaseFileRejects, IdentifyParameters) {
   EXPECT_CASE_ERROR(Edit("key = \"nonlinearity.0.k3\"", "key = \"nonlinearity.0.gap\""),
                     "case.toml:33: identify.parameter.0.key: expected a key this case can take at "
                     "scale * start (setting it gives: case.toml (nonlinearity.0.gap set by the "
-                    "program): nonlinearity.0.gap: expected only the keys type, node, k3 for type "
+                    "program): nonlinearity.0.gap: expected only the keys type, node, nodes, dof, dofs, k3 for type "
                     "\"cubic\", got gap = 4e+09), got \"nonlinearity.0.gap\"");
   // A key absent from the file but in the schema may be identified.
   const CaseSpec spec = SpecOf(std::string(kBase) +

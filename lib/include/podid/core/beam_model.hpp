@@ -1,18 +1,26 @@
 #pragma once
-// Finite-element model of a clamped Euler-Bernoulli beam with local nonlinear
-// elements (the paper's section 4, fig. 1). Units are SI throughout.
+// The structural model: a finite-element Euler-Bernoulli beam (the paper's
+// section 4, fig. 1; segments, end conditions, point masses, grounded springs)
+// or imported matrices, with local nonlinear elements. Units are SI throughout.
 //
 // Element matrices (length l, bending stiffness EI, mass per length rho A;
 // dofs w_i, theta_i, w_j, theta_j; Hermite cubic shape functions):
 //   K_e = EI / l^3 [ 12  6l  -12  6l ; 6l 4l^2 -6l 2l^2 ; -12 -6l 12 -6l ; 6l 2l^2 -6l 4l^2 ]
 //   M_e = rho A l / 420 [ 156 22l 54 -13l ; 22l 4l^2 13l -3l^2 ; 54 13l 156 -22l ;
 //                         -13l -3l^2 -22l 4l^2 ]   (consistent mass)
-// Node 0 is clamped; the n = 2 * elements free dofs are ordered
-// (w_1, theta_1, ..., w_N, theta_N), see TransverseDof() in case_spec.hpp.
+// Each segment's elements use its own l, EI and rho A. The end conditions
+// remove dofs: clamped (w and theta), pinned (w), free (none); the remaining
+// dofs are ordered (w_0, theta_0, ..., w_N, theta_N), see BeamDof() in
+// case_spec.hpp (node 0 clamped, the default: w_1 at 0, theta_1 at 1, ...).
+// Point masses add m to M(w, w) and J to M(theta, theta); springs add k to K
+// and c to C on their dof.
 // Equation of motion (eq. 20): M x'' + C x' + K x = g(t) + f_nl(x, x').
+// Damping: C = alpha M + beta K (Rayleigh, from the assembled M and K
+// including masses and springs) + the springs' dashpots + an imported C.
 
 #include <Eigen/Core>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "podid/core/case_spec.hpp"
@@ -29,16 +37,25 @@ struct ModalAnalysis {
   Eigen::MatrixXd shapes;           ///< (n_dofs x n_dofs), column k is mode k+1
 };
 
+/// The 0-based model dof a case refers to: `dof1` (1-based, > 0) for any model,
+/// else the beam dof `which` of `node`. Throws std::invalid_argument naming
+/// `key` when the dof is out of range, held by a support, or a node is used
+/// with imported matrices.
+int ResolveDof(const CaseSpec& spec, int node, int dof1, SensorDof which, std::string_view key);
+
 /// The constant part of a simulation: matrices and elements. Built once,
 /// never changed (the integrators keep their buffers in a separate workspace).
 class BeamModel {
  public:
   /// Builds M, K, the nonlinear elements and C from the case (C after a modal
-  /// analysis when damping is given as modal ratios). Throws
-  /// std::invalid_argument if the case is inconsistent (e.g. a node out of range).
+  /// analysis when damping is given as modal ratios): the beam with its masses
+  /// and springs, or the imported matrices. Throws std::invalid_argument if
+  /// the case is inconsistent (e.g. a node out of range, a matrix that is not
+  /// symmetric or a mass matrix that is not positive definite).
   static BeamModel Build(const CaseSpec& spec);
 
-  /// Assembles the clamped beam's M and K only (no damping, no elements).
+  /// Assembles the beam's M and K only (segments and end conditions; no
+  /// damping, no masses, springs or elements).
   static BeamModel BuildLinear(const BeamSpec& beam);
 
   /// Any linear system with local nonlinear elements: M (SPD), K and C
@@ -54,6 +71,10 @@ class BeamModel {
   const Eigen::MatrixXd& stiffness() const { return stiffness_; }  ///< N/m, N, N m
   const Eigen::MatrixXd& damping() const { return damping_; }      ///< N s/m ...
   const NonlinearForces& nonlinear() const { return nonlinear_; }
+  /// True when K leaves the structure free to move as a rigid body (a
+  /// free-free or pinned-free beam without springs; an imported K with a
+  /// zero pivot): there is then no static equilibrium under a force.
+  bool has_rigid_body_modes() const { return rigid_body_modes_; }
   double rayleigh_alpha_per_s() const { return alpha_per_s_; }
   double rayleigh_beta_s() const { return beta_s_; }
 
@@ -61,9 +82,16 @@ class BeamModel {
   ModalAnalysis Modes() const;
 
  private:
+  /// M, K, the springs' and imported damping (in damping_) and the transverse
+  /// mask, before Rayleigh damping and the nonlinear elements (model_builder.cpp).
+  static BeamModel BuildStructure(const CaseSpec& spec);
+
   Eigen::MatrixXd mass_, stiffness_, damping_;
+  /// Dofs whose sign fixes a mode shape's sign (beam: the w dofs; else all).
+  std::vector<int> transverse_;
   NonlinearForces nonlinear_;
   double alpha_per_s_ = 0.0, beta_s_ = 0.0;
+  bool rigid_body_modes_ = false;
 };
 
 /// Rayleigh coefficients giving damping ratios zeta_1, zeta_2 at circular
@@ -72,7 +100,10 @@ void RayleighFromModalRatios(double omega1_rad_per_s, double zeta1, double omega
                              double zeta2, double* alpha_per_s, double* beta_s);
 
 struct StaticSolveOptions {
-  double tolerance = 1e-12;  ///< on ||r|| / ||F||
+  /// Converged when ||r|| <= tolerance ||F||, or, once Newton stops making
+  /// progress, when ||r||_inf <= tolerance (||K||_inf ||x||_inf + ||f_nl||_inf
+  /// + ||F||_inf) (a backward error: the round-off floor of a fine mesh).
+  double tolerance = 1e-12;
   int max_iterations = 100;
 };
 
@@ -85,7 +116,8 @@ struct StaticSolveSummary {
 
 /// Static equilibrium K x - f_nl(x, 0) = F (dim n_dofs), by Newton with
 /// backtracking (the step is halved until the residual decreases). x starts
-/// from the linear solution.
+/// from the linear solution. Throws std::invalid_argument when K is not
+/// positive definite (a model free to move as a rigid body).
 Eigen::VectorXd SolveStatic(const BeamModel& model, const Eigen::VectorXd& force,
                             const StaticSolveOptions& options, StaticSolveSummary* summary);
 

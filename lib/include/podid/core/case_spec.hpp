@@ -1,25 +1,86 @@
 #pragma once
 // The validated content of a case file (docs/case-file.md, examples/beam.toml).
-// Units are SI throughout. Nodes are numbered 0 (clamp) .. elements (free end);
-// the free dofs of node i >= 1 are w (transverse displacement, m) at index
-// 2 (i - 1) and theta (rotation, rad) at index 2 (i - 1) + 1.
+// Units are SI throughout.
+//
+// A model is a beam (the default) or imported matrices ([model] type =
+// "matrices"). Beam nodes are numbered 0 (left end) .. elements (right end);
+// each node has w (transverse displacement, m) and theta (rotation, rad). The
+// model's dofs are the unconstrained ones in the order w_0, theta_0, w_1, ...,
+// w_N, theta_N (see BeamDof()): for the default clamped left end, node i >= 1
+// has w at 2 (i - 1) and theta at 2 (i - 1) + 1 (TransverseDof()).
+// Imported models number their dofs 1..n in the case file (0-based inside).
 // A CaseSpec is produced by CaseDocument::ToSpec() (case_file.hpp), which
 // checks every range documented here.
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace podid {
 
+/// Upper bound on the dofs of any model (beam: 2 (elements + 1); imported: n).
+inline constexpr int kMaxModelDofs = 2000002;
+
+enum class BeamEnd { kClamped, kPinned, kFree };
+
+/// One uniform stretch of a beam ([[beam.segment]]).
+struct BeamSegmentSpec {
+  double length_m = 0.0;           ///< > 0
+  int elements = 0;                ///< >= 1
+  double youngs_modulus_Pa = 0.0;  ///< > 0
+  double density_kg_per_m3 = 0.0;  ///< > 0
+  double area_m2 = 0.0;            ///< > 0
+  double second_moment_m4 = 0.0;   ///< > 0
+};
+
 struct BeamSpec {
-  double length_m = 0.0;              ///< > 0
-  int elements = 0;                   ///< >= 1 Euler-Bernoulli elements
-  double youngs_modulus_Pa = 0.0;     ///< > 0
+  double length_m = 0.0;              ///< > 0 (total length with segments)
+  int elements = 0;                   ///< >= 1 Euler-Bernoulli elements (total with segments)
+  double youngs_modulus_Pa = 0.0;     ///< > 0 (the first segment's with segments)
   double density_kg_per_m3 = 0.0;     ///< > 0
   double area_m2 = 0.0;               ///< > 0, cross-section area
   double second_moment_m4 = 0.0;      ///< > 0, I = a^2/12 (square) or w h^3/12
+  BeamEnd left = BeamEnd::kClamped;   ///< node 0
+  BeamEnd right = BeamEnd::kFree;     ///< node `elements`
+  /// Consecutive segments from node 0; empty: one uniform segment given by
+  /// the fields above.
+  std::vector<BeamSegmentSpec> segments;
+};
+
+/// A point mass at a beam node: `mass_kg` on w, `inertia_kg_m2` on theta.
+struct PointMassSpec {
+  int node = 0;
+  double mass_kg = 0.0;        ///< >= 0
+  double inertia_kg_m2 = 0.0;  ///< >= 0
+};
+
+enum class SensorDof { kW, kTheta };
+
+/// A grounded linear spring and dashpot on one dof of a beam node.
+struct SpringSpec {
+  int node = 0;
+  SensorDof dof = SensorDof::kW;
+  double stiffness = 0.0;  ///< >= 0, N/m (w) or N m/rad (theta)
+  double damping = 0.0;    ///< >= 0, N s/m (w) or N m s/rad (theta)
+};
+
+/// An imported linear model: M (SPD), K and C (symmetric), n x n, sparse.
+struct ImportedMatrices {
+  Eigen::SparseMatrix<double> mass, stiffness, damping;  ///< damping may be 0 x 0 (none)
+  std::vector<std::string> labels;                       ///< optional dof names (dim n)
+};
+
+enum class ModelType { kBeam, kMatrices };
+
+struct ModelSpec {
+  ModelType type = ModelType::kBeam;
+  std::string file;      ///< .mat file, or empty for Matrix Market files
+  std::string mass, stiffness, damping;  ///< .mat variable names, or .mtx paths
+  /// Filled by ToSpec() (shared by copies of the spec: read once per document).
+  std::shared_ptr<const ImportedMatrices> matrices;
 };
 
 enum class DampingType { kNone, kRayleigh };
@@ -43,11 +104,16 @@ enum class NonlinearType {
   kFriction,    ///< regularised dry friction: f = -mu N tanh(v / v_reg)
 };
 
-/// One nonlinear element on the transverse (w) dof of `node` (1..elements).
-/// f is the force the element applies to the beam.
+/// One nonlinear element on the transverse (w) dof of `node`, or on the model
+/// dof `dof` (1-based) when dof > 0. f is the force the element applies to
+/// that dof. A joint (node2 >= 0 or dof2 > 0) acts on the relative
+/// displacement w = x_i - x_j and velocity, applying f to i and -f to j.
 struct NonlinearitySpec {
   NonlinearType type = NonlinearType::kCubic;
   int node = 0;
+  int node2 = -1;  ///< joint: the second node (w dof); -1: grounded
+  int dof = 0;     ///< 1-based model dof; 0: from `node`
+  int dof2 = 0;    ///< joint: the second 1-based model dof; 0: grounded (or node2)
   double k1_N_per_m = 0.0;              ///< polynomial
   double k2_N_per_m2 = 0.0;             ///< polynomial
   double k3_N_per_m3 = 0.0;             ///< cubic, polynomial
@@ -68,6 +134,7 @@ struct InitialSpec {
   InitialType type = InitialType::kRest;
   double static_force_N = 0.0;  ///< kStaticForce: transverse force
   int static_force_node = 0;    ///< kStaticForce: node, defaults to the free end
+  int static_force_dof = 0;     ///< kStaticForce: 1-based model dof; 0: from the node
   Eigen::VectorXd displacement;  ///< kExplicit: (dim n_dofs), m and rad
   Eigen::VectorXd velocity;      ///< kExplicit: (dim n_dofs), m/s and rad/s
 };
@@ -81,6 +148,7 @@ enum class ForceType { kNone, kHarmonic, kSweep, kFile };
 struct ForceSpec {
   ForceType type = ForceType::kNone;
   int node = 0;
+  int dof = 0;  ///< 1-based model dof; 0: the node's w
   double amplitude_N = 0.0;
   double frequency_Hz = 0.0;        ///< harmonic
   double start_frequency_Hz = 0.0;  ///< sweep
@@ -98,12 +166,15 @@ struct TimeSpec {
   int samples() const;
 };
 
-enum class SensorDof { kW, kTheta };
+enum class SensorQuantity { kDisplacement, kVelocity, kAcceleration };
 
 struct SensorSpec {
   SensorDof dof = SensorDof::kW;
-  std::vector<int> nodes;  ///< 1..elements; default all of them
-  /// Column names, "w1".."w6" (or "theta1"...).
+  std::vector<int> nodes;  ///< beam nodes; default the free nodes 1..elements
+  std::vector<int> dofs;   ///< 1-based model dofs; when non-empty, replaces `nodes`
+  std::vector<std::string> names;  ///< channel names; empty: the defaults below
+  SensorQuantity quantity = SensorQuantity::kDisplacement;
+  /// `names` if given, else "w1".."w6" (or "theta1"...) for nodes, "x3" for dofs.
   std::vector<std::string> ChannelNames() const;
 };
 
@@ -137,7 +208,10 @@ struct ParameterSpec {
 
 struct CaseSpec {
   std::string source;  ///< the file it came from (for messages)
-  BeamSpec beam;
+  ModelSpec model;
+  BeamSpec beam;        ///< model.type == kBeam
+  std::vector<PointMassSpec> masses;
+  std::vector<SpringSpec> springs;
   DampingSpec damping;
   std::vector<NonlinearitySpec> nonlinearities;
   InitialSpec initial;
@@ -148,12 +222,22 @@ struct CaseSpec {
   IntegratorSpec integrator;
   std::vector<ParameterSpec> parameters;
 
-  int dofs() const { return 2 * beam.elements; }
+  /// Number of model dofs (beam: its unconstrained dofs; imported: n).
+  int dofs() const;
 };
 
-/// Index of node's transverse dof among the free dofs (node in 1..elements).
+/// Index of node's transverse dof among the free dofs (node in 1..elements),
+/// for a beam clamped at node 0.
 inline int TransverseDof(int node) { return 2 * (node - 1); }
-/// Index of node's rotation dof among the free dofs (node in 1..elements).
+/// Index of node's rotation dof among the free dofs (node in 1..elements),
+/// for a beam clamped at node 0.
 inline int RotationDof(int node) { return 2 * (node - 1) + 1; }
+
+/// Index of a beam node's dof among the model dofs, or -1 when the boundary
+/// condition holds it (clamped: w and theta; pinned: w). node in 0..elements.
+int BeamDof(const BeamSpec& beam, int node, SensorDof which);
+/// Number of unconstrained dofs of the beam.
+int BeamDofCount(const BeamSpec& beam);
+const char* ToString(BeamEnd end);
 
 }  // namespace podid

@@ -98,8 +98,10 @@ struct SimulationSummary {
 struct Recording {
   std::vector<int> dofs;        ///< free-dof indices to record
   bool record_velocity = false;
+  bool record_acceleration = false;
   Eigen::MatrixXd displacement;  ///< (steps + 1) x dofs.size(), sized by Run()
   Eigen::MatrixXd velocity;      ///< same, when record_velocity
+  Eigen::MatrixXd acceleration;  ///< same, when record_acceleration (m/s^2, rad/s^2)
 };
 
 class NewmarkIntegrator;
@@ -113,7 +115,8 @@ class NewmarkWorkspace {
   friend class NewmarkIntegrator;
   Eigen::VectorXd z;  ///< state (dim 3 n): x, x', x'' in the permuted order
   Eigen::VectorXd x_new, rhs, r, dx, load_y;
-  Eigen::VectorXd xa, xa_n, va, fa, ka, ca, ra, dxa, xa_trial, load_bhat;
+  Eigen::VectorXd xa, xa_n, va, fa, ra, dxa, xa_trial, load_bhat;
+  Eigen::MatrixXd ka, ca;  ///< tangents of the nonlinear forces (n_a x n_a)
   Eigen::MatrixXd jac, jac_a;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu, lu_a;
 };
@@ -151,6 +154,7 @@ class NewmarkIntegrator {
   std::vector<int> perm_;      ///< perm_[k] = original dof of permuted index k
   std::vector<int> inv_perm_;  ///< inverse of perm_
   Eigen::MatrixXd mass_, damping_, stiffness_, s_;
+  double s_norm_ = 0.0;  ///< ||S||_inf, for the round-off floor of full Newton
   /// rhs = A [x; x'; x''] (n x 3n): the known part of S x_{n+1} = rhs + g + f_nl.
   Eigen::MatrixXd rhs_matrix_;
   // Condensation (modified method): S_b^-1, S_ab, H = S_b^-1 S_ba,
