@@ -106,6 +106,59 @@ void BM_CwtPywtCase(benchmark::State& state) {
 }
 BENCHMARK(BM_CwtPywtCase)->Unit(benchmark::kMillisecond);
 
+// fCWT's own benchmark setup (bench/compare_fcwt.sh): fs 64 Hz, 300
+// log-spaced frequencies 1-31.6 Hz (60 voices per octave), a 1-8 Hz chirp;
+// full-rate complex double output. Args: samples, threads, planning (0
+// estimate as fCWT's cwt() does, 1 measured wisdom). Plans and filters are
+// made before the timed loop; BM_CwtFcwtCaseFirstCall times a whole
+// one-shot call instead.
+Eigen::VectorXd FcwtSignal(Eigen::Index n) {
+  Eigen::VectorXd x(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) / 64.0;
+    x(i) = std::cos(2.0 * std::numbers::pi * (1.0 + 7.0 * static_cast<double>(i) / n) * t);
+  }
+  return x;
+}
+
+CwtOptions FcwtOptions(int threads, bool measure) {
+  CwtOptions o;
+  o.frequencies.min_frequency_Hz = 1.0;
+  o.frequencies.max_frequency_Hz = std::exp2(299.0 / 60.0);
+  o.frequencies.voices_per_octave = 60;
+  o.threads = threads;
+  o.planning = measure ? FftPlanning::kMeasure : FftPlanning::kEstimate;
+  return o;
+}
+
+void BM_CwtFcwtCase(benchmark::State& state) {
+  const Eigen::VectorXd x = FcwtSignal(state.range(0));
+  CwtTransform transform(FcwtOptions(static_cast<int>(state.range(1)), state.range(2) != 0));
+  Scalogram out;
+  transform.Compute(x, 1.0 / 64.0, &out);
+  for (auto _ : state) {
+    transform.Compute(x, 1.0 / 64.0, &out);
+    benchmark::DoNotOptimize(out.coefficients.data());
+  }
+  state.counters["frequencies"] = static_cast<double>(out.frequencies());
+  state.counters["padded"] = static_cast<double>(transform.padded_length());
+}
+BENCHMARK(BM_CwtFcwtCase)
+    ->ArgsProduct({{10000, 100000}, {1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// A whole one-shot call (transform object, estimated plans, filters,
+// output allocation), as a `podid cwt` process pays it.
+void BM_CwtFcwtCaseFirstCall(benchmark::State& state) {
+  const Eigen::VectorXd x = FcwtSignal(state.range(0));
+  for (auto _ : state) {
+    Scalogram out = Cwt(x, 1.0 / 64.0, FcwtOptions(1, false));
+    benchmark::DoNotOptimize(out.coefficients.data());
+  }
+}
+BENCHMARK(BM_CwtFcwtCaseFirstCall)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
+
 void BM_Denoise(benchmark::State& state) {
   const Eigen::VectorXd x = Signal(state.range(0));
   for (auto _ : state) {
