@@ -208,7 +208,10 @@ bool ReadDataSet58(UffFile& file,
   if (Field(records[6], 0, 10, r7_int[0]) && Field(records[6], 10, 10, r7_int[1]) &&
       Field(records[6], 20, 10, r7_int[2])) {
     for (long long v : r7_int) r7.push_back(static_cast<double>(v));
-    if (!ScanNumbers(std::string_view(records[6]).substr(30), r7, 6)) r7.clear();
+    if (!ScanNumbers(
+            std::string_view(records[6]).substr(std::min<std::size_t>(30, records[6].size())), r7,
+            6))
+      r7.clear();
   } else if (!ScanNumbers(records[6], r7, 6)) {
     r7.clear();
   }

@@ -113,6 +113,16 @@ TEST(ReadUff, Rejections) {
                           std::invalid_argument,
                           "short.uff:9: expected a count whose data fits in the 40 bytes left, got "
                           "20 values");
+  // Record 7 cut after its three integers (found by podid_fuzz_uff: the
+  // floats after column 30 were read with substr(30), std::out_of_range).
+  const std::string record7 =
+      "         2        20         1  0.00000E+00  1.00000E-03  0.00000E+00";
+  std::string cut = head;
+  cut.replace(cut.find(record7), record7.size(), "         2        20     1");
+  PODID_EXPECT_THROW_WITH(ReadUff(dir.Write("cut.uff", cut + std::string(80, '\0'))),
+                          std::invalid_argument,
+                          "cut.uff:9: expected record 7: data type, count, spacing, start, "
+                          "increment, got \"2        20     1\"");
   // 58b announcing VAX floats (format 1).
   std::string vax = head;
   vax.replace(vax.find("     2          11"), 6, "     1");
