@@ -7,6 +7,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "data_arguments.hpp"
 #include "plot.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
@@ -19,6 +20,7 @@ namespace {
 
 struct CwtArguments {
   std::string data;
+  DataArguments reading;  // --variable, --channels, --rate, --step (docs/data-files.md)
   std::string channel;
   int pom = 0;
   double fmin_Hz = 10.0;
@@ -67,7 +69,7 @@ Eigen::VectorXd SelectSignal(const CwtArguments& a, const TimeSeries& series, st
 void Run(const CwtArguments& a) {
   CheckOutputs({{"data file", a.data}},
                {{"-o", a.output}, {"--scalogram", a.scalogram}, {"--plot", a.plot}});
-  const TimeSeries series = ReadTimeSeries(a.data);
+  const TimeSeries series = a.reading.Read(a.data);
   std::string label;
   const Eigen::VectorXd signal = SelectSignal(a, series, &label);
   const double step_s = series.step_s();
@@ -206,9 +208,10 @@ void AddCwtCommand(CLI::App& app) {
       "Morlet wavelet transform of one channel (--channel) or POD time mode (--pom):\n"
       "prints the instantaneous frequency (IF) along the ridge inside the cone of\n"
       "influence and writes the ridge (t, f_Hz, amplitude, inside_coi). docs/wavelet.md");
-  command->add_option("data", a->data, "Time series (.csv with t,<channels> or .mat)")
+  command->add_option("data", a->data, "Time series (.csv, .mat or .uff; docs/data-files.md)")
       ->required()
       ->check(CLI::ExistingFile);
+  a->reading.AddTo(*command);
   auto* channel = command->add_option("--channel", a->channel, "Channel name, e.g. w6");
   auto* pom =
       command->add_option("--pom", a->pom, "Analyse the k-th POD time mode (right-singular vector)")

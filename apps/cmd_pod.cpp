@@ -9,6 +9,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "data_arguments.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
 #include "podid/pod/pod.hpp"
@@ -18,6 +19,7 @@ namespace {
 
 struct PodArguments {
   std::string data;
+  DataArguments reading;
   std::string method = "auto";
   int modes = 0;
   double energy = 1.0;
@@ -40,7 +42,7 @@ void RunPod(const PodArguments& a) {
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
   CheckOutputs({{"data file", a.data}}, {{"--json", a.json}, {"-o", a.output}});
 
-  const TimeSeries series = ReadTimeSeries(a.data);
+  const TimeSeries series = a.reading.Read(a.data);
   if (options.max_modes > std::min(series.channels(), series.samples())) {
     ThrowInvalid("--modes",
                  "<= min(channels, samples) = " +
@@ -73,6 +75,10 @@ void RunPod(const PodArguments& a) {
     j["samples"] = r.samples;
     j["remove_mean"] = options.remove_mean;
     j["channels"] = series.channel_names;
+    j["units"] = series.units;  // "" where the file names none
+    j["start_s"] = series.time_s(0);
+    j["step_s"] = series.step_s();
+    j["sampling_rate_Hz"] = 1.0 / series.step_s();
     j["numerical_rank"] = r.numerical_rank;
     j["total_energy"] = r.total_energy;
     j["mean"] = ToVector(r.mean);
@@ -103,7 +109,11 @@ void AddPodCommand(CLI::App& app) {
       "pod",
       "Proper orthogonal decomposition of a time series: POMs, singular values, proper\n"
       "orthogonal values and energy per mode (docs/pod.md)");
-  command->add_option("data", a->data, "Time series (.csv with t,<channels> or .mat)")->required();
+  command
+      ->add_option("data", a->data,
+                   "Time series: .csv (t,<channels>), .mat or .uff/.unv (docs/data-files.md)")
+      ->required();
+  a->reading.AddTo(*command);
   command->add_option("--method", a->method, "auto | svd | direct | snapshot")
       ->capture_default_str();
   auto* modes = command->add_option("--modes", a->modes, "Keep at most K modes (0: all)")

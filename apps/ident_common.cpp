@@ -9,7 +9,8 @@ namespace podid::cli {
 
 void ObjectiveArguments::AddTo(CLI::App& command) {
   input.AddTo(command);
-  command.add_option("-m,--measured", measured, "Measured time histories (.csv or .mat)")->required();
+  command.add_option("-m,--measured", measured, "Measured time histories (.csv, .mat or .uff)")->required();
+  measured_reading.AddTo(command);
   command.add_option("--modes", modes, "Number of leading POMs in the objective (K)")->capture_default_str()
       ->check(IntegerIn(1, kMaxObjectiveModes));
   command.add_flag("--raw-sigma", raw_sigma,
@@ -23,7 +24,7 @@ void ObjectiveArguments::AddTo(CLI::App& command) {
 
 std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(bool needs_ridges) const {
   const CaseDocument document = input.Load();
-  const TimeSeries data = ReadTimeSeries(measured);
+  const TimeSeries data = measured_reading.Read(measured);
   ident::ObjectiveOptions options;
   options.modes = modes;
   options.relative_sigma = !raw_sigma;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cli_common.hpp"
+#include "data_arguments.hpp"
 #include "podid/ident/objective.hpp"
 
 namespace podid::cli {
@@ -15,6 +16,7 @@ namespace podid::cli {
 struct ObjectiveArguments {
   CaseArguments input;
   std::string measured;
+  DataArguments measured_reading;  ///< --variable, --channels, --rate, --step of --measured
   int modes = 1;
   bool raw_sigma = false;
   double fmin_Hz = 10.0;
