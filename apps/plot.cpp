@@ -151,13 +151,18 @@ class PrivateFolder {
 
 // Runs `gnuplot script` in `folder` without a shell; true when it exits 0.
 bool RunGnuplot(const std::string& gnuplot, const std::string& folder, const std::string& script) {
+  // Absolute: a relative program path (PODID_GNUPLOT, a relative PATH entry)
+  // would otherwise be looked up in the private folder after the chdir.
+  std::error_code error;
+  const std::string program = std::filesystem::absolute(gnuplot, error).string();
+  if (error) return false;
   posix_spawn_file_actions_t actions;
   if (posix_spawn_file_actions_init(&actions) != 0) return false;
   bool ok = posix_spawn_file_actions_addchdir_np(&actions, folder.c_str()) == 0;
   pid_t pid = 0;
-  std::vector<char*> argv = {const_cast<char*>(gnuplot.c_str()), const_cast<char*>(script.c_str()),
+  std::vector<char*> argv = {const_cast<char*>(program.c_str()), const_cast<char*>(script.c_str()),
                              nullptr};
-  ok = ok && posix_spawn(&pid, gnuplot.c_str(), &actions, nullptr, argv.data(), environ) == 0;
+  ok = ok && posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ) == 0;
   posix_spawn_file_actions_destroy(&actions);
   if (!ok) return false;
   int status = 0;

@@ -17,6 +17,7 @@ if ! command -v gnuplot >/dev/null && [ -z "${PODID_GNUPLOT:-}" ]; then
   echo "hostile plot: skipped (no gnuplot)"
   exit 0
 fi
+gnuplot_program=$(realpath "${PODID_GNUPLOT:-$(command -v gnuplot)}")
 cd "$out"
 mkdir tmp
 export TMPDIR="$out/tmp"
@@ -74,13 +75,22 @@ is_png planted.png || fail "planted: no PNG"
 rm planted.png.tmp*
 check_nothing_ran planted
 
+# A relative gnuplot path still works although gnuplot runs in the private
+# folder (it is made absolute before the chdir).
+mkdir bin
+ln -s "$gnuplot_program" bin/gnuplot
+PODID_GNUPLOT=bin/gnuplot "$podid" cwt "$data" --channel w6 --plot rel.png >stdout 2>stderr \
+  || fail "relative PODID_GNUPLOT: $(cat stderr)"
+is_png rel.png || fail "relative PODID_GNUPLOT: no PNG"
+check_nothing_ran "relative gnuplot"
+
 # Without gnuplot the script is kept next to the PNG: its paths are escaped
 # too, so running it later runs nothing either.
 PODID_GNUPLOT=/nonexistent "$podid" landscape evil.toml -m "$data" --param "$name" \
   --range 0:100:3 --objective time-free --plot "$png.kept" >stdout 2>stderr \
   || fail "landscape without gnuplot: $(cat stderr)"
 [ -f "$png.kept.gp" ] || fail "no kept script"
-gnuplot "$png.kept.gp" 2>gnuplot.err || fail "the kept script fails: $(cat gnuplot.err)"
+"$gnuplot_program" "$png.kept.gp" 2>gnuplot.err || fail "the kept script fails: $(cat gnuplot.err)"
 check_nothing_ran "kept script"
 is_png "$png.kept" || fail "the kept script drew no PNG"
 echo "hostile plot: ok"
