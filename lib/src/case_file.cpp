@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "case_internal.hpp"
+#include "case_limits.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
 
@@ -455,18 +456,16 @@ CaseDocument::~CaseDocument() = default;
 const std::string& CaseDocument::source_name() const { return impl_->source; }
 
 CaseDocument CaseDocument::Load(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) ThrowInvalid(path, "a readable case file", "a file that cannot be opened");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) ThrowInvalid(path, "a readable case file", "a read error");
+  // At most kMaxCaseFileBytes + 1 bytes are read, also from /dev/zero or a FIFO.
+  const std::string text = case_detail::ReadCaseText(path);
   std::string base = std::filesystem::path(path).parent_path().string();
-  return Parse(text.str(), path, std::move(base));
+  return Parse(text, path, std::move(base));
 }
 
 CaseDocument CaseDocument::Parse(std::string_view text,
                                  std::string source_name,
                                  std::string base_directory) {
+  case_detail::CheckCaseText(text, source_name);  // size and nesting, before toml++
   auto impl = std::make_unique<Impl>();
   try {
     impl->root = toml::parse(text, source_name);
@@ -568,6 +567,7 @@ void CaseDocument::Set(std::string_view key, std::string_view value_text) {
   CheckSchemaKey(parts, key, origin);
   const Kind kind = *LookupKind(Join(parts, parts.size(), true));
 
+  case_detail::CheckCaseText(value_text, origin);
   toml::table parsed;
   bool ok = false;
   try {

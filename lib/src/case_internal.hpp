@@ -38,7 +38,7 @@ inline std::string Describe(const toml::node* node) {
   if (node == nullptr) return "nothing";
   if (const auto* v = node->as_integer()) return std::to_string(v->get());
   if (const auto* v = node->as_floating_point()) return FormatReal(v->get());
-  if (const auto* v = node->as_string()) return "\"" + v->get() + "\"";
+  if (const auto* v = node->as_string()) return Excerpt(v->get());  // short, escaped
   if (const auto* v = node->as_boolean()) return v->get() ? "true" : "false";
   if (node->is_array()) return "an array";
   if (node->is_table()) return "a table";

@@ -99,11 +99,19 @@ std::string_view Trim(std::string_view s) {
   return s;
 }
 
-std::string Quote(std::string_view cell) {
-  constexpr std::size_t kShown = 40;
-  std::string out = "\"" + std::string(cell.substr(0, kShown));
-  if (cell.size() > kShown) out += "...";
-  return out + "\"";
+// A short, escaped excerpt of the offending cell (error.hpp): a file's bytes
+// never reach the terminal raw or at length.
+std::string Quote(std::string_view cell) { return Excerpt(cell); }
+
+// The first cell of a file that is not a CSV at all (e.g. `[force] file =
+// /etc/shadow`): show only its start.
+constexpr std::size_t kShownFirstCellBytes = 12;
+
+bool HasControlCharacter(std::string_view text) {
+  for (const char c : text) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return true;
+  }
+  return false;
 }
 
 bool IsBlank(std::string_view line) { return Trim(line).empty(); }
@@ -146,7 +154,12 @@ TimeSeries ReadCsv(const std::string& path) {
       }
       if (names.empty() && cell != "t" && cell != "time") {
         ThrowInvalid(where(reader.line_number(), start + 1),
-                     "a header line whose first name is \"t\" or \"time\"", Quote(cell));
+                     "a header line whose first name is \"t\" or \"time\"",
+                     Excerpt(cell, kShownFirstCellBytes));
+      }
+      if (HasControlCharacter(cell)) {  // names reach messages, tables and outputs
+        ThrowInvalid(where(reader.line_number(), start + 1),
+                     "column names without control characters", Quote(cell));
       }
       if (!seen.insert(cell).second) {
         ThrowInvalid(where(reader.line_number(), start + 1), "distinct column names",
@@ -158,7 +171,7 @@ TimeSeries ReadCsv(const std::string& path) {
     }
     if (names.size() < 2) {
       ThrowInvalid(where(reader.line_number(), line.size() + 1),
-                   "a time column and at least one channel in the header", "only " + names[0]);
+                   "a time column and at least one channel in the header", "only " + Quote(names[0]));
     }
   }
   const std::size_t columns = names.size();

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -203,6 +204,50 @@ TEST(FuzzRegressionCsv, WideFileIsReadCorrectly) {
   for (int i = 0; i < kRows; ++i) {
     EXPECT_EQ(series.time_s(i), i);
     for (int j = 1; j < kColumns; ++j) ASSERT_EQ(series.values(i, j - 1), i * kColumns + j);
+  }
+}
+
+// --- case files --------------------------------------------------------------
+
+// The case fuzzer's input as fuzz/case_fuzzer.cpp reads it: TOML, then
+// "---" and --set lines. Returns the message of the std::invalid_argument.
+std::string CaseFuzzerMessage(const std::string& input) {
+  const std::size_t separator = input.find("\n---\n");
+  try {
+    CaseDocument document = CaseDocument::Parse(input.substr(0, separator), "fuzz.toml");
+    if (separator != std::string::npos) {
+      std::string sets = input.substr(separator + 5);
+      while (!sets.empty()) {
+        const std::size_t end = sets.find('\n');
+        document.Set(sets.substr(0, sets.find('=')),
+                     sets.substr(sets.find('=') + 1, end - sets.find('=') - 1));
+        sets = end == std::string::npos ? "" : sets.substr(end + 1);
+      }
+    }
+    document.ToSpec();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+// Issue 10 item 8: a 40,000-level dotted key overflowed toml++'s stack
+// (16,000 levels took 14 s); the seeds fuzz/corpus/case/deep_*.toml keep the
+// fuzzer on the depth check.
+TEST(FuzzRegressionCase, DeepTomlIsRejectedBeforeToml) {
+  std::string key = "a";
+  for (int i = 1; i < 40'000; ++i) key += ".a";
+  EXPECT_NE(CaseFuzzerMessage("[beam]\n" + key + " = 1\n").find(
+                "fuzz.toml:2: expected TOML nested at most 32 levels deep"),
+            std::string::npos);
+  for (const char* seed : {"deep_dotted_key.toml", "deep_arrays_tables.toml", "deep_set.toml"}) {
+    std::ifstream in(testing::ExamplePath(std::string("../fuzz/corpus/case/") + seed),
+                     std::ios::binary);
+    ASSERT_TRUE(in) << seed;
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(CaseFuzzerMessage(text).find("expected TOML nested at most 32 levels deep"),
+              std::string::npos)
+        << seed << ": " << CaseFuzzerMessage(text);
   }
 }
 

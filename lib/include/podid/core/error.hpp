@@ -7,6 +7,7 @@
 // Numerical outcomes (a diverging Newton iteration, an optimiser stopping
 // early) are neither: they are reported in a Summary's termination.
 
+#include <cstddef>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -28,12 +29,28 @@ std::string ToText(const T& value) {
   return os.str();
 }
 
-/// Throws std::invalid_argument("<where>: expected <expected>, got <got>").
+/// Bytes of input text a message shows at most (Excerpt's default): enough to
+/// recognise a token, too few to print a file's lines.
+inline constexpr std::size_t kExcerptBytes = 40;
+
+/// `text` with every byte that could drive a terminal written as an escape:
+/// \n, \r, \t, \xNN for the other C0 controls and DEL, C1 controls
+/// (U+0080..U+009F) and bytes that are not valid UTF-8. Printable ASCII
+/// (backslashes included) and valid UTF-8 pass unchanged, so escaping an
+/// escaped text changes nothing. ThrowInvalid escapes every message with it.
+std::string Escaped(std::string_view text);
+
+/// A short, quoted, escaped excerpt of an input token for "got ...":
+/// `"abc"`, or `"abcd..." (1234 bytes)` when longer than `max_bytes`.
+std::string Excerpt(std::string_view text, std::size_t max_bytes = kExcerptBytes);
+
+/// Throws std::invalid_argument("<where>: expected <expected>, got <got>"),
+/// each part Escaped().
 [[noreturn]] void ThrowInvalid(std::string_view where, std::string_view expected,
                                std::string_view got);
 
 /// Parses a whole string as a finite number (e.g. "2.5e9"); otherwise throws
-/// ThrowInvalid(where, expected, "\"text\"").
+/// ThrowInvalid(where, expected, Excerpt(text)).
 double ParseNumber(std::string_view text, std::string_view where,
                    std::string_view expected = "a number");
 
