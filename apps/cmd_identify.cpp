@@ -141,9 +141,9 @@ void AddIdentifyCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--multistart", args->multistart,
                       "Local algorithms: number of starts (the start + Latin hypercube points), at most 10000")
-      ->capture_default_str()->check(IntegerIn(1, 10000));  // ident::kMaxMultistart
+      ->capture_default_str()->check(IntegerIn(1, ident::kMaxMultistart));
   command->add_option("--max-evaluations", args->max_evaluations, "Evaluation budget per start, at most 1000000 (and 1000000 times --multistart in all)")
-      ->capture_default_str()->check(IntegerIn(1, 1000000));  // ident::kMaxEvaluations
+      ->capture_default_str()->check(IntegerIn(1, ident::kMaxEvaluations));
   command->add_option("--xtol", args->xtol_rel, "Relative parameter tolerance")->capture_default_str();
   command->add_option("--seed", args->seed, "Seed of the Latin hypercube and random algorithms")
       ->capture_default_str();
