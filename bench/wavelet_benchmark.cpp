@@ -148,6 +148,21 @@ BENCHMARK(BM_CwtFcwtCase)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The same with single-precision |W| output (CwtOutput::kMagnitudeFloat).
+void BM_CwtFcwtCaseMagnitude(benchmark::State& state) {
+  const Eigen::VectorXd x = FcwtSignal(state.range(0));
+  CwtOptions o = FcwtOptions(1, false);
+  o.output = CwtOutput::kMagnitudeFloat;
+  CwtTransform transform(o);
+  Scalogram out;
+  transform.Compute(x, 1.0 / 64.0, &out);
+  for (auto _ : state) {
+    transform.Compute(x, 1.0 / 64.0, &out);
+    benchmark::DoNotOptimize(out.magnitude.data());
+  }
+}
+BENCHMARK(BM_CwtFcwtCaseMagnitude)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
+
 // A whole one-shot call (transform object, estimated plans, filters,
 // output allocation), as a `podid cwt` process pays it.
 void BM_CwtFcwtCaseFirstCall(benchmark::State& state) {

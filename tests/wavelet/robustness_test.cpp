@@ -166,5 +166,41 @@ TEST(MemoryBudget, TooManyBinsIsAnInputErrorBeforeAllocating) {
                           "CwtOptions.memory_budget_bytes: expected 2^20..2^44, got 1000");
 }
 
+TEST(SinglePrecision, MagnitudeOutputIsTheRoundedComplexMagnitude) {
+  // CwtOutput::kMagnitudeFloat stores |W| once rounded to float: relative
+  // 2^-24 (6e-8) of each value from the rounding, plus double rounding of
+  // |W| itself (1e-16); 1e-7 relative is the float's own precision.
+  constexpr double kRelativeTolerance = 1e-7;
+  CwtOptions options;
+  options.frequencies.voices_per_octave = 8;
+  const Scalogram full = Cwt(Tone(3.0), kStep, options);
+  options.output = CwtOutput::kMagnitudeFloat;
+  const Scalogram magnitude = Cwt(Tone(3.0), kStep, options);
+  ASSERT_EQ(magnitude.coefficients.size(), 0);
+  ASSERT_EQ(magnitude.magnitude.rows(), full.times());
+  ASSERT_EQ(magnitude.magnitude.cols(), full.frequencies());
+  for (Eigen::Index k = 0; k < full.frequencies(); ++k) {
+    for (Eigen::Index j = 0; j < full.times(); ++j) {
+      const double expected = std::abs(full.coefficients(j, k));
+      ASSERT_NEAR(magnitude.magnitude(j, k), expected, kRelativeTolerance * expected)
+          << j << " " << k;
+    }
+  }
+  // 4 bytes per coefficient: 5001 x 20000 fits a budget 16 bytes would not.
+  options.frequencies.spacing = FrequencySpacing::kLinear;
+  options.frequencies.bins = 20000;
+  options.memory_budget_bytes = 1e9;
+  EXPECT_NO_THROW(CwtTransform{options}.Lengths(5001, kStep));
+  Scalogram big;
+  CwtTransform transform(options);
+  EXPECT_NO_THROW(transform.Compute(Tone(1.0), kStep, &big));
+  options.output = CwtOutput::kComplex;
+  PODID_EXPECT_THROW_WITH(Cwt(Tone(1.0), kStep, options), std::invalid_argument,
+                          "frequencies x 16 bytes");
+  // Ridges need the complex coefficients.
+  PODID_EXPECT_THROW_WITH(FindRidges(magnitude, RidgeOptions{}), std::invalid_argument,
+                          "expected a computed scalogram with complex coefficients");
+}
+
 }  // namespace
 }  // namespace podid::wavelet

@@ -157,17 +157,19 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   const Sizes z = Plan(samples, step);
   // Checked before anything is allocated or changed. Memory: coefficients, filters, padded signal,
   // spectrum, work buffers.
-  const double bytes = 16.0 * static_cast<double>(z.times) * static_cast<double>(scales_s.size()) +
-                       8.0 * static_cast<double>(z.filter_bins) + 8.0 * static_cast<double>(z.p) +
-                       16.0 * static_cast<double>(z.p / 2 + 1) +
-                       16.0 * static_cast<double>(z.m) * options.threads;
+  const double per_coefficient = options.output == CwtOutput::kComplex ? 16.0 : 4.0;
+  const double bytes =
+      per_coefficient * static_cast<double>(z.times) * static_cast<double>(scales_s.size()) +
+      8.0 * static_cast<double>(z.filter_bins) + 8.0 * static_cast<double>(z.p) +
+      16.0 * static_cast<double>(z.p / 2 + 1) + 16.0 * static_cast<double>(z.m) * options.threads;
   if (bytes > options.memory_budget_bytes) {
     ThrowInvalid("Cwt: memory",
                  "at most " + ToText(options.memory_budget_bytes) +
                      " bytes (CwtOptions::memory_budget_bytes)",
                  ToText(bytes) + " bytes for " + ToText(z.times) + " output times x " +
-                     ToText(scales_s.size()) + " frequencies x 16 bytes, " + ToText(z.filter_bins) +
-                     " filter bins and FFTs of " + ToText(z.p) +
+                     ToText(scales_s.size()) + " frequencies x " + ToText(per_coefficient) +
+                     " bytes, " + ToText(z.filter_bins) + " filter bins and FFTs of " +
+                     ToText(z.p) +
                      " points (fewer frequencies, a higher min_frequency_Hz or band_limited)");
   }
   n = samples;
@@ -326,11 +328,28 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
       Eigen::VectorXd::LinSpaced(s.times, 0.0, static_cast<double>(s.times - 1)) * out->step_s +
       Eigen::VectorXd::Constant(s.times, start_time_s);
   out->coi_frequency_Hz = s.coi_frequency_Hz;
-  out->coefficients.resize(s.times, scales);
+  const bool magnitude = s.options.output == CwtOutput::kMagnitudeFloat;
+  if (magnitude) {
+    out->coefficients.resize(0, 0);
+    out->magnitude.resize(s.times, scales);
+  } else {
+    out->magnitude.resize(0, 0);
+    out->coefficients.resize(s.times, scales);
+  }
   const auto run = [&](int thread) {
     Complex* w = s.work[static_cast<std::size_t>(thread)].get();
     for (Eigen::Index k = thread; k < scales; k += s.options.threads) {
       s.Synthesise(k, false, w);
+      if (magnitude) {
+        // |W| of the scaled transform (no overflow), rounded once to float.
+        const double* parts = reinterpret_cast<const double*>(w);
+        float* column = out->magnitude.col(k).data();
+        for (Eigen::Index j = 0; j < s.times; ++j) {
+          const double re = parts[2 * j], im = parts[2 * j + 1];
+          column[j] = static_cast<float>(std::sqrt(re * re + im * im) * s.output_scale);
+        }
+        continue;
+      }
       Complex* column = out->coefficients.col(k).data();
       if (s.output_scale == 1.0) {
         std::copy(w, w + s.times, column);

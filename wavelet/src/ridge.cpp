@@ -156,9 +156,12 @@ std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeO
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
   const Eigen::Index times = scalogram.times(), freqs = scalogram.frequencies();
-  if (times < 1 || freqs < 1 || scalogram.frequencies_Hz.size() != freqs) {
-    ThrowInvalid("FindRidges: scalogram", "a computed scalogram",
-                 ToText(times) + " x " + ToText(freqs) + " coefficients");
+  if (times < 1 || freqs < 1 || scalogram.coefficients.rows() != times ||
+      scalogram.coefficients.cols() != freqs) {
+    ThrowInvalid("FindRidges: scalogram",
+                 "a computed scalogram with complex coefficients (CwtOutput::kComplex)",
+                 ToText(scalogram.coefficients.rows()) + " x " +
+                     ToText(scalogram.coefficients.cols()) + " coefficients");
   }
   // cost(k, j) = -log|W(j, k)| + const, frequency-major for the per-time
   // sweeps. W is first scaled by a power of 2 (exact) to a peak of about 1 so
@@ -232,6 +235,12 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
   const Eigen::Index times = scalogram.times(), freqs = scalogram.frequencies();
+  if (scalogram.coefficients.rows() != times || scalogram.coefficients.cols() != freqs) {
+    ThrowInvalid("TrackRidge: scalogram",
+                 "a computed scalogram with complex coefficients (CwtOutput::kComplex)",
+                 ToText(scalogram.coefficients.rows()) + " x " +
+                     ToText(scalogram.coefficients.cols()) + " coefficients");
+  }
   if (path.size() != times) {
     ThrowInvalid("TrackRidge: path", "one index per output time (" + ToText(times) + ")",
                  ToText(path.size()));

@@ -86,6 +86,10 @@ enum class Normalisation {
   kEnergy,     ///< L2: unit-energy wavelet, |W| grows like sqrt(s)
 };
 enum class Padding { kReflect, kZero, kPeriodic };
+enum class CwtOutput {
+  kComplex,         ///< Scalogram::coefficients, complex double (what ridges need)
+  kMagnitudeFloat,  ///< Scalogram::magnitude only, |W| in single precision (4 bytes each)
+};
 enum class FftPlanning {
   kEstimate,  ///< measured plans from the wisdom cache, else FFTW_ESTIMATE (no planning cost)
   kMeasure,   ///< measure plans the cache lacks (once per length), then store them there
@@ -158,10 +162,11 @@ struct CwtOptions {
   /// Threads over scales in Compute(), 1..256 (each with its own work buffer).
   int threads = 1;
   FftPlanning planning = FftPlanning::kEstimate;
+  CwtOutput output = CwtOutput::kComplex;
   /// Upper bound on what one Compute() allocates, in bytes, in [2^20, 2^44]:
-  /// the coefficients (n_times x n_freq x 16), the filters (8 per kept bin) and
-  /// the FFT buffers. Checked before allocating; too big is std::invalid_argument
-  /// naming the sizes. Default 2 GiB.
+  /// the coefficients (n_times x n_freq x 16, or 4 for kMagnitudeFloat), the filters (8 per kept
+  /// bin) and the FFT buffers. Checked before allocating; too big is std::invalid_argument naming
+  /// the sizes. Default 2 GiB.
   double memory_budget_bytes = 2147483648.0;
 
   bool IsValid(std::string* why) const;
@@ -183,12 +188,16 @@ struct Scalogram {
   /// or below 2^-960, where W itself could overflow or lose precision; then the
   /// coefficients are W in units of coefficient_scale (peak magnitude about 1).
   double coefficient_scale = 1.0;
+  /// (n_times x n_freq) |W| / coefficient_scale in single precision (relative
+  /// rounding 6e-8), filled instead of `coefficients` with
+  /// CwtOutput::kMagnitudeFloat (then `coefficients` is empty); else empty.
+  Eigen::MatrixXf magnitude;
   /// (dim n_times) lowest frequency inside the cone of influence at each output
   /// time, coi_factor kappa sqrt(2) / (2 pi distance_to_nearest_edge_s); +inf at the edges.
   Eigen::VectorXd coi_frequency_Hz;
 
-  Eigen::Index times() const { return coefficients.rows(); }
-  Eigen::Index frequencies() const { return coefficients.cols(); }
+  Eigen::Index times() const { return time_s.size(); }
+  Eigen::Index frequencies() const { return frequencies_Hz.size(); }
   bool InsideCoi(Eigen::Index time, Eigen::Index frequency) const {
     return frequencies_Hz(frequency) >= coi_frequency_Hz(time);
   }
