@@ -81,5 +81,14 @@ void BM_Beam300FullNewton(benchmark::State& state) {
 }
 BENCHMARK(BM_Beam300FullNewton)->Arg(10)->Arg(20)->Arg(40)->Unit(benchmark::kMillisecond);
 
+// Growth with the mesh (issue 11): 1 s at the reference step (5000 steps),
+// released from the static tip deflection, elements = range(0). Above
+// kDenseDofLimit dofs the condensed steps are sparse: cost per step linear in
+// the dofs (300 elements within 15x of 30).
+void BM_Beam1sElements(benchmark::State& state) {
+  RunLoop(state, Reference({"time.duration=1.0", "beam.elements=" + std::to_string(state.range(0))}));
+}
+BENCHMARK(BM_Beam1sElements)->Arg(30)->Arg(300)->Arg(3000)->Unit(benchmark::kMillisecond);
+
 }  // namespace
 }  // namespace podid

@@ -128,13 +128,34 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
   rhs_matrix_.leftCols(n_) = a0_ * mass_ + a1_ * damping_;
   rhs_matrix_.middleCols(n_, n_) = a2_ * mass_ + (g / b - 1.0) * damping_;
   rhs_matrix_.rightCols(n_) = a3_ * mass_ + dt * (g / (2.0 * b) - 1.0) * damping_;
-  mass_inverse_ = mass_.llt().solve(Eigen::MatrixXd::Identity(n_, n_));
+  sparse_ = options.type == IntegratorType::kModifiedNewmark && n_ > kDenseDofLimit;
+  if (sparse_) {
+    mass_sparse_ = mass_.sparseView();
+    damping_sparse_ = damping_.sparseView();
+    mass_ldlt_.compute(mass_sparse_);
+    PODID_CHECK_MSG(mass_ldlt_.info() == Eigen::Success, "M must be positive definite");
+  } else {
+    mass_inverse_ = mass_.llt().solve(Eigen::MatrixXd::Identity(n_, n_));
+  }
 
   // The `a` dofs are 0..na-1 in the permuted order, so the elements' local
   // indices are already permuted indices.
   nonlinear_ = model.nonlinear();
 
-  if (options.type == IntegratorType::kModifiedNewmark) {
+  if (sparse_) {
+    // eqs. 28-29 with one sparse LDL^T of S_b: H = S_b^-1 S_ba (n_b x n_a)
+    // and Shat = S_a - S_ab H, both computed once.
+    const Eigen::SparseMatrix<double> s = s_.sparseView();
+    const Eigen::SparseMatrix<double> sbb = s.bottomRightCorner(nb_, nb_);
+    sbb_ldlt_.compute(sbb);
+    PODID_CHECK_MSG(sbb_ldlt_.info() == Eigen::Success, "S_b must be positive definite");
+    sbb_diagonal_ = sbb_ldlt_.vectorD();
+    sbb_permutation_ = sbb_ldlt_.permutationP().indices();
+    sab_sparse_ = s.topRightCorner(na_, nb_);
+    const Eigen::MatrixXd sba = s_.bottomLeftCorner(nb_, na_);
+    h_ = sbb_ldlt_.solve(sba);
+    shat_ = s_.topLeftCorner(na_, na_) - sab_sparse_ * h_;
+  } else if (options.type == IntegratorType::kModifiedNewmark) {
     // Computed once for the constant step: S_b^-1, S_ab, H = S_b^-1 S_ba and
     // the condensed matrix S_a - S_ab S_b^-1 S_ba (eqs. 28-29).
     const Eigen::MatrixXd sbb = s_.bottomRightCorner(nb_, nb_);
@@ -157,6 +178,11 @@ NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
   z.setZero(3 * n);
   for (Eigen::VectorXd* v : {&x_new, &rhs, &r, &dx}) v->setZero(n);
   load_y.setZero(integrator.nb_);
+  if (integrator.sparse_) {
+    u1.setZero(n);
+    u2.setZero(n);
+    y.setZero(integrator.nb_);
+  }
   for (Eigen::VectorXd* v : {&xa, &xa_n, &va, &fa, &ra, &dxa, &xa_trial, &load_bhat})
     v->setZero(na);
   ka.setZero(na, na);
@@ -176,18 +202,49 @@ void NewmarkIntegrator::NonlinearVelocity(NewmarkWorkspace& w) const {
          dt * (1.0 - g / (2.0 * b)) * w.z.segment(2 * n_, na_);
 }
 
-bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, double load, int* iterations,
-                                     double* residual) const {
-  // y = S_b^-1 rhs_b and bhat = rhs_a - S_ab y (the right side of eq. 29 at
-  // x_b = y), straight from the state with the precomputed maps.
-  // w.rhs = [bhat; y] in one product (the stacked [B; Y]).
-  w.rhs.noalias() = condensed_rhs_matrix_ * w.z;
-  if (load != 0.0) w.rhs.tail(nb_) += load * w.load_y;
+bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, double load, int load_dof,
+                                     int* iterations, double* residual) const {
+  if (sparse_) {
+    // rhs = M u1 + C u2 + g (eq. 23's known part), y = S_b^-1 rhs_b and
+    // bhat = rhs_a - S_ab y; w.rhs becomes [bhat; y] as in the dense path.
+    const double dt = options_.step_s, g = options_.gamma, b = options_.beta;
+    const auto x = w.z.head(n_), v = w.z.segment(n_, n_), acc = w.z.tail(n_);
+    w.u1 = a0_ * x + a2_ * v + a3_ * acc;
+    w.u2 = a1_ * x + (g / b - 1.0) * v + (dt * (g / (2.0 * b) - 1.0)) * acc;
+    w.rhs.noalias() = mass_sparse_ * w.u1;
+    w.rhs.noalias() += damping_sparse_ * w.u2;
+    if (load_dof >= 0) w.rhs[load_dof] += load;
+    // y = S_b^-1 rhs_b with the factor P^T L D L^T P, permutations done here:
+    // Eigen's in-place permutation allocates a mask.
+    const Eigen::VectorXi& p = sbb_permutation_;
+    const auto rhs_b = w.rhs.tail(nb_);
+    if (p.size() == 0) {
+      w.y = rhs_b;
+    } else {
+      for (int i = 0; i < nb_; ++i) w.y[p[i]] = rhs_b[i];
+    }
+    sbb_ldlt_.matrixL().solveInPlace(w.y);
+    w.y.array() /= sbb_diagonal_.array();
+    sbb_ldlt_.matrixU().solveInPlace(w.y);
+    if (p.size() == 0) {
+      w.rhs.tail(nb_) = w.y;
+    } else {
+      for (int i = 0; i < nb_; ++i) w.rhs[na_ + i] = w.y[p[i]];
+      w.y = w.rhs.tail(nb_);
+    }
+    if (na_ > 0) w.rhs.head(na_).noalias() -= sab_sparse_ * w.y;
+  } else {
+    // y = S_b^-1 rhs_b and bhat = rhs_a - S_ab y (the right side of eq. 29 at
+    // x_b = y), straight from the state with the precomputed maps.
+    // w.rhs = [bhat; y] in one product (the stacked [B; Y]).
+    w.rhs.noalias() = condensed_rhs_matrix_ * w.z;
+    if (load != 0.0) w.rhs.tail(nb_) += load * w.load_y;
+  }
   *iterations = 0;
   *residual = 0.0;
   if (na_ > 0) {
     w.ra = w.rhs.head(na_);  // ra holds bhat during the iterations
-    if (load != 0.0) w.ra += load * w.load_bhat;
+    if (load != 0.0 && !sparse_) w.ra += load * w.load_bhat;
     if (na_ == 1) return SolveScalar(w, iterations, residual);
     w.xa_n = w.z.head(na_);
     w.xa = w.xa_n;
@@ -342,11 +399,15 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
   if (has_load) w.rhs[load_dof] += load.values_N[0];
   w.rhs.noalias() -= stiffness_ * x;
   w.rhs.noalias() -= damping_ * v;
-  acc.noalias() = mass_inverse_ * w.rhs;
+  if (sparse_) {
+    acc = mass_ldlt_.solve(w.rhs);
+  } else {
+    acc.noalias() = mass_inverse_ * w.rhs;
+  }
   // How a unit load on load_dof enters y and bhat (modified method).
   w.load_y.setZero();
   w.load_bhat.setZero();
-  if (has_load && options_.type == IntegratorType::kModifiedNewmark) {
+  if (has_load && options_.type == IntegratorType::kModifiedNewmark && !sparse_) {
     if (load_dof < na_) {
       w.load_bhat[load_dof] = 1.0;
     } else {
@@ -377,7 +438,7 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
     double residual = 0.0;
     const double load_value = has_load ? load.values_N[step] : 0.0;
     const bool ok = options_.type == IntegratorType::kModifiedNewmark
-                        ? StepModified(w, load_value, &iterations, &residual)
+                        ? StepModified(w, load_value, load_dof, &iterations, &residual)
                         : StepFull(w, load_value, load_dof, &iterations, &residual);
     summary.newton_iterations += iterations;
     if (iterations > summary.max_step_iterations) {

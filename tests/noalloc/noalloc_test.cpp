@@ -46,5 +46,14 @@ TEST(NoAllocationTest, TwoNonlinearDofsWithForcing) {
                         "force.amplitude=1", "force.frequency=30"});
 }
 
+TEST(NoAllocationTest, SparseCondensedLoop) {
+  // 300 elements (600 dofs): the sparse path (kDenseDofLimit) with a force
+  // on a linear dof and two nonlinear dofs.
+  RunWithoutAllocation({"beam.elements=300", "time.duration=0.01", "nonlinearity.1.type=\"gap\"",
+                        "nonlinearity.1.node=150", "nonlinearity.1.gap=1e-5", "nonlinearity.1.stiffness=1e5",
+                        "force.type=\"harmonic\"", "force.node=100", "force.amplitude=1",
+                        "force.frequency=30"});
+}
+
 }  // namespace
 }  // namespace podid

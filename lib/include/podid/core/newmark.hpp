@@ -16,6 +16,10 @@
 //    S_ab S_b^-1 S_ba is computed once for the step; Newton iterates on the
 //    condensed equation (eq. 29) on the `a` dofs only, and x_b follows from
 //    eq. 28. Both solve the same equations, so they agree to the Newton tolerance.
+//    Up to kDenseDofLimit dofs the condensation is dense (S_b^-1 precomputed,
+//    one n x 3n product per step: fastest for small models). Above it, M, C
+//    and S_bb are sparse and S_bb is factorised once (SimplicialLDLT): a step
+//    costs two sparse products and one banded solve, linear in n.
 //
 // Model/workspace split: a NewmarkIntegrator holds constant precomputed
 // matrices; a NewmarkWorkspace holds every buffer the time loop uses, so Run()
@@ -24,6 +28,8 @@
 
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <limits>
 #include <string>
 #include <vector>
@@ -32,6 +38,9 @@
 #include "podid/core/case_spec.hpp"
 
 namespace podid {
+
+/// Largest number of dofs integrated with dense matrices (above: sparse).
+inline constexpr int kDenseDofLimit = 64;
 
 struct NewmarkOptions {
   IntegratorType type = IntegratorType::kModifiedNewmark;
@@ -116,6 +125,7 @@ class NewmarkWorkspace {
   Eigen::VectorXd z;  ///< state (dim 3 n): x, x', x'' in the permuted order
   Eigen::VectorXd x_new, rhs, r, dx, load_y;
   Eigen::VectorXd xa, xa_n, va, fa, ra, dxa, xa_trial, load_bhat;
+  Eigen::VectorXd u1, u2, y;  ///< sparse path: M and C operands (dim n), S_bb^-1 rhs_b (dim n_b)
   Eigen::MatrixXd ka, ca;  ///< tangents of the nonlinear forces (n_a x n_a)
   Eigen::MatrixXd jac, jac_a;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu, lu_a;
@@ -129,6 +139,8 @@ class NewmarkIntegrator {
 
   const NewmarkOptions& options() const { return options_; }
   int dofs() const { return n_; }
+  /// True when the condensed steps use sparse matrices (dofs() > kDenseDofLimit).
+  bool sparse() const { return sparse_; }
   int nonlinear_dofs() const { return na_; }
 
   /// Integrates from `initial` (dim n_dofs each) over options().steps steps.
@@ -141,7 +153,8 @@ class NewmarkIntegrator {
 
  private:
   friend class NewmarkWorkspace;
-  bool StepModified(NewmarkWorkspace& w, double load, int* iterations, double* residual) const;
+  bool StepModified(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
+                    double* residual) const;
   bool SolveScalar(NewmarkWorkspace& w, int* iterations, double* residual) const;
   bool StepFull(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
                 double* residual) const;
@@ -162,7 +175,13 @@ class NewmarkIntegrator {
   // y = S_b^-1 rhs_b = Y [x; x'; x''], bhat = rhs_a - S_ab y = B [x; x'; x''];
   // condensed_rhs_matrix_ is the stacked [B; Y] (n x 3n): one product per step.
   Eigen::MatrixXd sbb_inv_, sab_, h_, shat_, condensed_rhs_matrix_;
-  Eigen::MatrixXd mass_inverse_;
+  Eigen::MatrixXd mass_inverse_;  ///< dense path only
+  // Sparse path (modified method, n > kDenseDofLimit).
+  bool sparse_ = false;
+  Eigen::SparseMatrix<double> mass_sparse_, damping_sparse_, sab_sparse_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> sbb_ldlt_, mass_ldlt_;
+  Eigen::VectorXd sbb_diagonal_;    ///< D of S_bb's factor
+  Eigen::VectorXi sbb_permutation_;  ///< its fill-reducing permutation (may be empty)
   NonlinearForces nonlinear_;  ///< with `local` indices = permuted indices
 };
 
