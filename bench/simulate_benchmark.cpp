@@ -88,7 +88,7 @@ BENCHMARK(BM_Beam300FullNewton)->Arg(10)->Arg(20)->Arg(40)->Unit(benchmark::kMil
 void BM_Beam1sElements(benchmark::State& state) {
   RunLoop(state, Reference({"time.duration=1.0", "beam.elements=" + std::to_string(state.range(0))}));
 }
-BENCHMARK(BM_Beam1sElements)->Arg(30)->Arg(300)->Arg(3000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Beam1sElements)->Arg(30)->Arg(300)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace podid
