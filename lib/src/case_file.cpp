@@ -139,6 +139,7 @@ constexpr SchemaEntry kSchema[] = {
 };
 
 constexpr double kMaxSamples = 1e9;    // keeps TimeSpec::samples() in int
+constexpr double kMaxRecordedValues = 134217728.0;  // 2^27 doubles, 1 GiB
 constexpr long long kMaxIterations = 1000000;
 
 bool IsIndex(std::string_view part) {
@@ -675,6 +676,15 @@ CaseSpec ReadModel(const CaseDocument::Impl& doc) {
   ReadStructure(doc, &spec);
   spec.force = ReadForce(doc, spec);
   spec.time = ReadTime(doc);
+  // The simulated record, (duration / step + 1) samples x sensors doubles,
+  // must fit in memory: the data files' bound of 2^27 values (1 GiB).
+  const double recorded = (spec.time.duration_s / spec.time.step_s + 1.0) *
+                          static_cast<double>(spec.sensors.ChannelNames().size());
+  if (recorded > kMaxRecordedValues) {
+    doc.Fail("time.step",
+             "at most 134217728 recorded values ((duration / step + 1) x sensor channels)",
+             FormatReal(recorded) + " values");
+  }
   spec.noise = ReadNoise(doc);
   spec.integrator = ReadIntegrator(doc);
   return spec;

@@ -512,6 +512,16 @@ TEST(CaseFileRejects, BeamValuesWhoseModelIsNotFinite) {
   EXPECT_TRUE(modes.frequencies_Hz.allFinite());
 }
 
+// Issue 10 item 8: a billion steps passed the 1e9-step bound and ended in a
+// bare std::bad_alloc; the record (samples x sensors) is bounded at 2^27 values.
+TEST(CaseFileRejects, RecordLargerThanTheMemoryBound) {
+  EXPECT_CASE_ERROR(Edit("step = 2.0e-4", "step = 1e-10"),
+                    "case.toml:22: time.step: expected at most 134217728 recorded values "
+                    "((duration / step + 1) x sensor channels), got 6000000006 values");
+  // 2^27 / 6 channels = 22369621 samples: a step of 0.1 / 2e7 still fits.
+  EXPECT_NO_THROW(SpecOf(Edit("step = 2.0e-4", "step = 5e-9")));
+}
+
 TEST(CaseFileRejects, Damping) {
   EXPECT_CASE_ERROR(Edit("type = \"rayleigh\"", "type = \"viscous\""),
                     "case.toml:9: damping.type: expected one of \"rayleigh\", \"none\", got "
