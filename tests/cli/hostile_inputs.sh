@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Hostile and careless input to the podid executable (issue 10 items 5-9):
+# values the schema accepts never abort, an evaluation that throws is a failed
+# point (never SIGABRT), a landscape where every point fails exits 2 without
+# files, counts and sizes are bounded before anything is allocated, degenerate
+# data say so, and a file's bytes reach stderr only as a short escaped excerpt.
+# Usage: bash tests/cli/hostile_inputs.sh PODID (from the repo root).
+set -u
+podid="$1"
+case_file=examples/beam.toml
+measured=tests/data/measured_knl50_T1.0.csv
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+# expect CODE NEEDLE -- ARGS...: podid exits CODE and stderr contains NEEDLE.
+expect() {
+  local code="$1" needle="$2"
+  shift 3
+  "$podid" "$@" >"$out/stdout" 2>"$out/stderr"
+  local rc=$?
+  [ $rc -eq "$code" ] || fail "podid $*: exit $rc, expected $code ($(tail -c 300 "$out/stderr"))"
+  grep -qF -- "$needle" "$out/stderr" || fail "podid $*: stderr lacks '$needle': $(tail -c 300 "$out/stderr")"
+}
+
+# Item 6: schema-valid values used to trip PODID_CHECKs (exit 134).
+expect 1 "beam.youngs_modulus: expected a modulus > 0 Pa between 2.3e-308" -- \
+  modes "$case_file" --set beam.youngs_modulus=1e-320
+expect 1 "expected a second moment of area > 0 m^4" -- modes "$case_file" --set beam.area=1e300
+expect 1 "expected a frequency scale" -- modes "$case_file" --set beam.length=1e-100
+
+# Item 7: a zero response (no static force) made the CWT throw through NLopt's
+# callback and an OpenMP region (SIGABRT).
+expect 2 "identify: every evaluation failed; e.g. at the start: " -- \
+  identify "$case_file" -m "$measured" --objective wavelet --set initial.static_tip_force=0 \
+  --multistart 2 --max-evaluations 4
+
+# Item 9: every point failing is not "completed"; nothing is written.
+expect 2 "landscape: no point succeeded, 3 points (3 failed)" -- \
+  landscape "$case_file" -m "$measured" --param knl --range 0:100:3 \
+  --set initial.static_tip_force=0 -o "$out/l.csv"
+[ ! -e "$out/l.csv" ] || fail "a landscape with no successful point wrote its CSV"
+expect 1 "bounds whose difference UPPER - LOWER is finite" -- \
+  landscape "$case_file" -m "$measured" --param knl --range -1.7e308:1.7e308:3
+expect 1 "--range: expected at most 1000000 POINTS" -- \
+  landscape "$case_file" -m "$measured" --param knl --range 0:1:10000000
+printf 't,a,b\n0,1e-304,2e-304\n0.001,-1e-304,1e-304\n0.002,3e-304,-2e-304\n' >"$out/tiny.csv"
+expect 2 "degenerate data: numerical rank 0" -- pod "$out/tiny.csv" --json "$out/tiny.json"
+[ ! -e "$out/tiny.json" ] || fail "pod of degenerate data wrote its JSON"
+
+# Item 8: /dev/zero as a case file grew to GBs; now it fails at 1 MiB + 1.
+start=$(date +%s)
+expect 1 "expected a case file of at most 1048576 bytes (1 MiB)" -- modes /dev/zero
+[ $(( $(date +%s) - start )) -lt 10 ] || fail "modes /dev/zero took more than 10 s"
+python3 -c "print('[beam]\n' + '.'.join(['a'] * 40000) + ' = 1')" >"$out/deep.toml"
+expect 1 "deep.toml:2: expected TOML nested at most 32 levels deep" -- modes "$out/deep.toml"
+
+# Item 5: a force file that is not CSV shows 12 bytes of its first cell, escaped.
+printf 'root:$6$saltsalt$SECRETHASH:19000:0:99999:7:::\ndaemon:*:19000:0:99999:7:::\n' \
+  >"$out/shadow"
+expect 1 'got "root:$6$salt..." (46 bytes)' -- simulate "$case_file" --set force.type=file \
+  --set force.file="$out/shadow" --set force.column=x -o "$out/s.csv"
+grep -q "SECRETHASH\|daemon" "$out/stderr" && fail "the force file's content reached stderr"
+printf 't,\033[2Jw1\n0,1\n1,2\n' >"$out/esc.csv"
+expect 1 'expected column names without control characters, got "\x1b[2Jw1"' -- pod "$out/esc.csv"
+if grep -q $'\033' "$out/stderr"; then fail "an escape character reached stderr"; fi
+
+echo "hostile inputs: ok"
