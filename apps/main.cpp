@@ -1,6 +1,7 @@
 // podid: identification of nonlinear structures by POD and wavelets.
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -74,6 +75,14 @@ int main(int argc, char** argv) {
   } catch (const podid::cli::CommandFailed& e) {
     std::fprintf(stderr, "podid: %s\n", OneLine(e.what()).c_str());
     return e.exit_code();
+  } catch (const std::bad_alloc&) {
+    // Never a bare "std::bad_alloc": the documented limits bound what an input
+    // may ask for; within them, the machine ran out of memory.
+    PrintError(
+        "out of memory: the data, case or options ask for more memory than this machine "
+        "has (limits: docs/case-file.md, docs/cli.md); use a shorter record, a coarser time "
+        "step or fewer points");
+    return 1;
   } catch (const std::exception& e) {
     PrintError(e.what());
     return 1;
