@@ -52,18 +52,24 @@ class UffFile {
   /// The next line without "\r\n"; false at the end of the file.
   bool Next(std::string& line) {
     line.clear();
-    int c = 0;
     bool any = false;
-    while ((c = std::fgetc(file_.get())) != EOF) {
+    while (true) {
+      if (begin_ == end_ && !Refill()) break;
       any = true;
-      ++offset_;
-      if (c == '\n') break;
-      if (line.size() == kMaxUffLineBytes) {
+      const char* start = buffer_.data() + begin_;
+      const auto* newline = static_cast<const char*>(std::memchr(start, '\n', end_ - begin_));
+      const std::size_t take =
+          newline != nullptr ? static_cast<std::size_t>(newline - start) : end_ - begin_;
+      if (line.size() + take > kMaxUffLineBytes) {
         ThrowInvalid(Where(line_number_ + 1),
                      "a line of at most " + std::to_string(kMaxUffLineBytes) + " bytes",
                      "a longer line");
       }
-      line += static_cast<char>(c);
+      line.append(start, take);
+      const std::size_t consumed = take + (newline != nullptr ? 1 : 0);
+      begin_ += consumed;
+      offset_ += consumed;
+      if (newline != nullptr) break;
     }
     if (!any) return false;
     ++line_number_;
@@ -73,7 +79,10 @@ class UffFile {
 
   /// Reads exactly n bytes (n <= Remaining() checked by the caller).
   void Read(char* out, std::size_t n) {
-    if (std::fread(out, 1, n, file_.get()) != n) {
+    const std::size_t buffered = std::min(n, end_ - begin_);
+    std::memcpy(out, buffer_.data() + begin_, buffered);
+    begin_ += buffered;
+    if (std::fread(out + buffered, 1, n - buffered, file_.get()) != n - buffered) {
       ThrowInvalid(Where(line_number_ + 1), std::to_string(n) + " bytes of binary data",
                    "the end of the file");
     }
@@ -85,9 +94,17 @@ class UffFile {
   std::string Where(long long line) const { return path_ + ":" + std::to_string(line); }
 
  private:
+  bool Refill() {
+    begin_ = 0;
+    end_ = std::fread(buffer_.data(), 1, buffer_.size(), file_.get());
+    return end_ > 0;
+  }
+
   std::string path_;
   std::unique_ptr<std::FILE, FileCloser> file_;
-  std::uint64_t size_ = 0, offset_ = 0;
+  std::vector<char> buffer_ = std::vector<char>(std::size_t{1} << 16);  // read ahead
+  std::size_t begin_ = 0, end_ = 0;
+  std::uint64_t size_ = 0, offset_ = 0;  // offset_: bytes handed out
   long long line_number_ = 0;
 };
 
