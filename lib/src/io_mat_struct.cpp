@@ -253,7 +253,8 @@ TimeSeries MatStructSeries(matvar_t& var,
   std::string time_name;
   for (unsigned f = 0; f < fields && field_names != nullptr; ++f) {
     const std::string field = field_names[f];
-    if (EqualsNoCase(field, "t") || EqualsNoCase(field, "time")) {
+    if (EqualsNoCase(field, "t") || EqualsNoCase(field, "time") || EqualsNoCase(field, "time_s") ||
+        EqualsNoCase(field, "t_s")) {
       time = Field(&var, field_names[f]);
       time_name = field;
       break;
@@ -307,9 +308,23 @@ TimeSeries MatStructSeries(matvar_t& var,
                                   where + "." + time_name);
     if (has_time) *has_time = true;
   } else {
+    // A scalar field fs (Hz) or dt (s) gives the sampling when no option does.
+    for (unsigned f = 0; !(step_s > 0.0) && f < fields && field_names != nullptr; ++f) {
+      const std::string field = field_names[f];
+      const bool rate = EqualsNoCase(field, "fs");
+      if (!rate && !EqualsNoCase(field, "dt")) continue;
+      const double value = Scalar(Field(&var, field_names[f]), where + "." + field);
+      if (value > 0.0 && std::isfinite(value) && std::isfinite(1.0 / value)) {
+        step_s = rate ? 1.0 / value : value;
+        if (notes)
+          notes->push_back(where + ": sampling from its field " + field + " = " + ToText(value));
+      }
+    }
     if (!(step_s > 0.0) || !std::isfinite(step_s)) {
-      ThrowInvalid(where, "a time field ('t' or 'time') or a sampling step (--rate, --step)",
-                   "neither");
+      ThrowInvalid(where,
+                   "a time field ('t', 'time', 'time_s'), a scalar field 'fs' (Hz) or 'dt' (s), "
+                   "or a sampling step (--rate, --step)",
+                   "none of them");
     }
     series.time_s.resize(static_cast<Eigen::Index>(samples));
     for (std::size_t i = 0; i < samples; ++i)

@@ -93,8 +93,9 @@ TEST(ReadMatStruct, PlainStructWithTimeAndChannelFields) {
 
 TEST(ReadMatStruct, PlainStructWithoutTimeNeedsARate) {
   PODID_EXPECT_THROW_WITH(Read(Reader("plain_struct.mat"), "notime"), std::invalid_argument,
-                          "plain_struct.mat: notime: expected a time field ('t' or 'time') or a "
-                          "sampling step (--rate, --step), got neither");
+                          "plain_struct.mat: notime: expected a time field ('t', 'time', "
+                          "'time_s'), a scalar field 'fs' (Hz) or 'dt' (s), or a sampling step "
+                          "(--rate, --step), got none of them");
   const TimeSeries s = Read(Reader("plain_struct.mat"), "notime", 512.0);
   EXPECT_EQ(s.channel_names, (std::vector<std::string>{"a", "b"}));
   ASSERT_EQ(s.samples(), kSamples);
@@ -102,6 +103,20 @@ TEST(ReadMatStruct, PlainStructWithoutTimeNeedsARate) {
     ASSERT_EQ(s.time_s(i), i * kStep);
     ASSERT_NEAR(s.values(i, 1), Signal(2, kStart + i * kStep), kLibmSin);
   }
+}
+
+TEST(ReadMatStruct, PlainStructWithASamplingRateField) {
+  // withfs = struct(fs = 512, x (300), y (300)): t = i / fs.
+  std::vector<std::string> notes;
+  const TimeSeries s = Read(Reader("plain_struct.mat"), "withfs", 0.0, &notes);
+  EXPECT_EQ(s.channel_names, (std::vector<std::string>{"x", "y"}));
+  ASSERT_EQ(s.samples(), kSamples);
+  EXPECT_EQ(s.time_s(1), kStep);
+  for (int i = 0; i < kSamples; ++i)
+    ASSERT_NEAR(s.values(i, 1), Signal(1, kStart + i * kStep), kLibmSin);
+  ASSERT_EQ(notes.size(), 2u);
+  EXPECT_NE(notes[1].find("withfs: sampling from its field fs = 512"), std::string::npos)
+      << notes[1];
 }
 
 TEST(ReadMatStruct, ChannelSelectionAndRateChecks) {

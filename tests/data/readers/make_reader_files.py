@@ -119,6 +119,7 @@ sio.savemat("plain_struct.mat", {
     "data": {"note": "plain struct", "fs": 512.0, "time": tm, "acc1": ym[:, 0],
              "acc2": ym[:, 1][:, None], "both": ym[:, 1:].T.copy()},
     "notime": {"a": ym[:, 0], "b": ym[:, 2]},
+    "withfs": {"fs": 512.0, "x": ym[:, 0], "y": ym[:, 1]},
 })
 
 # --- MAT v7.3 (HDF5) ------------------------------------------------------------
