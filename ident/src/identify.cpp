@@ -351,7 +351,10 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
     summary.history.insert(summary.history.end(), runs[s].history.begin(), runs[s].history.end());
     if (runs[s].best_x.size() && (best < 0 || runs[s].best < runs[best].best)) best = static_cast<int>(s);
   }
-  if (!runs.front().history.empty()) summary.initial_objective = runs.front().history.front().objective;
+  // A failed start has no objective value (the failure value is a penalty).
+  if (!runs.front().history.empty() && !runs.front().history.front().failed) {
+    summary.initial_objective = runs.front().history.front().objective;
+  }
   if (best < 0) {
     summary.termination = Termination::kAllEvaluationsFailed;
     summary.parameters = first;

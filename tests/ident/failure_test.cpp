@@ -136,6 +136,9 @@ TEST(IdentifyFailure, EveryEvaluationFailingIsReportedWithTheReason) {
       << summary.message;
   ASSERT_EQ(summary.parameters.size(), 1);
   EXPECT_EQ(summary.parameters[0], -80.0);  // the start, not garbage
+  // No objective value from the penalty (issue 10 item 9).
+  EXPECT_TRUE(std::isnan(summary.initial_objective));
+  EXPECT_TRUE(std::isnan(summary.final_objective));
 }
 
 TEST(LandscapeFailure, FailingPointsAreCountedAndTheOthersComputed) {

@@ -89,7 +89,7 @@ struct IdentifySummary {
   std::vector<std::string> parameter_names;
   Eigen::VectorXd initial_parameters;
   Eigen::VectorXd parameters;  ///< the best point seen
-  double initial_objective = std::numeric_limits<double>::quiet_NaN();
+  double initial_objective = std::numeric_limits<double>::quiet_NaN();  ///< NaN if the start failed
   double final_objective = std::numeric_limits<double>::quiet_NaN();
   TermValues final_terms;
   int evaluations = 0;
