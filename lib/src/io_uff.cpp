@@ -160,6 +160,13 @@ void SkipToDelimiter(UffFile& file, std::string& line) {
   }
 }
 
+/// `value` as an int when it is a whole number of at most 9 digits, else -1
+/// (every code these records hold is small and >= 0).
+int SmallInteger(double value) {
+  return value >= 0 && value <= 999999999.0 && value == std::floor(value) ? static_cast<int>(value)
+                                                                           : -1;
+}
+
 /// Reads a data set 58 or 58b whose first line (with the "58") is `first`.
 /// Returns true with `out` filled for a time response; false (a note added)
 /// when it is skipped. Leaves the file after the closing "-1".
@@ -178,9 +185,13 @@ bool ReadDataSet58(UffFile& file,
       ThrowInvalid(file.Where(first_line), "a 58b header: byte order, format, lines, bytes",
                    "\"" + CleanText(first.substr(0, 80)) + "\"");
     }
-    byte_order = static_cast<int>(fields[0]);
-    format = static_cast<int>(fields[1]);
-    binary_bytes = static_cast<long long>(fields[3]);
+    // Range-checked before any conversion: a cast of an out-of-range double is
+    // undefined behaviour (1.1e18 as a byte order, found by podid_fuzz_uff).
+    byte_order = SmallInteger(fields[0]);
+    format = SmallInteger(fields[1]);
+    binary_bytes = fields[3] >= 0 && fields[3] <= 9.0e15 && fields[3] == std::floor(fields[3])
+                       ? static_cast<long long>(fields[3])
+                       : -1;
     if ((byte_order != 1 && byte_order != 2) || format != 2 || binary_bytes < 0) {
       ThrowInvalid(file.Where(first_line),
                    "a 58b header with byte order 1 (little endian) or 2 (big), format 2 (IEEE 754) "
@@ -237,7 +248,7 @@ bool ReadDataSet58(UffFile& file,
                  "record 7: data type, count, spacing, start, increment",
                  "\"" + CleanText(std::string_view(records[6]).substr(0, 80)) + "\"");
   }
-  const int data_type = static_cast<int>(r7[0]);
+  const int data_type = SmallInteger(r7[0]);
   const double count = r7[1];
   const bool even = r7[2] == 1.0;
   const double start = r7[3], increment = r7[4];

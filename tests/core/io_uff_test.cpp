@@ -123,6 +123,13 @@ TEST(ReadUff, Rejections) {
                           std::invalid_argument,
                           "cut.uff:9: expected record 7: data type, count, spacing, start, "
                           "increment, got \"2        20     1\"");
+  // 58b byte order 1.1e18 (found by podid_fuzz_uff: converted to int before
+  // its range was checked, undefined behaviour under UBSan).
+  std::string huge_order = head;
+  huge_order.replace(huge_order.find("     1     2          11"), 6, " 1111111111111111111");
+  PODID_EXPECT_THROW_WITH(
+      ReadUff(dir.Write("order.uff", huge_order + std::string(80, '\0') + "    -1\n")),
+      std::invalid_argument, "byte order 1.111111111e+18, format 2");
   // 58b announcing VAX floats (format 1).
   std::string vax = head;
   vax.replace(vax.find("     2          11"), 6, "     1");
