@@ -154,6 +154,18 @@ std::string MatText(const matvar_t* var) {
   return out;
 }
 
+Eigen::MatrixXd ConcatenateChannels(std::vector<Eigen::MatrixXd>& blocks, Eigen::Index samples) {
+  Eigen::Index channels = 0;
+  for (const auto& b : blocks) channels += b.cols();
+  Eigen::MatrixXd values(samples, channels);
+  for (Eigen::Index at = 0; auto& b : blocks) {
+    values.middleCols(at, b.cols()) = b;
+    at += b.cols();
+    b.resize(0, 0);
+  }
+  return values;
+}
+
 Eigen::VectorXd MatTimeVector(const std::vector<double>& t,
                               matio_classes time_class,
                               const std::string& where) {
@@ -404,14 +416,7 @@ TimeSeries ReadMatFile(const std::string& path,
         series.channel_names.push_back(CleanText(name) + std::to_string(j + 1));
     }
   }
-  Eigen::Index channels = 0;
-  for (const auto& b : blocks) channels += b.cols();
-  series.values.resize(blocks[0].rows(), channels);
-  for (Eigen::Index at = 0; auto& b : blocks) {
-    series.values.middleCols(at, b.cols()) = b;
-    at += b.cols();
-    b.resize(0, 0);
-  }
+  series.values = ConcatenateChannels(blocks, blocks[0].rows());
   series.units.assign(series.channel_names.size(), "");
 
   if (time != nullptr) {

@@ -38,6 +38,10 @@ Eigen::VectorXd MatTimeVector(const std::vector<double>& t,
                               matio_classes time_class,
                               const std::string& where);
 
+/// The channel blocks (each samples x k, all of `samples` rows) side by side,
+/// in order; each block is freed as soon as it is copied.
+Eigen::MatrixXd ConcatenateChannels(std::vector<Eigen::MatrixXd>& blocks, Eigen::Index samples);
+
 /// Interprets a struct read with its data (test-system export or plain
 /// struct; io.hpp's ReadMat). `step_s` is used when it has no time (> 0);
 /// `has_time` says whether it had. Appends notes.

@@ -294,14 +294,7 @@ TimeSeries MatStructSeries(matvar_t& var,
     notes->push_back(where + ": fields " + skipped + " skipped (not numeric, or not " +
                      std::to_string(samples) + " samples long)");
   }
-  Eigen::Index channels = 0;
-  for (const auto& b : blocks) channels += b.cols();
-  series.values.resize(static_cast<Eigen::Index>(samples), channels);
-  for (Eigen::Index at = 0; auto& b : blocks) {
-    series.values.middleCols(at, b.cols()) = b;
-    at += b.cols();
-    b.resize(0, 0);
-  }
+  series.values = ConcatenateChannels(blocks, static_cast<Eigen::Index>(samples));
   series.units.assign(series.channel_names.size(), "");
   if (time != nullptr) {
     series.time_s = MatTimeVector(MatDoubles(*time, where + "." + time_name), time->class_type,
