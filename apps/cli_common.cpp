@@ -36,11 +36,23 @@ std::string DefaultOutput(const std::string& input, const std::string& suffix) {
 std::vector<NamedFile> CaseInputFiles(const CaseArguments& arguments) {
   std::vector<NamedFile> files = {{"case file", arguments.path}};
   const CaseSpec spec = arguments.Load().ToSpec();
+  // Relative to the case file's folder, as CaseDocument resolves them.
+  auto add = [&](const std::string& what, const std::string& name) {
+    std::filesystem::path path(name);
+    if (path.is_relative()) path = std::filesystem::path(arguments.path).parent_path() / path;
+    files.push_back({what, path.string()});
+  };
   if (spec.force.type == ForceType::kFile && !spec.force.file.empty()) {
-    // Relative to the case file's folder, as CaseDocument resolves it.
-    std::filesystem::path force(spec.force.file);
-    if (force.is_relative()) force = std::filesystem::path(arguments.path).parent_path() / force;
-    files.push_back({"force file", force.string()});
+    add("force file", spec.force.file);
+  }
+  if (spec.model.type == ModelType::kMatrices) {
+    if (!spec.model.file.empty()) {
+      add("model file", spec.model.file);
+    } else {  // Matrix Market files, one per matrix
+      add("mass matrix file", spec.model.mass);
+      add("stiffness matrix file", spec.model.stiffness);
+      if (!spec.model.damping.empty()) add("damping matrix file", spec.model.damping);
+    }
   }
   return files;
 }

@@ -61,6 +61,14 @@ land=(case.toml -m data.csv --objective time-free --param knl --range 0:100:3)
 expect_refused "landscape -o measured" landscape "${land[@]}" -o data.csv
 expect_refused "landscape --json case" landscape "${land[@]}" --json case.toml
 expect_refused "landscape --plot measured" landscape "${land[@]}" --plot data_hard.csv
+# An imported model's matrix files are inputs too.
+mkdir duffing
+cp "$root"/examples/duffing/{duffing.toml,m.mtx,k.mtx,c.mtx} duffing/
+duffing_sums=$(md5sum duffing/*)
+expect_refused "simulate -o stiffness matrix" simulate duffing/duffing.toml -o duffing/k.mtx
+grep -q "stiffness matrix file" stderr || fail "matrix file not named: $(cat stderr)"
+expect_refused "simulate -o damping matrix" simulate duffing/duffing.toml -o ./duffing/c.mtx
+[ "$(md5sum duffing/*)" = "$duffing_sums" ] || fail "an imported model file changed"
 
 # Every output's folder is checked before the computation: no CSV written
 # and then a failure on a bad --json path.
