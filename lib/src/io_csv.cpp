@@ -103,8 +103,7 @@ std::string_view Trim(std::string_view s) {
 // never reach the terminal raw or at length.
 std::string Quote(std::string_view cell) { return Excerpt(cell); }
 
-// The first cell of a file that is not a CSV at all (e.g. `[force] file =
-// /etc/shadow`): show only its start.
+// The first cell of a header whose first name is wrong: show only its start.
 constexpr std::size_t kShownFirstCellBytes = 12;
 
 bool HasControlCharacter(std::string_view text) {
@@ -153,6 +152,14 @@ TimeSeries ReadCsv(const std::string& path) {
                      "a row of numbers (the header is missing)");
       }
       if (names.empty() && cell != "t" && cell != "time") {
+        // A first line without a comma is no CSV header (`[force] file =
+        // /etc/shadow`): nothing of it is shown, only its length.
+        if (comma == line.npos) {
+          ThrowInvalid(where(reader.line_number(), start + 1),
+                       "a CSV header line such as \"t,w1,w2\"",
+                       "a first line of " + std::to_string(line.size()) +
+                           " bytes without a comma (not a CSV file?)");
+        }
         ThrowInvalid(where(reader.line_number(), start + 1),
                      "a header line whose first name is \"t\" or \"time\"",
                      Excerpt(cell, kShownFirstCellBytes));
