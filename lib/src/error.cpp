@@ -22,7 +22,16 @@ namespace {
 
 // Length of the valid UTF-8 sequence at s[i] (1-4), or 0 when it is not one
 // (overlong forms, surrogates and code points above U+10FFFF are invalid).
-std::size_t Utf8Length(std::string_view s, std::size_t i) {
+
+void AppendHex(std::string& out, unsigned char c) {
+  constexpr char kDigits[] = "0123456789abcdef";
+  out.append("\\x").push_back(kDigits[c >> 4]);
+  out.push_back(kDigits[c & 15]);
+}
+
+}  // namespace
+
+std::size_t Utf8SequenceLength(std::string_view s, std::size_t i) {
   const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
   const unsigned char b0 = byte(i);
   std::size_t n = 0;
@@ -48,14 +57,6 @@ std::size_t Utf8Length(std::string_view s, std::size_t i) {
   return n;
 }
 
-void AppendHex(std::string& out, unsigned char c) {
-  constexpr char kDigits[] = "0123456789abcdef";
-  out.append("\\x").push_back(kDigits[c >> 4]);
-  out.push_back(kDigits[c & 15]);
-}
-
-}  // namespace
-
 std::string Escaped(std::string_view text) {
   std::string out;
   out.reserve(text.size());
@@ -76,7 +77,7 @@ std::string Escaped(std::string_view text) {
     } else if (c < 0x80) {  // other C0 controls, DEL
       AppendHex(out, c);
       ++i;
-    } else if (const std::size_t n = Utf8Length(text, i);
+    } else if (const std::size_t n = Utf8SequenceLength(text, i);
                n == 0 || (n == 2 && c == 0xC2 && static_cast<unsigned char>(text[i + 1]) < 0xA0)) {
       AppendHex(out, c);  // not UTF-8, or a C1 control (U+0080..U+009F): byte by byte
       ++i;

@@ -143,16 +143,9 @@ std::string CleanText(std::string_view bytes) {
   std::string out;
   out.reserve(bytes.size());
   std::size_t i = 0;
-  auto continuation = [&](std::size_t at) {
-    return at < bytes.size() && (static_cast<unsigned char>(bytes[at]) & 0xC0) == 0x80;
-  };
   while (i < bytes.size()) {
     const auto c = static_cast<unsigned char>(bytes[i]);
-    std::size_t length = 0;  // of a valid UTF-8 sequence starting here
-    if (c >= 0xC2 && c <= 0xDF && continuation(i + 1)) length = 2;
-    if (c >= 0xE0 && c <= 0xEF && continuation(i + 1) && continuation(i + 2)) length = 3;
-    if (c >= 0xF0 && c <= 0xF4 && continuation(i + 1) && continuation(i + 2) && continuation(i + 3))
-      length = 4;
+    const std::size_t length = Utf8SequenceLength(bytes, i);  // 0: not valid UTF-8 here
     if (c < 0x20 || c == 0x7F) {
       out += '?';
       ++i;

@@ -33,6 +33,10 @@ std::string ToText(const T& value) {
 /// recognise a token, too few to print a file's lines.
 inline constexpr std::size_t kExcerptBytes = 40;
 
+/// Length (2..4) of the well-formed UTF-8 sequence starting at byte i of s
+/// (no overlong forms, no surrogates, at most U+10FFFF), or 0.
+std::size_t Utf8SequenceLength(std::string_view s, std::size_t i);
+
 /// `text` with every byte that could drive a terminal written as an escape:
 /// \n, \r, \t, \xNN for the other C0 controls and DEL, C1 controls
 /// (U+0080..U+009F) and bytes that are not valid UTF-8. Printable ASCII
