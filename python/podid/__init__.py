@@ -1,0 +1,25 @@
+"""podid: identification of nonlinear structures by POD and wavelet ridges.
+
+The compiled extension ``podid._podid`` does the work; this package re-exports
+it. Arrays are NumPy float64; a (sensors x samples) matrix in Fortran order is
+read without a copy. podid's input errors are raised as ValueError with
+podid's message.
+"""
+from ._podid import (  # noqa: F401
+    PodResult,
+    RidgeTrack,
+    Scalogram,
+    SimulationResult,
+    TimeSeries,
+    cwt,
+    instantaneous_frequency,
+    pod,
+    read,
+    ridges,
+    simulate,
+)
+
+__all__ = [
+    "PodResult", "RidgeTrack", "Scalogram", "SimulationResult", "TimeSeries",
+    "cwt", "instantaneous_frequency", "pod", "read", "ridges", "simulate",
+]

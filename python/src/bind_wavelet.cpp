@@ -1,0 +1,110 @@
+// podid.cwt(x, step_s, ...), podid.ridges(...), podid.instantaneous_frequency(...):
+// the Morlet CWT, its ridges and the IF of a 1-D array (docs/wavelet.md).
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include <string>
+#include <vector>
+
+#include "bindings.hpp"
+#include "podid/wavelet/cwt.hpp"
+#include "podid/wavelet/ridge.hpp"
+
+namespace py = pybind11;
+
+namespace podid::python {
+namespace {
+
+wavelet::CwtOptions MakeCwtOptions(double fmin_Hz, double fmax_Hz, int voices, double omega0,
+                                   const std::string& padding, double coi_factor, int threads) {
+  wavelet::CwtOptions options;
+  options.frequencies.min_frequency_Hz = fmin_Hz;
+  options.frequencies.max_frequency_Hz = fmax_Hz;
+  options.frequencies.voices_per_octave = voices;
+  options.wavelet.omega0 = omega0;
+  options.padding = wavelet::ParsePadding(padding);
+  options.coi_factor = coi_factor;
+  options.threads = threads;
+  return options;
+}
+
+// Keyword arguments shared by the three functions (the CLI's names).
+#define PODID_CWT_KWARGS                                                                       \
+  py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("voices") = 32, py::arg("omega0") = 6.0, \
+      py::arg("padding") = "reflect", py::arg("coi_factor") = 1.0, py::arg("threads") = 1
+
+}  // namespace
+
+void BindWavelet(py::module_& m) {
+  py::class_<wavelet::Scalogram>(m, "Scalogram", "W(t, f) of one signal (rows: times, columns: frequencies).")
+      .def_readonly("frequencies_Hz", &wavelet::Scalogram::frequencies_Hz)
+      .def_readonly("scales_s", &wavelet::Scalogram::scales_s)
+      .def_readonly("time_s", &wavelet::Scalogram::time_s)
+      .def_readonly("coefficients", &wavelet::Scalogram::coefficients,
+                    "complex (times x frequencies), in units of coefficient_scale")
+      .def_readonly("coefficient_scale", &wavelet::Scalogram::coefficient_scale)
+      .def_readonly("coi_frequency_Hz", &wavelet::Scalogram::coi_frequency_Hz,
+                    "lowest frequency inside the cone of influence at each time")
+      .def_readonly("decimation", &wavelet::Scalogram::decimation);
+
+  py::class_<wavelet::RidgeTrack>(m, "RidgeTrack", "A ridge: instantaneous frequency and amplitude.")
+      .def_readonly("time_s", &wavelet::RidgeTrack::time_s)
+      .def_readonly("frequency_Hz", &wavelet::RidgeTrack::frequency_Hz)
+      .def_readonly("grid_frequency_Hz", &wavelet::RidgeTrack::grid_frequency_Hz)
+      .def_readonly("amplitude", &wavelet::RidgeTrack::amplitude)
+      .def_property_readonly("inside_coi", [](const wavelet::RidgeTrack& t) {
+        return Eigen::Array<bool, Eigen::Dynamic, 1>(t.inside_coi);
+      });
+
+  m.def(
+      "cwt",
+      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double fmin, double fmax, int voices,
+         double omega0, const std::string& padding, double coi_factor, int threads) {
+        const wavelet::CwtOptions options =
+            MakeCwtOptions(fmin, fmax, voices, omega0, padding, coi_factor, threads);
+        py::gil_scoped_release release;
+        return wavelet::Cwt(x, step_s, options);
+      },
+      py::arg("x"), py::arg("step_s"), PODID_CWT_KWARGS,
+      "Morlet CWT of x (1-D, sampled every step_s) on a log grid fmin..fmax Hz.");
+
+  m.def(
+      "ridges",
+      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, int count, double fmin, double fmax,
+         int voices, double omega0, const std::string& padding, double coi_factor, int threads) {
+        const wavelet::CwtOptions options =
+            MakeCwtOptions(fmin, fmax, voices, omega0, padding, coi_factor, threads);
+        wavelet::RidgeOptions ridge;
+        ridge.ridges = count;
+        std::string why;
+        if (!ridge.IsValid(&why)) throw std::invalid_argument("count: " + why);
+        py::gil_scoped_release release;
+        wavelet::CwtTransform transform(options);
+        wavelet::Scalogram scalogram;
+        transform.Compute(x, step_s, &scalogram);
+        std::vector<wavelet::RidgeTrack> tracks;
+        for (const Eigen::VectorXi& path : wavelet::FindRidges(scalogram, ridge)) {
+          tracks.push_back(wavelet::TrackRidge(scalogram, path, ridge, &transform));
+        }
+        return tracks;
+      },
+      py::arg("x"), py::arg("step_s"), py::arg("count") = 1, PODID_CWT_KWARGS,
+      "The `count` strongest penalised ridges of x's CWT, strongest first.");
+
+  m.def(
+      "instantaneous_frequency",
+      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double fmin, double fmax, int voices,
+         double omega0, const std::string& padding, double coi_factor, int threads) {
+        wavelet::RidgeFrequencyOptions options;
+        const bool band_limited = options.cwt.band_limited;
+        options.cwt = MakeCwtOptions(fmin, fmax, voices, omega0, padding, coi_factor, threads);
+        options.cwt.band_limited = band_limited;
+        py::gil_scoped_release release;
+        return wavelet::RidgeFrequency(x, step_s, options);
+      },
+      py::arg("x"), py::arg("step_s"), PODID_CWT_KWARGS,
+      "The IF of x along its main ridge, as the wavelet objective computes it (band-limited, "
+      "decimated output times).");
+}
+
+}  // namespace podid::python
