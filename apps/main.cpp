@@ -6,6 +6,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "mpi_session.hpp"
 #include "podid/core/temp_files.hpp"
 
 namespace {
@@ -33,12 +34,20 @@ std::string OneLine(const std::string& text) {
 }
 
 void PrintError(const std::string& message) {
+  namespace mpi = podid::cli::mpi;
+  if (mpi::Active()) {
+    std::fprintf(stderr, "podid: error (rank %d of %d): %s\n", mpi::Rank(), mpi::Size(),
+                 OneLine(message).c_str());
+    return;
+  }
   std::fprintf(stderr, "podid: error: %s\n", OneLine(message).c_str());
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Under mpirun/srun (and built with MPI): MPI for the whole run; else nothing.
+  podid::cli::mpi::Session mpi_session(&argc, &argv);
   CLI::App app{
       "podid: identify the parameters of nonlinear mechanical structures from measured\n"
       "time histories, with proper orthogonal decomposition (POD) and the Morlet wavelet\n"
@@ -58,6 +67,21 @@ int main(int argc, char** argv) {
   podid::cli::AddPlanCommand(app);
   podid::cli::AddIdentifyCommand(app);
   podid::cli::AddLandscapeCommand(app);
+
+  // Under several MPI ranks only the commands that spread their work run; the
+  // others would compute the same thing on every rank and race on the outputs.
+  if (podid::cli::mpi::Active()) {
+    for (int i = 1; i < argc; ++i) {
+      const std::string word = argv[i];
+      if (word.empty() || word[0] == '-') continue;
+      if (word != "landscape" && word != "identify") {
+        PrintError("podid " + word + " runs as one process: start it without mpirun (only " +
+                   "'podid landscape' and 'podid identify --multistart' spread over MPI ranks)");
+        return 1;
+      }
+      break;
+    }
+  }
 
   // SIGINT, SIGTERM, SIGHUP, ... remove the temporary files of a write in progress.
   podid::InstallTemporaryFileCleanup();

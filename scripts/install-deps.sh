@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox python3 python3-numpy python3-scipy python3-pywt
   python3-dev pybind11-dev python3-pytest python3-venv python3-setuptools
+  libopenmpi-dev openmpi-bin
 )
 missing=()
 for p in "${packages[@]}"; do
