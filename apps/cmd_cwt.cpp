@@ -30,6 +30,9 @@ struct CwtArguments {
   std::string ridge = "penalised";
   double penalty_s = 0.05;
   double omega0 = 6.0;
+  std::string wavelet = "morlet";
+  double gamma = 3.0;
+  double beta = 20.0;
   std::string padding = "reflect";
   std::string normalisation = "amplitude";
   double coi_factor = 1.0;
@@ -77,7 +80,10 @@ void Run(const CwtArguments& a) {
   wavelet::RidgeFrequencyOptions options;
   wavelet::CwtOptions& cwt = options.cwt;
   cwt.band_limited = a.band_limited;
+  cwt.wavelet.family = wavelet::ParseWaveletFamily(a.wavelet);
   cwt.wavelet.omega0 = a.omega0;
+  cwt.wavelet.gamma = a.gamma;
+  cwt.wavelet.beta = a.beta;
   cwt.wavelet.normalisation = wavelet::ParseNormalisation(a.normalisation);
   cwt.padding = wavelet::ParsePadding(a.padding);
   cwt.coi_factor = a.coi_factor;
@@ -118,8 +124,8 @@ void Run(const CwtArguments& a) {
   }
   std::printf("podid cwt: %s of %s: %ld samples, step %.6g s (fs %.6g Hz)\n", label.c_str(),
               a.data.c_str(), static_cast<long>(signal.size()), step_s, 1.0 / step_s);
-  std::printf("Morlet omega0 %.6g (%s), %ld frequencies %.6g-%.6g Hz (%s), %s padding%s\n",
-              cwt.wavelet.omega0, wavelet::ToString(cwt.wavelet.normalisation),
+  std::printf("%s (%s), %ld frequencies %.6g-%.6g Hz (%s), %s padding%s\n",
+              cwt.wavelet.Describe().c_str(), wavelet::ToString(cwt.wavelet.normalisation),
               static_cast<long>(sg.frequencies()), sg.frequencies_Hz(0),
               sg.frequencies_Hz(sg.frequencies() - 1),
               a.bins > 0 ? "linear" : (ToText(a.voices) + " voices/octave").c_str(),
@@ -188,7 +194,7 @@ void Run(const CwtArguments& a) {
       if (!track.inside_coi(j)) ridge_f(j) = NAN;
     }
     Axes axes;
-    axes.title = "|W| of " + label + " (Morlet, omega0 " + ToText(a.omega0) + ")";
+    axes.title = "|W| of " + label + " (" + cwt.wavelet.Describe() + ")";
     axes.x_label = "t (s)";
     axes.y_label = "f (Hz)";
     axes.log_y = a.bins == 0;
@@ -205,7 +211,7 @@ void AddCwtCommand(CLI::App& app) {
   auto a = std::make_shared<CwtArguments>();
   CLI::App* command = app.add_subcommand(
       "cwt",
-      "Morlet wavelet transform of one channel (--channel) or POD time mode (--pom):\n"
+      "Morlet or Morse wavelet transform of one channel (--channel) or POD time mode (--pom):\n"
       "prints the instantaneous frequency (IF) along the ridge inside the cone of\n"
       "influence and writes the ridge (t, f_Hz, amplitude, inside_coi). docs/wavelet.md");
   command->add_option("data", a->data, "Time series (.csv, .mat or .uff; docs/data-files.md)")
@@ -232,7 +238,12 @@ void AddCwtCommand(CLI::App& app) {
       ->add_option("--penalty", a->penalty_s,
                    "Penalised ridge: cost (s) of a jump of one e-fold in frequency")
       ->capture_default_str();
+  command->add_option("--wavelet", a->wavelet, "morlet or morse (generalised Morse, MATLAB's default)")
+      ->capture_default_str();
   command->add_option("--omega0", a->omega0, "Morlet centre frequency (>= 5)")
+      ->capture_default_str();
+  command->add_option("--gamma", a->gamma, "Morse symmetry gamma (1..20)")->capture_default_str();
+  command->add_option("--beta", a->beta, "Morse decay beta (1..500, beta/gamma <= 100)")
       ->capture_default_str();
   command->add_option("--padding", a->padding, "reflect, zero or periodic")->capture_default_str();
   command->add_option("--normalisation", a->normalisation, "amplitude (L1) or energy (L2)")

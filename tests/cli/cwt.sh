@@ -24,6 +24,18 @@ head -1 "$out/s.csv" | grep -q '^t,10Hz,' || fail "scalogram header"
 grep -q "POM 1 time mode" "$out/stdout" || fail "no POM label"
 [ "$(wc -l <"$out/pom.csv")" -eq 314 ] || fail "band-limited ridge rows"
 
+# The generalised Morse wavelet (MATLAB's default gamma 3, beta 20) sees the same mode.
+"$podid" cwt "$data" --channel w6 --wavelet morse >"$out/stdout" || fail "cwt --wavelet morse exited $?"
+grep -q "^Morse gamma 3 beta 20 (amplitude)" "$out/stdout" || fail "no Morse description"
+mean=$(sed -n 's/.*mean \([0-9.]*\) Hz.*/\1/p' "$out/stdout")
+awk -v m="$mean" 'BEGIN { exit !(m > 33 && m < 40) }' || fail "Morse mean IF $mean not in 33-40 Hz"
+"$podid" cwt "$data" --channel w6 --wavelet morse --gamma 0.5 2>"$out/stderr"
+[ $? -eq 1 ] || fail "gamma 0.5 not exit 1"
+grep -q "gamma: expected a value in \[1, 20\], got 0.5" "$out/stderr" || fail "gamma message"
+"$podid" cwt "$data" --channel w6 --wavelet mexh 2>"$out/stderr"
+[ $? -eq 1 ] || fail "unknown wavelet not exit 1"
+grep -q "expected one of morlet, morse" "$out/stderr" || fail "wavelet message"
+
 # Bad input: exit 1 with a one-line message saying what was expected.
 "$podid" cwt "$data" --channel w9 2>"$out/stderr" && fail "unknown channel accepted"
 [ $? -eq 1 ] || true

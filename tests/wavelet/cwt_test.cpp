@@ -8,7 +8,9 @@
 #include <complex>
 #include <cstdlib>
 #include <numbers>
+#include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "test_support.hpp"
@@ -383,6 +385,150 @@ TEST(Cwt, BadInputNamesWhatWasExpected) {
   PODID_EXPECT_THROW_WITH(CwtTransform{o}, std::invalid_argument, "band_tolerance");
   PODID_EXPECT_THROW_WITH(ParsePadding("mirror"), std::invalid_argument,
                           "expected one of reflect, zero, periodic");
+}
+
+}  // namespace
+}  // namespace podid::wavelet
+
+namespace podid::wavelet {
+namespace {
+
+MorletWavelet Morse(double gamma, double beta, Normalisation norm = Normalisation::kAmplitude) {
+  MorletWavelet w;
+  w.family = WaveletFamily::kMorse;
+  w.gamma = gamma;
+  w.beta = beta;
+  w.normalisation = norm;
+  return w;
+}
+
+TEST(MorseWavelet, MatchesTheAnalyticFormulaAndPeak) {
+  // MATLAB's normalisation (cwtfilterbank, Lilly & Olhede 2009):
+  // psi^(u) = 2 (e gamma / beta)^(beta / gamma) u^beta exp(-u^gamma), written
+  // here in a different order than the library's log form; peak 2 at
+  // u_p = (beta / gamma)^(1 / gamma) (1.88207 for MATLAB's default 3, 20).
+  // 1e-13 relative: a few roundings of exp/pow of arguments up to ~100.
+  constexpr double kTolerance = 1e-13;
+  for (auto [gamma, beta] : {std::pair{3.0, 20.0}, std::pair{2.0, 4.0}, std::pair{1.0, 10.0}}) {
+    const MorletWavelet w = Morse(gamma, beta);
+    ASSERT_TRUE(w.IsValid(nullptr));
+    const double a = 2.0 * std::pow(std::exp(1.0) * gamma / beta, beta / gamma);
+    for (double u : {0.3, 1.0, 1.88207, 2.5, 4.0}) {
+      const double expected = a * std::pow(u, beta) * std::exp(-std::pow(u, gamma));
+      EXPECT_NEAR(w.FourierTransform(u), expected, kTolerance * std::max(expected, 1e-300))
+          << gamma << " " << beta << " " << u;
+    }
+    EXPECT_EQ(w.FourierTransform(0.0), 0.0);
+    EXPECT_EQ(w.FourierTransform(-1.0), 0.0);
+    const double peak = std::pow(beta / gamma, 1.0 / gamma);
+    EXPECT_NEAR(w.RidgeAngularFrequency(), peak, kTolerance * peak);
+    EXPECT_NEAR(w.FourierTransform(peak), 2.0, kTolerance);
+    EXPECT_LT(w.FourierTransform(peak * (1 + 1e-4)), 2.0);
+    EXPECT_LT(w.FourierTransform(peak * (1 - 1e-4)), 2.0);
+    EXPECT_NEAR(w.UnitCosineMagnitude(0.01), 1.0, kTolerance);
+  }
+  EXPECT_NEAR(Morse(3.0, 20.0).RidgeAngularFrequency(), 1.8820720577620569, 1e-15);
+}
+
+TEST(MorseWavelet, EnergyNormalisationHasUnitEnergyAndItsOwnRidge) {
+  // integral |psi(t)|^2 dt = integral psi^(u)^2 du / (2 pi) = 1, by a fine
+  // trapezoid sum (1e-8: 2e5 panels over the band). The L2 ridge maximises
+  // sqrt(u) psi^(u): u = ((beta + 1/2) / gamma)^(1 / gamma).
+  constexpr double kTolerance = 1e-8;
+  const MorletWavelet w = Morse(3.0, 20.0, Normalisation::kEnergy);
+  double lo = 0.0, hi = 0.0;
+  w.Band(1e-15, &lo, &hi);
+  const int panels = 200000;
+  const double h = (hi - lo) / panels;
+  double energy = 0.0;
+  for (int i = 0; i <= panels; ++i) {
+    const double v = w.FourierTransform(lo + h * i);
+    energy += ((i == 0 || i == panels) ? 0.5 : 1.0) * v * v * h;
+  }
+  EXPECT_NEAR(energy / (2.0 * kPi), 1.0, kTolerance);
+  const double kappa = std::pow(20.5 / 3.0, 1.0 / 3.0);
+  EXPECT_NEAR(w.RidgeAngularFrequency(), kappa, 1e-14 * kappa);
+  const auto g = [&](double u) { return std::sqrt(u) * w.FourierTransform(u); };
+  EXPECT_GT(g(kappa), g(kappa * (1 + 1e-4)));
+  EXPECT_GT(g(kappa), g(kappa * (1 - 1e-4)));
+}
+
+TEST(MorseWavelet, BandEdgesAreAtTheTolerance) {
+  // psi^(lo) = psi^(hi) = tolerance * peak (bisection to rounding), and the
+  // Morlet band is omega0 -+ sqrt(2 ln(1 / tolerance)) as before.
+  const MorletWavelet w = Morse(3.0, 20.0);
+  double lo = 0.0, hi = 0.0;
+  w.Band(1e-12, &lo, &hi);
+  EXPECT_NEAR(w.FourierTransform(lo) / 2.0, 1e-12, 1e-12 * 1e-9);
+  EXPECT_NEAR(w.FourierTransform(hi) / 2.0, 1e-12, 1e-12 * 1e-9);
+  EXPECT_LT(lo, w.RidgeAngularFrequency());
+  EXPECT_GT(hi, w.RidgeAngularFrequency());
+  MorletWavelet morlet;
+  morlet.Band(1e-12, &lo, &hi);
+  EXPECT_NEAR(hi, 6.0 + std::sqrt(2.0 * std::log(1e12)), 1e-12);
+  EXPECT_NEAR(morlet.TimeSpread(), std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(morlet.ConeOfInfluenceTime_s(0.1), MorletWavelet::ConeOfInfluence_s(0.1), 1e-15);
+  // Morse's time spread: sigma_t^2 = beta gamma / u_p^2 / 4 * (1 + O(1/P^2))
+  // is not closed; check it is the RMS width of |psi(t)|^2 from a direct
+  // inverse Fourier sum instead (1e-4: 801 time points over +-20 ~ +-10 sigma_t,
+  // 2001 frequency points).
+  const double sigma = w.TimeSpread();
+  double num = 0.0, den = 0.0;
+  w.Band(1e-14, &lo, &hi);
+  const int nu = 2001;
+  const double du = (hi - lo) / (nu - 1);
+  for (int it = -400; it <= 400; ++it) {
+    const double t = it * 0.05;
+    Complex psi(0.0, 0.0);
+    for (int iu = 0; iu < nu; ++iu) {
+      const double u = lo + du * iu;
+      psi += w.FourierTransform(u) * std::exp(Complex(0.0, u * t)) * du;
+    }
+    num += t * t * std::norm(psi);
+    den += std::norm(psi);
+  }
+  EXPECT_NEAR(sigma, std::sqrt(num / den), 1e-4 * sigma);
+}
+
+TEST(MorseWavelet, ToneOnItsRidgeHasUnitMagnitudeAndExactPhaseIf) {
+  // 33 Hz cosine with 33 whole periods (reflect padding continues it): on the
+  // grid frequency 33 Hz |W| = 1 with MATLAB's L1 normalisation (1e-9 for the
+  // band truncation), and the phase derivative gives 33 Hz (1e-9).
+  constexpr double kTolerance = 1e-9;
+  const double step = 1.0 / 5000.0;
+  Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(5001, 0.0, 1.0);
+  Eigen::VectorXd x = (2 * kPi * 33.0 * t).array().cos();
+  CwtOptions o;
+  o.wavelet = Morse(3.0, 20.0);
+  o.frequencies.min_frequency_Hz = 33.0;
+  o.frequencies.max_frequency_Hz = 66.0;
+  o.frequencies.voices_per_octave = 4;
+  CwtTransform transform(o);
+  Scalogram sg;
+  transform.Compute(x, step, &sg);
+  Eigen::VectorXcd dw;
+  transform.TimeDerivative(0, &dw);
+  int checked = 0;
+  for (Eigen::Index j = 0; j < sg.times(); j += 97) {
+    if (!sg.InsideCoi(j, 0)) continue;
+    const Complex w = sg.coefficients(j, 0);
+    EXPECT_NEAR(std::abs(w), 1.0, kTolerance) << j;
+    EXPECT_NEAR((std::conj(w) * dw(j)).imag() / (2 * kPi * std::norm(w)), 33.0, kTolerance * 33.0);
+    ++checked;
+  }
+  EXPECT_GT(checked, 20);
+}
+
+TEST(MorseWavelet, BadParametersNameWhatWasExpected) {
+  std::string why;
+  EXPECT_FALSE(Morse(0.5, 20.0).IsValid(&why));
+  EXPECT_NE(why.find("gamma: expected a value in [1, 20], got 0.5"), std::string::npos) << why;
+  EXPECT_FALSE(Morse(3.0, 0.0).IsValid(&why));
+  EXPECT_NE(why.find("beta: expected a value in [1, 500], got 0"), std::string::npos) << why;
+  EXPECT_FALSE(Morse(1.0, 400.0).IsValid(&why));
+  EXPECT_NE(why.find("beta / gamma: expected <= 100"), std::string::npos) << why;
+  EXPECT_EQ(ParseWaveletFamily("morse"), WaveletFamily::kMorse);
+  EXPECT_THROW(ParseWaveletFamily("mexh"), std::invalid_argument);
 }
 
 }  // namespace

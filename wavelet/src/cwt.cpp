@@ -29,10 +29,12 @@ bool Fail(std::string* why, std::string message) {
   return false;
 }
 
-// Time-domain half-width of the wavelet at scale s, in units of s: the
-// Gaussian envelope falls below band_tolerance beyond it.
-double SupportRadius(double band_tolerance) {
-  return std::sqrt(2.0 * std::log(1.0 / band_tolerance));
+// Time-domain half-width of the wavelet at scale s, in units of s: Morlet's
+// Gaussian envelope falls below band_tolerance beyond 2 sigma_t sqrt(ln(1 /
+// tolerance)) = sqrt(2 ln(1 / tolerance)); a Morse envelope is only nearly
+// Gaussian, so it gets 1.5 times its own. Used for the padding length only.
+double SupportRadius(double time_spread, bool morse, double band_tolerance) {
+  return (morse ? 1.5 : 1.0) * 2.0 * time_spread * std::sqrt(std::log(1.0 / band_tolerance));
 }
 
 // The even extension's index: m mirrored at 0 and N - 1 (period 2N - 2).
@@ -75,6 +77,8 @@ bool CwtOptions::IsValid(std::string* why) const {
 struct CwtTransform::Impl {
   CwtOptions options;
   double kappa = 0.0;
+  double time_spread = 0.0;  // sigma_t of the wavelet
+  double band_low = 0.0, band_high = 0.0;  // u where psi^ >= band_tolerance * peak
   Eigen::VectorXd frequencies_Hz;
   Eigen::VectorXd scales_s;
 
@@ -105,7 +109,8 @@ struct CwtTransform::Impl {
 // Every length and count of a layout, from closed forms (nothing allocated).
 Sizes CwtTransform::Impl::Plan(Eigen::Index samples, double step) const {
   Sizes z;
-  const double radius = SupportRadius(options.band_tolerance);
+  const double radius = SupportRadius(
+      time_spread, options.wavelet.family == WaveletFamily::kMorse, options.band_tolerance);
   const double support = std::ceil(radius * scales_s.maxCoeff() / step);
   const double nd = static_cast<double>(samples);
   switch (options.padding) {
@@ -122,13 +127,6 @@ Sizes CwtTransform::Impl::Plan(Eigen::Index samples, double step) const {
       break;
   }
   const double bin = 2.0 * kPi / (static_cast<double>(z.p) * step);
-  const double omega0 = options.wavelet.omega0;
-  // The correction term exp(-(u^2 + omega0^2) / 2) exceeds the tolerance for
-  // |u| < sqrt(radius^2 - omega0^2): keep those bins too.
-  const double band_low =
-      std::min(omega0 - radius, options.wavelet.admissibility_correction
-                                    ? -std::sqrt(std::max(0.0, radius * radius - omega0 * omega0))
-                                    : 0.0);
   const Eigen::Index lowest = -((z.p - 1) / 2), highest = z.p / 2;
   Eigen::Index widest = 1;
   for (Eigen::Index k = 0; k < scales_s.size(); ++k) {
@@ -136,7 +134,7 @@ Sizes CwtTransform::Impl::Plan(Eigen::Index samples, double step) const {
     const Eigen::Index a =
         std::max(lowest, static_cast<Eigen::Index>(std::ceil(band_low * to_bin)));
     const Eigen::Index b =
-        std::min(highest, static_cast<Eigen::Index>(std::floor((omega0 + radius) * to_bin)));
+        std::min(highest, static_cast<Eigen::Index>(std::floor(band_high * to_bin)));
     z.filter_bins += std::max<Eigen::Index>(0, b - a + 1);
     widest = std::max<Eigen::Index>(widest, b - a + 1);
   }
@@ -180,12 +178,6 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   times = z.times;
   r = (p - n + 1) / 2;
   bin_rad_per_s = 2.0 * kPi / (static_cast<double>(p) * step_s);
-  const double omega0 = options.wavelet.omega0;
-  const double radius = SupportRadius(options.band_tolerance);
-  const double band_low =
-      std::min(omega0 - radius, options.wavelet.admissibility_correction
-                                    ? -std::sqrt(std::max(0.0, radius * radius - omega0 * omega0))
-                                    : 0.0);
   const Eigen::Index lowest = -((p - 1) / 2), highest = p / 2;
   const bool energy = options.wavelet.normalisation == Normalisation::kEnergy;
   const Eigen::Index scales = scales_s.size();
@@ -197,7 +189,7 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
     const Eigen::Index a =
         std::max(lowest, static_cast<Eigen::Index>(std::ceil(band_low * to_bin)));
     const Eigen::Index b =
-        std::min(highest, static_cast<Eigen::Index>(std::floor((omega0 + radius) * to_bin)));
+        std::min(highest, static_cast<Eigen::Index>(std::floor(band_high * to_bin)));
     const double norm = (energy ? std::sqrt(s) : 1.0) / static_cast<double>(p);
     auto& filter = filters[static_cast<std::size_t>(k)];
     filter.clear();
@@ -220,7 +212,7 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
     const Eigen::Index sample = j * d;
     const double edge_s = static_cast<double>(std::min(sample, n - 1 - sample)) * step_s;
     coi_frequency_Hz(j) = edge_s > 0.0
-                              ? options.coi_factor * kappa * std::sqrt(2.0) / (2.0 * kPi * edge_s)
+                              ? options.coi_factor * kappa * 2.0 * time_spread / (2.0 * kPi * edge_s)
                               : std::numeric_limits<double>::infinity();
   }
 }
@@ -254,6 +246,8 @@ CwtTransform::CwtTransform(const CwtOptions& options) : impl_(std::make_unique<I
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
   impl_->options = options;
   impl_->kappa = options.wavelet.RidgeAngularFrequency();
+  impl_->time_spread = options.wavelet.TimeSpread();
+  options.wavelet.Band(options.band_tolerance, &impl_->band_low, &impl_->band_high);
   impl_->frequencies_Hz = options.frequencies.Frequencies_Hz();
   impl_->scales_s = impl_->kappa / (2.0 * kPi) * impl_->frequencies_Hz.cwiseInverse();
 }

@@ -99,22 +99,50 @@ enum class FrequencySpacing {
   kLinear,  ///< bins frequencies evenly from min_frequency_Hz to max_frequency_Hz
 };
 
-/// "amplitude" / "energy", "reflect" / "zero" / "periodic", "log" / "linear".
+enum class WaveletFamily {
+  kMorlet,  ///< the complex Morlet wavelet (omega0, admissibility_correction)
+  kMorse,   ///< the generalised Morse wavelet (gamma, beta), MATLAB's cwt default
+};
+
+/// "amplitude" / "energy", "reflect" / "zero" / "periodic", "log" / "linear",
+/// "morlet" / "morse".
 const char* ToString(Normalisation normalisation);
+const char* ToString(WaveletFamily family);
 const char* ToString(Padding padding);
 const char* ToString(FrequencySpacing spacing);
 /// Inverses of ToString; throw std::invalid_argument naming the choices.
 Normalisation ParseNormalisation(std::string_view name);
 Padding ParsePadding(std::string_view name);
+WaveletFamily ParseWaveletFamily(std::string_view name);
 
-/// The complex Morlet mother wavelet (formulas at the top of this file).
+/// The mother wavelet (formulas at the top of this file). The struct keeps
+/// its historical name; `Wavelet` is the same type.
+///
+/// Generalised Morse wavelets (Olhede & Walden 2002; Lilly & Olhede 2009,
+/// 2012), family = kMorse, with MATLAB's normalisation (cwt, cwtfilterbank:
+/// peak value 2 at the peak frequency):
+///   psi^(u) = K a(beta, gamma) u^beta exp(-u^gamma) for u > 0, 0 for u <= 0,
+///   a = (e gamma / beta)^(beta / gamma), peak at u_p = (beta / gamma)^(1 / gamma)
+///   where a u_p^beta exp(-u_p^gamma) = 1;
+///   kAmplitude: K = 2 (as MATLAB: |W| of a unit cosine on its ridge is 1);
+///   kEnergy:    K such that integral |psi|^2 dt = 1,
+///               K^2 a^2 = 2 pi gamma 2^r / Gamma(r), r = (2 beta + 1) / gamma.
+/// gamma = 3, beta = 20 (time-bandwidth product P^2 = beta gamma = 60) is
+/// MATLAB's default. The ridge's s omega (kappa) is u_p for kAmplitude and
+/// ((beta + 1/2) / gamma)^(1 / gamma) for kEnergy. The cone of influence of
+/// either family is coi_factor * 2 sigma_t s, sigma_t^2 = integral psi^'(u)^2
+/// du / integral psi^(u)^2 du the wavelet's time variance (sigma_t =
+/// 1/sqrt(2) for Morlet: Torrence & Compo's sqrt(2) s).
 struct MorletWavelet {
-  double omega0 = 6.0;  ///< centre angular frequency (dimensionless), >= 5 unless corrected
-  bool admissibility_correction = false;  ///< subtract exp(-omega0^2/2): psi^(0) = 0
+  WaveletFamily family = WaveletFamily::kMorlet;
+  double omega0 = 6.0;  ///< kMorlet: centre angular frequency (dimensionless), >= 5 unless corrected
+  bool admissibility_correction = false;  ///< kMorlet: subtract exp(-omega0^2/2): psi^(0) = 0
+  double gamma = 3.0;                     ///< kMorse: symmetry, in [1, 20]
+  double beta = 20.0;                     ///< kMorse: decay, in [1, 500], beta / gamma <= 100
   Normalisation normalisation = Normalisation::kAmplitude;
 
   bool IsValid(std::string* why) const;
-  /// n(s) psi^(s w) at u = s w (dimensionless), without the n(s) factor: psi^(u).
+  /// psi^(u) at u = s w (dimensionless), without the n(s) factor.
   double FourierTransform(double u) const;
   /// kappa = argmax_u n(u) psi^(u): the s omega of a pure tone's ridge.
   double RidgeAngularFrequency() const;
@@ -125,9 +153,18 @@ struct MorletWavelet {
   /// |W| of a unit-amplitude cosine at scale s on its ridge (frequency
   /// ScaleToFrequency_Hz(scale_s)): 1 for kAmplitude without correction.
   double UnitCosineMagnitude(double scale_s) const;
-  /// e-folding time of the cone of influence, sqrt(2) s.
+  /// [*lo, *hi]: the u where psi^(u) >= tolerance * max psi^ (tolerance in (0, 1)).
+  void Band(double tolerance, double* lo, double* hi) const;
+  /// sigma_t above (dimensionless, in units of the scale).
+  double TimeSpread() const;
+  /// e-folding time of the cone of influence at scale s, 2 TimeSpread() s.
+  double ConeOfInfluenceTime_s(double scale_s) const;
+  /// The Morlet wavelet's e-folding time, sqrt(2) s (kept for existing callers).
   static double ConeOfInfluence_s(double scale_s);
+  /// "Morlet omega0 6" / "Morse gamma 3 beta 20".
+  std::string Describe() const;
 };
+using Wavelet = MorletWavelet;
 
 /// Analysis frequencies in Hz, ascending.
 struct FrequencyGrid {

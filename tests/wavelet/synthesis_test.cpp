@@ -1,0 +1,193 @@
+// Tests of podid/wavelet/synthesis.hpp: the inverse CWT against the signal it
+// came from, the synchrosqueezed ridge's IF against a chirp's analytic IF and
+// against the CWT ridge's own error.
+#include "podid/wavelet/synthesis.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+namespace podid::wavelet {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kStep_s = 1.0 / 1000.0;
+
+Eigen::VectorXd Time(Eigen::Index n) {
+  return Eigen::VectorXd::LinSpaced(n, 0.0, static_cast<double>(n - 1) * kStep_s);
+}
+
+// Relative RMS of (y - x) over the output times where every grid frequency is
+// inside the cone of influence (widened by `widen`).
+double RelativeRmsInsideCone(const Scalogram& sg, const Eigen::VectorXd& x,
+                             const Eigen::VectorXd& y, Eigen::Index* used, double widen = 1.0) {
+  double num = 0.0, den = 0.0;
+  *used = 0;
+  for (Eigen::Index j = 0; j < sg.times(); ++j) {
+    if (!(sg.frequencies_Hz(0) >= widen * sg.coi_frequency_Hz(j))) continue;
+    const double e = y(j) - x(j * sg.decimation);
+    num += e * e;
+    den += x(j * sg.decimation) * x(j * sg.decimation);
+    ++*used;
+  }
+  return std::sqrt(num / den);
+}
+
+TEST(ReconstructionConstant, MatchesClosedFormsAndTheDiscreteGrid) {
+  // Morlet's C has no elementary form: compare with a Riemann sum of psi^(u)
+  // over a 1e-3-fine grid in ln u (for a smooth bump spectrally accurate;
+  // 1e-6 allows for the different cut of the 3e-8 tail near u = 0). Morse (L1):
+  // C = 2 a Gamma(beta / gamma) / gamma, a = (e gamma / beta)^(beta / gamma).
+  // 1e-9: the quadrature's 20000 trapezoid panels, far finer than needed.
+  constexpr double kTolerance = 1e-9;
+  MorletWavelet morse;
+  morse.family = WaveletFamily::kMorse;
+  for (double gamma : {3.0, 2.0, 1.5}) {
+    for (double beta : {20.0, 7.0}) {
+      morse.gamma = gamma;
+      morse.beta = beta;
+      const double a = std::exp(beta / gamma * (1.0 + std::log(gamma / beta)));
+      const double expected = 2.0 * a * std::exp(std::lgamma(beta / gamma)) / gamma;
+      EXPECT_NEAR(ReconstructionConstant(morse), expected, kTolerance * expected)
+          << gamma << " " << beta;
+    }
+  }
+  MorletWavelet morlet;
+  double sum = 0.0;
+  const double h = 1e-3;
+  for (double v = std::log(1e-3 * 6.0); v < std::log(40.0); v += h) {
+    sum += morlet.FourierTransform(std::exp(v)) * h;
+  }
+  EXPECT_NEAR(ReconstructionConstant(morlet), sum, 1e-6 * sum);
+}
+
+TEST(InverseCwt, ReconstructsABandLimitedMultiToneSignal) {
+  // Three tones (20, 35.5, 61 Hz, arbitrary phases and amplitudes), 4 s at
+  // 1 kHz, analysed on 5-400 Hz: each tone's psi^(2 pi f s) is below 1e-5 of
+  // its peak at both ends of the grid, so the single-integral formula holds to
+  // about that. 1e-3 relative RMS inside the cone is the figure; the
+  // measurement is printed.
+  constexpr double kTolerance = 1e-3;
+  const Eigen::VectorXd t = Time(4001);
+  const Eigen::VectorXd x = (2 * kPi * 20.0 * t.array() + 0.3).cos() +
+                            0.5 * (2 * kPi * 35.5 * t.array() + 1.1).sin() +
+                            0.25 * (2 * kPi * 61.0 * t.array() - 0.7).cos();
+  for (WaveletFamily family : {WaveletFamily::kMorlet, WaveletFamily::kMorse}) {
+    for (Normalisation norm : {Normalisation::kAmplitude, Normalisation::kEnergy}) {
+      for (bool band : {false, true}) {
+        CwtOptions o;
+        o.wavelet.family = family;
+        o.wavelet.normalisation = norm;
+        o.frequencies.min_frequency_Hz = 5.0;
+        o.frequencies.max_frequency_Hz = 400.0;
+        o.band_limited = band;
+        const Scalogram sg = Cwt(x, kStep_s, o);
+        const Eigen::VectorXd y = InverseCwt(sg);
+        // The tones' sample mean over 4 s (5e-4 of their RMS) is not in the
+        // band: the reconstruction is the tones themselves.
+        const Eigen::VectorXd& xc = x;
+        Eigen::Index used = 0;
+        const double error = RelativeRmsInsideCone(sg, xc, y, &used);
+        ASSERT_GT(used, sg.times() / 2);
+        EXPECT_LE(error, kTolerance) << ToString(family) << " " << ToString(norm) << " " << band;
+        Eigen::Index used2 = 0;
+        std::printf("inverse CWT %s %s band_limited %d: relative RMS %.3g inside the cone, "
+                    "%.3g inside twice the cone\n",
+                    ToString(family), ToString(norm), band, error,
+                    RelativeRmsInsideCone(sg, xc, y, &used2, 2.0));
+      }
+    }
+  }
+}
+
+TEST(InverseCwt, RejectsMagnitudeOnlyScalograms) {
+  CwtOptions o;
+  o.output = CwtOutput::kMagnitudeFloat;
+  const Eigen::VectorXd x = (2 * kPi * 30.0 * Time(1000).array()).cos();
+  const Scalogram sg = Cwt(x, kStep_s, o);
+  try {
+    InverseCwt(sg);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("expected complex coefficients"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Synchrosqueeze, ChirpRidgeIsAtLeastAsAccurateAsTheCwtRidge) {
+  // x = cos(2 pi (20 t + 15 t^2)): f(t) = 20 + 30 t Hz over 2 s at 1 kHz.
+  // Both IFs are compared with the analytic one inside the cone (coi_factor 2);
+  // the SST ridge must be no worse than the CWT ridge (phase IF with parabolic
+  // refinement) and sharper: its energy within one bin of the ridge is a larger
+  // share of the column than the CWT's.
+  const Eigen::VectorXd t = Time(2001);
+  const Eigen::VectorXd x = (2 * kPi * (20.0 * t.array() + 15.0 * t.array().square())).cos();
+  CwtOptions o;
+  o.frequencies.min_frequency_Hz = 10.0;
+  o.frequencies.max_frequency_Hz = 120.0;
+  o.coi_factor = 2.0;
+  CwtTransform transform(o);
+  Scalogram sg;
+  transform.Compute(x, kStep_s, &sg);
+  const RidgeOptions ridge;
+  const RidgeTrack cwt = TrackRidge(sg, FindRidges(sg, ridge).front(), ridge, &transform);
+  const SynchrosqueezedTransform sst = Synchrosqueeze(sg, transform);
+  const RidgeTrack squeezed = SynchrosqueezedRidge(sst, ridge);
+  double cwt_error = 0.0, sst_error = 0.0, cwt_share = 0.0, sst_share = 0.0;
+  int used = 0;
+  for (Eigen::Index j = 0; j < sg.times(); ++j) {
+    if (!cwt.inside_coi(j) || !squeezed.inside_coi(j)) continue;
+    const double f = 20.0 + 30.0 * sg.time_s(j);
+    cwt_error = std::max(cwt_error, std::abs(cwt.frequency_Hz(j) / f - 1.0));
+    sst_error = std::max(sst_error, std::abs(squeezed.frequency_Hz(j) / f - 1.0));
+    const auto share = [&](const Eigen::MatrixXcd& c, Eigen::Index k) {
+      double near = 0.0;
+      for (Eigen::Index l = std::max<Eigen::Index>(0, k - 1);
+           l <= std::min<Eigen::Index>(c.cols() - 1, k + 1); ++l) {
+        near += std::norm(c(j, l));
+      }
+      return near / c.row(j).squaredNorm();
+    };
+    cwt_share += share(sg.coefficients, cwt.frequency_index(j));
+    sst_share += share(sst.sst.coefficients, squeezed.frequency_index(j));
+    ++used;
+  }
+  ASSERT_GT(used, 1000);
+  std::printf("chirp IF, max relative error inside the cone: CWT ridge %.3g, SST ridge %.3g; "
+              "energy within one bin of the ridge: CWT %.3g, SST %.3g\n",
+              cwt_error, sst_error, cwt_share / used, sst_share / used);
+  EXPECT_LE(sst_error, cwt_error);
+  EXPECT_GT(sst_share / used, 2.0 * cwt_share / used);
+  // Amplitude of the unit chirp from the SST ridge (within one bin holds most of T).
+  EXPECT_NEAR(squeezed.amplitude(sg.times() / 2), 1.0, 0.05);
+}
+
+TEST(Synchrosqueeze, ReconstructionFromTheSqueezedTransform) {
+  // Summing T over frequency reconstructs x like the inverse CWT (the
+  // threshold drops only |W| <= 1e-6 max |W|): same 1e-3 figure.
+  constexpr double kTolerance = 1e-3;
+  const Eigen::VectorXd t = Time(3001);
+  const Eigen::VectorXd x =
+      (2 * kPi * 25.0 * t.array()).cos() + 0.5 * (2 * kPi * 47.0 * t.array() + 0.5).cos();
+  CwtOptions o;
+  o.frequencies.min_frequency_Hz = 5.0;
+  o.frequencies.max_frequency_Hz = 400.0;
+  CwtTransform transform(o);
+  Scalogram sg;
+  transform.Compute(x, kStep_s, &sg);
+  const SynchrosqueezedTransform sst = Synchrosqueeze(sg, transform);
+  const Eigen::VectorXd y = sst.sst.coefficients.rowwise().sum().real() *
+                            (2.0 / ReconstructionConstant(sg.wavelet));
+  const Eigen::VectorXd& xc = x;
+  Eigen::Index used = 0;
+  const double error = RelativeRmsInsideCone(sg, xc, y, &used);
+  Eigen::Index used2 = 0;
+  std::printf("SST reconstruction: relative RMS %.3g inside the cone, %.3g inside twice the cone\n",
+              error, RelativeRmsInsideCone(sg, xc, y, &used2, 2.0));
+  EXPECT_LE(error, kTolerance);
+}
+
+}  // namespace
+}  // namespace podid::wavelet

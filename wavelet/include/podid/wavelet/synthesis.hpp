@@ -1,0 +1,83 @@
+#pragma once
+// The inverse CWT and the synchrosqueezed CWT of a Scalogram
+// (podid/wavelet/cwt.hpp). Units are SI: s and Hz.
+//
+// Inverse (the single-integral formula, Farge 1992; Delprat et al. 1992;
+// MATLAB's icwt): for a wavelet with psi^(u) = 0 for u < 0 (Morse, and Morlet
+// up to its 1.5e-8 negative tail) and kAmplitude,
+//   integral_0^inf W(s, t) ds / s = C x_+(t),  C = integral_0^inf psi^(u) du / u,
+// x_+ the positive-frequency part of x, so x(t) = 2 Re(integral W ds / s) / C.
+// With kEnergy W is divided by sqrt(s) first. The integral over ln s is the
+// trapezoid rule over the scalogram's scales; it reconstructs the components
+// of x whose frequencies f satisfy psi^(2 pi f s) ~ 0 at both ends of the grid
+// (frequencies well inside the grid); a constant offset (DC) is not in any
+// band and is not reconstructed.
+// Inside the cone of influence the result is x; near the ends the padding shows.
+//
+// Synchrosqueezing (Daubechies, Lu & Wu 2011; Thakur et al. 2013): each
+// coefficient W(s_k, t) with |W| > threshold is moved, weighted by Delta ln s_k,
+// to the grid frequency nearest (in ln f) to its instantaneous frequency
+//   f(s_k, t) = Im(conj(W) dW/dt) / (2 pi |W|^2),
+// giving T(f_l, t) on the scalogram's own frequency grid. A coefficient whose
+// IF is not positive or lies more than half a bin outside the grid (near a
+// zero of W, where two components cancel) stays at its own frequency. Summing
+// T over l gives the same 2 Re(sum) / C reconstruction (up to the dropped
+// |W| <= threshold). The ridge of |T| is sharper than the CWT's: a tone concentrates
+// in one or two bins instead of a band of width ~ 1 / (2 sigma_t) in ln f.
+
+#include <Eigen/Core>
+
+#include "podid/wavelet/cwt.hpp"
+#include "podid/wavelet/ridge.hpp"
+
+namespace podid::wavelet {
+
+/// C = integral_0^inf psi^(u) du / u of the (un-normalised-by-n(s)) wavelet, by
+/// quadrature over the u where psi^ >= 1e-14 of its peak and u >= 1e-3 kappa
+/// (Morlet's psi^(0) = 3e-8 makes the integral diverge like 3e-8 ln(1/u): the
+/// cut costs < 1e-6 relative).
+double ReconstructionConstant(const MorletWavelet& wavelet);
+
+/// The in-band part of x at the scalogram's output times (dim n_times), signal units.
+/// Needs complex coefficients and at least 2 frequencies; std::invalid_argument otherwise.
+Eigen::VectorXd InverseCwt(const Scalogram& scalogram);
+
+struct SynchrosqueezeOptions {
+  /// Coefficients with |W| <= threshold * max |W| are not moved (their IF is
+  /// noise), in [0, 1).
+  double relative_threshold = 1e-6;
+  bool IsValid(std::string* why) const;
+};
+
+/// A synchrosqueezed transform: T on the scalogram's grid and the
+/// reassignment field it was built from.
+struct SynchrosqueezedTransform {
+  /// coefficients(j, l) = T(f_l, t_j) (W's units times ln-scale), everything
+  /// else copied from the scalogram it came from.
+  Scalogram sst;
+  /// (n_times x n_freq) the IF f(s_k, t_j) of each CWT coefficient (the
+  /// frequency it was moved to), Hz; NaN where |W| <= threshold.
+  Eigen::MatrixXd reassigned_frequency_Hz;
+};
+
+/// `transform` must be the one that computed `scalogram` (its TimeDerivative
+/// gives dW/dt); the scalogram needs complex coefficients.
+SynchrosqueezedTransform Synchrosqueeze(const Scalogram& scalogram,
+                                        const CwtTransform& transform,
+                                        const SynchrosqueezeOptions& options = {});
+
+/// The IF along the strongest ridge of a synchrosqueezed transform. The path
+/// is FindRidges(sst.sst, options) on |T|; at each time the IF is the fixed
+/// point of the reassignment near the path's bin l: the grid frequency where
+/// the reassigned frequency equals the analysis frequency, f(s, t) = f_s
+/// (Chassande-Mottin, Daubechies, Auger & Flandrin 1997: ridges are the fixed
+/// points of the reassignment), found by linear interpolation between the two
+/// grid scales within 3 bins of l where ln f(s_k, t) - ln f_k changes sign
+/// (the pair nearest l). It is exact for a tone (f(s, t) = f at every s) and
+/// for a linear chirp to first order (f(s, t) - f is proportional to f_s - f),
+/// and not quantised to the grid. Where no sign change is found, the IF of
+/// the path's own cell. amplitude = 2 |T(l-1) + T(l) + T(l+1)| / C.
+RidgeTrack SynchrosqueezedRidge(const SynchrosqueezedTransform& sst,
+                                const RidgeOptions& options = {});
+
+}  // namespace podid::wavelet

@@ -1,0 +1,186 @@
+// The inverse and synchrosqueezed CWT (podid/wavelet/synthesis.hpp).
+#include "podid/wavelet/synthesis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include "podid/core/error.hpp"
+
+namespace podid::wavelet {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// Trapezoid weights in ln s over the scalogram's scales (any order).
+Eigen::VectorXd LogScaleWeights(const Eigen::VectorXd& scales_s) {
+  const Eigen::Index n = scales_s.size();
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index k = 0; k + 1 < n; ++k) {
+    const double h = std::abs(std::log(scales_s(k) / scales_s(k + 1)));
+    w(k) += 0.5 * h;
+    w(k + 1) += 0.5 * h;
+  }
+  return w;
+}
+
+void CheckComplex(const Scalogram& scalogram, const char* where) {
+  if (scalogram.frequencies() < 2) {
+    ThrowInvalid(where, "a scalogram with at least 2 frequencies",
+                 ToText(scalogram.frequencies()) + " frequencies");
+  }
+  if (scalogram.coefficients.rows() != scalogram.times() ||
+      scalogram.coefficients.cols() != scalogram.frequencies()) {
+    ThrowInvalid(where, "complex coefficients (CwtOutput::kComplex)",
+                 "a scalogram without them");
+  }
+}
+
+// 1 / n(s): divides kEnergy coefficients back to kAmplitude's.
+double Denormalise(const MorletWavelet& wavelet, double scale_s) {
+  return wavelet.normalisation == Normalisation::kEnergy ? 1.0 / std::sqrt(scale_s) : 1.0;
+}
+
+}  // namespace
+
+double ReconstructionConstant(const MorletWavelet& wavelet) {
+  double lo = 0.0, hi = 0.0;
+  wavelet.Band(1e-14, &lo, &hi);
+  lo = std::max(lo, 1e-3 * wavelet.RidgeAngularFrequency());
+  // Trapezoid rule in v = ln u: integral psi^(e^v) dv, smooth and decaying
+  // at both ends, so the rule converges fast; 20000 panels.
+  const int panels = 20000;
+  const double a = std::log(lo), h = (std::log(hi) - a) / panels;
+  double sum = 0.0;
+  for (int i = 0; i <= panels; ++i) {
+    sum += ((i == 0 || i == panels) ? 0.5 : 1.0) * wavelet.FourierTransform(std::exp(a + h * i));
+  }
+  return sum * h;
+}
+
+Eigen::VectorXd InverseCwt(const Scalogram& scalogram) {
+  CheckComplex(scalogram, "InverseCwt: scalogram");
+  const Eigen::VectorXd w = LogScaleWeights(scalogram.scales_s);
+  Eigen::VectorXcd sum = Eigen::VectorXcd::Zero(scalogram.times());
+  for (Eigen::Index k = 0; k < scalogram.frequencies(); ++k) {
+    sum += scalogram.coefficients.col(k) *
+           (w(k) * Denormalise(scalogram.wavelet, scalogram.scales_s(k)));
+  }
+  const double c = ReconstructionConstant(scalogram.wavelet);
+  return sum.real() * (2.0 * scalogram.coefficient_scale / c);
+}
+
+bool SynchrosqueezeOptions::IsValid(std::string* why) const {
+  if (!(relative_threshold >= 0.0 && relative_threshold < 1.0)) {
+    if (why != nullptr) {
+      *why = "SynchrosqueezeOptions.relative_threshold: expected a value in [0, 1), got " +
+             ToText(relative_threshold);
+    }
+    return false;
+  }
+  return true;
+}
+
+SynchrosqueezedTransform Synchrosqueeze(const Scalogram& scalogram,
+                                        const CwtTransform& transform,
+                                        const SynchrosqueezeOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument("Synchrosqueeze: " + why);
+  CheckComplex(scalogram, "Synchrosqueeze: scalogram");
+  PODID_CHECK_MSG(transform.inverse_length() > 0, "Synchrosqueeze before Compute");
+  const Eigen::Index times = scalogram.times(), freqs = scalogram.frequencies();
+  const Eigen::VectorXd w = LogScaleWeights(scalogram.scales_s);
+  const Eigen::VectorXd log_f = scalogram.frequencies_Hz.array().log();
+  const bool ascending = freqs < 2 || log_f(1) > log_f(0);
+  PODID_CHECK(ascending);
+  const double threshold = options.relative_threshold * scalogram.coefficients.cwiseAbs().maxCoeff();
+
+  SynchrosqueezedTransform out;
+  out.sst = scalogram;
+  out.sst.coefficients.setZero();
+  out.reassigned_frequency_Hz =
+      Eigen::MatrixXd::Constant(times, freqs, std::numeric_limits<double>::quiet_NaN());
+  Eigen::VectorXcd derivative;
+  for (Eigen::Index k = 0; k < freqs; ++k) {
+    transform.TimeDerivative(k, &derivative);
+    const double gain = w(k) * Denormalise(scalogram.wavelet, scalogram.scales_s(k));
+    for (Eigen::Index j = 0; j < times; ++j) {
+      const std::complex<double> value = scalogram.coefficients(j, k);
+      const double magnitude = std::abs(value);
+      if (!(magnitude > threshold) || magnitude == 0.0) continue;
+      const double f_Hz =
+          (std::conj(value) * derivative(j)).imag() / (2.0 * kPi * magnitude * magnitude);
+      // Nearest grid frequency in ln f. An IF that is not positive or lies
+      // beyond the grid's half-bin margins (near a zero of W, where two
+      // components cancel, the phase derivative is wild) leaves the
+      // coefficient where it is, so sum_l T = sum_k W Delta ln s still holds.
+      Eigen::Index l = k;
+      if (f_Hz > 0.0) {
+        out.reassigned_frequency_Hz(j, k) = f_Hz;
+        const double x = std::log(f_Hz);
+        const auto upper = std::lower_bound(log_f.data(), log_f.data() + freqs, x);
+        const Eigen::Index above = upper - log_f.data();
+        if (above == freqs) {
+          if (x - log_f(freqs - 1) <= 0.5 * (log_f(freqs - 1) - log_f(freqs - 2))) l = freqs - 1;
+        } else if (above == 0) {
+          if (log_f(0) - x <= 0.5 * (log_f(1) - log_f(0))) l = 0;
+        } else {
+          l = x - log_f(above - 1) < log_f(above) - x ? above - 1 : above;
+        }
+      }
+      out.sst.coefficients(j, l) += value * gain;
+    }
+  }
+  return out;
+}
+
+RidgeTrack SynchrosqueezedRidge(const SynchrosqueezedTransform& sst, const RidgeOptions& options) {
+  RidgeOptions one = options;
+  one.ridges = 1;
+  const std::vector<Eigen::VectorXi> paths = FindRidges(sst.sst, one);
+  const Eigen::VectorXi& path = paths.front();
+  const Scalogram& s = sst.sst;
+  const double c = ReconstructionConstant(s.wavelet);
+  RidgeTrack track;
+  const Eigen::Index times = s.times(), freqs = s.frequencies();
+  track.time_s = s.time_s;
+  track.frequency_index = path;
+  track.grid_frequency_Hz.resize(times);
+  track.frequency_Hz.resize(times);
+  track.amplitude.resize(times);
+  track.inside_coi.resize(times);
+  const Eigen::MatrixXd& field = sst.reassigned_frequency_Hz;
+  constexpr Eigen::Index kReach = 3;  // bins either side of the path searched for the fixed point
+  for (Eigen::Index j = 0; j < times; ++j) {
+    const Eigen::Index k = path(j);
+    // g(q) = ln f(s_q, t) - ln f_q decreases through 0 at the fixed point.
+    const auto g = [&](Eigen::Index q) { return std::log(field(j, q) / s.frequencies_Hz(q)); };
+    double best = std::numeric_limits<double>::quiet_NaN();
+    Eigen::Index best_distance = kReach + 1;
+    for (Eigen::Index q = std::max<Eigen::Index>(0, k - kReach);
+         q < std::min<Eigen::Index>(freqs - 1, k + kReach); ++q) {
+      const double g0 = g(q), g1 = g(q + 1);
+      if (!(g0 >= 0.0 && g1 <= 0.0 && g0 > g1)) continue;  // NaN fails too
+      const Eigen::Index distance = std::min(std::abs(q - k), std::abs(q + 1 - k));
+      if (distance >= best_distance) continue;
+      best_distance = distance;
+      const double w = g0 / (g0 - g1);
+      best = field(j, q) + w * (field(j, q + 1) - field(j, q));
+    }
+    track.grid_frequency_Hz(j) = s.frequencies_Hz(k);
+    track.frequency_Hz(j) = std::isfinite(best) ? best : field(j, k);
+    std::complex<double> sum(0.0, 0.0);
+    for (Eigen::Index l = std::max<Eigen::Index>(0, k - 1);
+         l <= std::min<Eigen::Index>(freqs - 1, k + 1); ++l) {
+      sum += s.coefficients(j, l);
+    }
+    track.amplitude(j) = 2.0 * std::abs(sum) * s.coefficient_scale / c;
+    track.inside_coi(j) = s.InsideCoi(j, k);
+  }
+  return track;
+}
+
+}  // namespace podid::wavelet
