@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <utility>
+#include <vector>
 #include <string>
 
 #include "cli_common.hpp"
@@ -28,6 +30,7 @@ struct CwtArguments {
   int voices = 32;
   int bins = 0;
   std::string ridge = "penalised";
+  int ridges = 1;
   double penalty_s = 0.05;
   double omega0 = 6.0;
   std::string wavelet = "morlet";
@@ -44,17 +47,25 @@ struct CwtArguments {
   std::string plot;
 };
 
-// The analysed signal and a label for it.
-Eigen::VectorXd SelectSignal(const CwtArguments& a, const TimeSeries& series, std::string* label) {
+// The analysed signals and a label for each: one channel, every channel
+// (--channel all) or one POD time mode.
+std::vector<std::pair<std::string, Eigen::VectorXd>> SelectSignals(const CwtArguments& a,
+                                                                   const TimeSeries& series) {
+  if (a.channel == "all") {
+    std::vector<std::pair<std::string, Eigen::VectorXd>> all;
+    for (Eigen::Index c = 0; c < series.values.cols(); ++c) {
+      all.emplace_back(series.channel_names[static_cast<std::size_t>(c)], series.values.col(c));
+    }
+    return all;
+  }
   if (!a.channel.empty()) {
     const int index = series.ChannelIndex(a.channel);
     if (index < 0) {
       std::string names;
       for (const auto& n : series.channel_names) names += (names.empty() ? "" : ", ") + n;
-      ThrowInvalid("cwt --channel", "one of " + names, "\"" + a.channel + "\"");
+      ThrowInvalid("cwt --channel", "one of " + names + " or all", "\"" + a.channel + "\"");
     }
-    *label = a.channel;
-    return series.values.col(index);
+    return {{a.channel, series.values.col(index)}};
   }
   // --pom k: the k-th right-singular vector (time mode) of the POD of all channels.
   PodOptions options;
@@ -64,17 +75,53 @@ Eigen::VectorXd SelectSignal(const CwtArguments& a, const TimeSeries& series, st
     ThrowInvalid("cwt --pom", "1.." + ToText(pod.modes()) + " (the data's POD modes)",
                  ToText(a.pom));
   }
-  *label = "POM " + ToText(a.pom) + " time mode (V column, energy " +
-           ToText(std::round(1000.0 * pod.energy_fraction(a.pom - 1)) / 10.0) + " %)";
-  return pod.time_modes.col(a.pom - 1);
+  return {{"POM " + ToText(a.pom) + " time mode (V column, energy " +
+               ToText(std::round(1000.0 * pod.energy_fraction(a.pom - 1)) / 10.0) + " %)",
+           pod.time_modes.col(a.pom - 1)}};
+}
+
+// Prints the IF statistics of one ridge inside the cone of influence.
+void PrintRidge(const wavelet::RidgeTrack& track, double coi_factor, const std::string& prefix) {
+  double sum = 0.0, sum2 = 0.0, lo = INFINITY, hi = -INFINITY;
+  Eigen::Index first = -1, last = -1, inside = 0;
+  for (Eigen::Index j = 0; j < track.size(); ++j) {
+    if (!track.inside_coi(j) || !std::isfinite(track.frequency_Hz(j))) continue;
+    const double f = track.frequency_Hz(j);
+    sum += f;
+    sum2 += f * f;
+    lo = std::min(lo, f);
+    hi = std::max(hi, f);
+    if (first < 0) first = j;
+    last = j;
+    ++inside;
+  }
+  if (inside == 0) {
+    std::printf("%sno ridge sample inside the cone of influence (coi_factor %.6g)\n",
+                prefix.c_str(), coi_factor);
+    return;
+  }
+  const double mean = sum / static_cast<double>(inside);
+  const double sd = std::sqrt(std::max(0.0, sum2 / static_cast<double>(inside) - mean * mean));
+  std::printf("%sIF inside the cone of influence (%ld of %ld samples, t = %.4g-%.4g s):\n",
+              prefix.c_str(), static_cast<long>(inside), static_cast<long>(track.size()),
+              track.time_s(first), track.time_s(last));
+  std::printf("%s  mean %.6g Hz, std %.4g Hz, min %.6g Hz, max %.6g Hz\n", prefix.c_str(), mean,
+              sd, lo, hi);
+  std::printf("%s  first %.6g Hz (amplitude %.4g), last %.6g Hz (amplitude %.4g)\n",
+              prefix.c_str(), track.frequency_Hz(first), track.amplitude(first),
+              track.frequency_Hz(last), track.amplitude(last));
 }
 
 void Run(const CwtArguments& a) {
   CheckOutputs({{"data file", a.data}},
                {{"-o", a.output}, {"--scalogram", a.scalogram}, {"--plot", a.plot}});
   const TimeSeries series = a.reading.Read(a.data);
-  std::string label;
-  const Eigen::VectorXd signal = SelectSignal(a, series, &label);
+  const auto signals = SelectSignals(a, series);
+  const bool several = signals.size() > 1;
+  if (several && (!a.scalogram.empty() || !a.plot.empty())) {
+    ThrowInvalid("cwt --scalogram/--plot", "a single --channel or --pom",
+                 "--channel all (" + ToText(signals.size()) + " channels)");
+  }
   const double step_s = series.step_s();
 
   wavelet::RidgeFrequencyOptions options;
@@ -101,68 +148,81 @@ void Run(const CwtArguments& a) {
   }
   options.ridge.method = wavelet::ParseRidgeMethod(a.ridge);
   options.ridge.penalty_s = a.penalty_s;
+  options.ridge.ridges = a.ridges;
   std::string why;
-  if (!options.IsValid(&why)) throw std::invalid_argument("cwt: " + why);
-
-  wavelet::RidgeFrequencyEstimator estimator(options);
-  const wavelet::RidgeTrack& track = estimator.Estimate(signal, step_s);
-  const wavelet::Scalogram& sg = estimator.scalogram();
-
-  // IF statistics inside the cone of influence.
-  double sum = 0.0, sum2 = 0.0, lo = INFINITY, hi = -INFINITY;
-  Eigen::Index first = -1, last = -1, inside = 0;
-  for (Eigen::Index j = 0; j < track.size(); ++j) {
-    if (!track.inside_coi(j) || !std::isfinite(track.frequency_Hz(j))) continue;
-    const double f = track.frequency_Hz(j);
-    sum += f;
-    sum2 += f * f;
-    lo = std::min(lo, f);
-    hi = std::max(hi, f);
-    if (first < 0) first = j;
-    last = j;
-    ++inside;
+  if (!options.IsValid(&why) || !options.ridge.IsValid(&why)) {
+    throw std::invalid_argument("cwt: " + why);
   }
-  std::printf("podid cwt: %s of %s: %ld samples, step %.6g s (fs %.6g Hz)\n", label.c_str(),
-              a.data.c_str(), static_cast<long>(signal.size()), step_s, 1.0 / step_s);
-  std::printf("%s (%s), %ld frequencies %.6g-%.6g Hz (%s), %s padding%s\n",
-              cwt.wavelet.Describe().c_str(), wavelet::ToString(cwt.wavelet.normalisation),
-              static_cast<long>(sg.frequencies()), sg.frequencies_Hz(0),
-              sg.frequencies_Hz(sg.frequencies() - 1),
-              a.bins > 0 ? "linear" : (ToText(a.voices) + " voices/octave").c_str(),
-              wavelet::ToString(cwt.padding),
-              a.band_limited
-                  ? (", band-limited: every " + ToText(sg.decimation) + "th sample").c_str()
-                  : "");
-  std::printf("ridge: %s%s, IF from the phase derivative\n",
-              wavelet::ToString(options.ridge.method),
-              options.ridge.method == wavelet::RidgeMethod::kPenalised
-                  ? (" (penalty " + ToText(a.penalty_s) + " s)").c_str()
-                  : "");
-  if (inside == 0) {
-    std::printf("no ridge sample inside the cone of influence (coi_factor %.6g)\n", a.coi_factor);
-  } else {
-    const double mean = sum / static_cast<double>(inside);
-    const double sd = std::sqrt(std::max(0.0, sum2 / static_cast<double>(inside) - mean * mean));
-    std::printf("IF inside the cone of influence (%ld of %ld samples, t = %.4g-%.4g s):\n",
-                static_cast<long>(inside), static_cast<long>(track.size()), track.time_s(first),
-                track.time_s(last));
-    std::printf("  mean %.6g Hz, std %.4g Hz, min %.6g Hz, max %.6g Hz\n", mean, sd, lo, hi);
-    std::printf("  first %.6g Hz (amplitude %.4g), last %.6g Hz (amplitude %.4g)\n",
-                track.frequency_Hz(first), track.amplitude(first), track.frequency_Hz(last),
-                track.amplitude(last));
+
+  // One transform for every signal (same length and step: laid out once).
+  wavelet::CwtTransform transform(cwt);
+  wavelet::Scalogram sg;
+  std::vector<std::vector<wavelet::RidgeTrack>> tracks;
+  for (std::size_t c = 0; c < signals.size(); ++c) {
+    const auto& [label, signal] = signals[c];
+    transform.Compute(signal, step_s, &sg);
+    tracks.emplace_back();
+    for (const Eigen::VectorXi& path : wavelet::FindRidges(sg, options.ridge)) {
+      tracks.back().push_back(wavelet::TrackRidge(sg, path, options.ridge, &transform));
+    }
+    if (c == 0) {
+      std::printf("podid cwt: %s of %s: %ld samples, step %.6g s (fs %.6g Hz)\n",
+                  several ? ("all " + ToText(signals.size()) + " channels").c_str()
+                          : label.c_str(),
+                  a.data.c_str(), static_cast<long>(signal.size()), step_s, 1.0 / step_s);
+      std::printf("%s (%s), %ld frequencies %.6g-%.6g Hz (%s), %s padding%s\n",
+                  cwt.wavelet.Describe().c_str(), wavelet::ToString(cwt.wavelet.normalisation),
+                  static_cast<long>(sg.frequencies()), sg.frequencies_Hz(0),
+                  sg.frequencies_Hz(sg.frequencies() - 1),
+                  a.bins > 0 ? "linear" : (ToText(a.voices) + " voices/octave").c_str(),
+                  wavelet::ToString(cwt.padding),
+                  a.band_limited
+                      ? (", band-limited: every " + ToText(sg.decimation) + "th sample").c_str()
+                      : "");
+      std::printf("ridge: %s%s, IF from the phase derivative%s\n",
+                  wavelet::ToString(options.ridge.method),
+                  options.ridge.method == wavelet::RidgeMethod::kPenalised
+                      ? (" (penalty " + ToText(a.penalty_s) + " s)").c_str()
+                      : "",
+                  a.ridges > 1 ? (", up to " + ToText(a.ridges) + " ridges").c_str() : "");
+    }
+    for (std::size_t r = 0; r < tracks.back().size(); ++r) {
+      std::string prefix;
+      if (several) prefix += label + ": ";
+      if (a.ridges > 1) prefix += "ridge " + ToText(r + 1) + ": ";
+      if (!prefix.empty()) std::printf("%s\n", prefix.substr(0, prefix.size() - 1).c_str());
+      PrintRidge(tracks.back()[r], a.coi_factor, prefix.empty() ? "" : "  ");
+    }
   }
 
   if (!a.output.empty()) {
+    // Columns f_Hz, amplitude, inside_coi per ridge (suffix 2, 3.. after the
+    // first) and per channel (prefix "NAME_" with --channel all).
     TimeSeries ridge;
-    ridge.time_s = track.time_s;
-    ridge.channel_names = {"f_Hz", "amplitude", "inside_coi"};
-    ridge.values.resize(track.size(), 3);
-    ridge.values.col(0) = track.frequency_Hz;
-    ridge.values.col(1) = track.amplitude;
-    ridge.values.col(2) = track.inside_coi.cast<double>();
+    ridge.time_s = tracks.front().front().time_s;
+    std::vector<const wavelet::RidgeTrack*> columns;
+    for (std::size_t c = 0; c < signals.size(); ++c) {
+      for (std::size_t r = 0; r < tracks[c].size(); ++r) {
+        const std::string pre = several ? signals[c].first + "_" : "";
+        const std::string post = r > 0 ? ToText(r + 1) : "";
+        for (const char* name : {"f_Hz", "amplitude", "inside_coi"}) {
+          ridge.channel_names.push_back(pre + name + post);
+        }
+        columns.push_back(&tracks[c][r]);
+      }
+    }
+    ridge.values.resize(ridge.time_s.size(), static_cast<Eigen::Index>(3 * columns.size()));
+    for (std::size_t i = 0; i < columns.size(); ++i) {
+      const auto col = static_cast<Eigen::Index>(3 * i);
+      ridge.values.col(col) = columns[i]->frequency_Hz;
+      ridge.values.col(col + 1) = columns[i]->amplitude;
+      ridge.values.col(col + 2) = columns[i]->inside_coi.cast<double>();
+    }
     WriteCsv(a.output, ridge);
     std::printf("ridge -> %s\n", a.output.c_str());
   }
+  const std::string& label = signals.front().first;
+  const wavelet::RidgeTrack& track = tracks.front().front();
   if (!a.scalogram.empty()) {
     TimeSeries magnitude;
     magnitude.time_s = sg.time_s;
@@ -218,7 +278,8 @@ void AddCwtCommand(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   a->reading.AddTo(*command);
-  auto* channel = command->add_option("--channel", a->channel, "Channel name, e.g. w6");
+  auto* channel = command->add_option("--channel", a->channel,
+                                      "Channel name, e.g. w6, or all (every channel in one call)");
   auto* pom =
       command->add_option("--pom", a->pom, "Analyse the k-th POD time mode (right-singular vector)")
           ->check(IntegerIn(1, kMaxPomOption));
@@ -234,6 +295,11 @@ void AddCwtCommand(CLI::App& app) {
   voices->excludes(bins);
   bins->excludes(voices);
   command->add_option("--ridge", a->ridge, "Ridge method: max or penalised")->capture_default_str();
+  command
+      ->add_option("--ridges", a->ridges,
+                   "Extract this many ridges (1..16), strongest first, each excluding\n"
+                   "half an octave either side of those before it")
+      ->capture_default_str();
   command
       ->add_option("--penalty", a->penalty_s,
                    "Penalised ridge: cost (s) of a jump of one e-fold in frequency")

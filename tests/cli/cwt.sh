@@ -24,6 +24,35 @@ head -1 "$out/s.csv" | grep -q '^t,10Hz,' || fail "scalogram header"
 grep -q "POM 1 time mode" "$out/stdout" || fail "no POM label"
 [ "$(wc -l <"$out/pom.csv")" -eq 314 ] || fail "band-limited ridge rows"
 
+# Two ridges of a two-tone signal (20 Hz, and 60 Hz at half the amplitude):
+# ridge 1 is the stronger tone, ridge 2 the other, each to 0.1 Hz.
+awk 'BEGIN { print "t,x"; for (i = 0; i <= 2000; i++) { t = i / 1000;
+  printf "%.6f,%.12f\n", t, cos(2 * 3.141592653589793 * 20 * t) + 0.5 * cos(2 * 3.141592653589793 * 60 * t) } }' \
+  >"$out/two.csv"
+"$podid" cwt "$out/two.csv" --channel x --ridges 2 -o "$out/two_ridges.csv" >"$out/stdout" \
+  || fail "cwt --ridges 2 exited $?"
+means=$(sed -n 's/.*mean \([0-9.]*\) Hz.*/\1/p' "$out/stdout" | tr '\n' ' ')
+awk -v m="$means" 'BEGIN { split(m, v, " "); exit !(v[1] > 19.9 && v[1] < 20.1 && v[2] > 59.9 && v[2] < 60.1) }' \
+  || fail "two ridges' mean IFs $means, expected 20 and 60 Hz"
+[ "$(head -1 "$out/two_ridges.csv")" = "t,f_Hz,amplitude,inside_coi,f_Hz2,amplitude2,inside_coi2" ] \
+  || fail "two-ridge header"
+"$podid" cwt "$data" --channel w6 --ridges 17 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--ridges 17 not exit 1"
+grep -q "ridges: expected 1..16, got 17" "$out/stderr" || fail "ridges message"
+
+# Every channel in one call: the same IF as one channel at a time.
+"$podid" cwt "$data" --channel all --band-limited -o "$out/all.csv" >"$out/stdout" \
+  || fail "cwt --channel all exited $?"
+[ "$(grep -c "IF inside the cone" "$out/stdout")" -eq 6 ] || fail "not 6 channels"
+head -1 "$out/all.csv" | grep -q '^t,w1_f_Hz,w1_amplitude,w1_inside_coi,w2_f_Hz,.*,w6_inside_coi$' \
+  || fail "all-channel header"
+"$podid" cwt "$data" --channel w3 --band-limited -o "$out/w3.csv" >/dev/null || fail "w3 exited $?"
+[ "$(cut -d, -f2-4 "$out/w3.csv" | tail -n +2)" = "$(cut -d, -f8-10 "$out/all.csv" | tail -n +2)" ] \
+  || fail "--channel all's w3 columns differ from --channel w3"
+"$podid" cwt "$data" --channel all --plot "$out/all.png" 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--channel all --plot not exit 1"
+grep -q "expected a single --channel or --pom" "$out/stderr" || fail "all + plot message"
+
 # The generalised Morse wavelet (MATLAB's default gamma 3, beta 20) sees the same mode.
 "$podid" cwt "$data" --channel w6 --wavelet morse >"$out/stdout" || fail "cwt --wavelet morse exited $?"
 grep -q "^Morse gamma 3 beta 20 (amplitude)" "$out/stdout" || fail "no Morse description"
@@ -39,7 +68,7 @@ grep -q "expected one of morlet, morse" "$out/stderr" || fail "wavelet message"
 # Bad input: exit 1 with a one-line message saying what was expected.
 "$podid" cwt "$data" --channel w9 2>"$out/stderr" && fail "unknown channel accepted"
 [ $? -eq 1 ] || true
-grep -q "expected one of w1, w2, w3, w4, w5, w6" "$out/stderr" || fail "channel message"
+grep -q "expected one of w1, w2, w3, w4, w5, w6 or all" "$out/stderr" || fail "channel message"
 "$podid" cwt "$data" --channel w6 --fmax 3000 2>"$out/stderr"
 [ $? -eq 1 ] || fail "fmax above Nyquist not exit 1"
 grep -q "expected <= the Nyquist frequency" "$out/stderr" || fail "Nyquist message"
