@@ -338,6 +338,54 @@ TEST(RidgeFrequency, ParallelEstimatorsMatchSerial) {
   EXPECT_TRUE(pb.frequency_Hz == b.frequency_Hz);
 }
 
+TEST(Ridge, ScreeningLeavesNoIfWhereAnImpulsesTransformIsNegligible) {
+  // 1e-5: at the screening threshold (|W| = 1e-6 of the peak) the transform's
+  // ~1e-12 truncation noise is 1e-6 of W. The mean is kept (removing it adds
+  // a constant whose W pulls the weakest samples' IF by up to 3e-5).
+  constexpr double kTolerance = 1e-5;
+  // A unit impulse at 0.1 s: W(s, t) = conj(psi((t0 - t) / s)) / s, whose
+  // phase derivative is the analysis frequency omega0 / (2 pi s) where |W| is
+  // not negligible (between f_min and f_max), and rounding noise where the
+  // Gaussian envelope has fallen below ~1e-12 (it gave -0.046 Hz before
+  // screening). With screening every IF inside the cone is within the grid,
+  // and the far samples are screened.
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(kSamples);
+  x(kSamples / 10) = 1.0;
+  CwtOptions cwt;
+  cwt.remove_mean = false;
+  Analysis a(cwt);
+  a.transform.Compute(x, kStep, &a.scalogram);
+  const RidgeOptions ridge;
+  const RidgeTrack track =
+      TrackRidge(a.scalogram, FindRidges(a.scalogram, ridge).front(), ridge, &a.transform);
+  const double f_min = a.scalogram.frequencies_Hz(0);
+  const double f_max = a.scalogram.frequencies_Hz(a.scalogram.frequencies() - 1);
+  for (Eigen::Index j = 0; j < track.size(); ++j) {
+    if (!track.inside_coi(j)) continue;
+    EXPECT_GE(track.frequency_Hz(j), f_min * (1 - kTolerance)) << j;
+    EXPECT_LE(track.frequency_Hz(j), f_max * (1 + kTolerance)) << j;
+  }
+  EXPECT_GT(track.screened.count(), track.size() / 4);
+  EXPECT_GT(track.InsideCoiCount(), 0);
+  // Screening off: the old behaviour, IFs outside the grid inside the cone.
+  RidgeOptions off = ridge;
+  off.min_relative_magnitude = 0.0;
+  const RidgeTrack raw =
+      TrackRidge(a.scalogram, FindRidges(a.scalogram, off).front(), off, &a.transform);
+  int outside = 0;
+  double lo = 1e300;
+  for (Eigen::Index j = 0; j < raw.size(); ++j) {
+    if (track.screened(j) && raw.inside_coi(j)) lo = std::min(lo, raw.frequency_Hz(j));
+    if (raw.inside_coi(j) && !(raw.frequency_Hz(j) >= f_min * 0.5)) ++outside;
+  }
+
+  EXPECT_GT(outside, 0);
+  std::printf("impulse: %ld of %ld ridge samples screened; without screening %d IFs inside the "
+              "cone below f_min / 2, the lowest %.3g Hz\n",
+              static_cast<long>(track.screened.count()), static_cast<long>(track.size()), outside,
+              lo);
+}
+
 TEST(Ridge, BadInputNamesWhatWasExpected) {
   RidgeOptions o;
   o.penalty_s = -1.0;

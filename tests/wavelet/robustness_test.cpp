@@ -100,6 +100,9 @@ TEST(ExtremeAmplitudes, OneHugeSampleInAUnitToneIsAnImpulse) {
   const RidgeTrack b = RidgeFrequency(impulse, kStep, options);
   int checked = 0;
   for (Eigen::Index j = 0; j < a.size(); ++j) {
+    // Far from the impulse |W| is below 1e-6 of its peak: screened (no IF).
+    ASSERT_EQ(a.screened(j), b.screened(j)) << j;
+    if (a.screened(j)) continue;
     ASSERT_TRUE(std::isfinite(a.frequency_Hz(j))) << j;
     ASSERT_NEAR(a.frequency_Hz(j), b.frequency_Hz(j), kRelativeTolerance * b.frequency_Hz(j));
     if (a.time_s(j) < 0.2 || a.time_s(j) > 0.8) continue;

@@ -149,6 +149,10 @@ bool RidgeOptions::IsValid(std::string* why) const {
     return Fail(why, "RidgeOptions.separation_octaves: expected a finite value > 0, got " +
                          ToText(separation_octaves));
   }
+  if (!(min_relative_magnitude >= 0.0 && min_relative_magnitude < 1.0)) {
+    return Fail(why, "RidgeOptions.min_relative_magnitude: expected a value in [0, 1), got " +
+                         ToText(min_relative_magnitude));
+  }
   return true;
 }
 
@@ -344,6 +348,21 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
         const double fn = frequency(j, slot(n));
         track.frequency_Hz(j) = fk + (fn - fk) * (vertex_s(j) - s(k)) / (s(n) - s(k));
       }
+    }
+  }
+  // Screening: where |W| on the path is a negligible fraction of the path's
+  // peak, the phase (and so the IF) is rounding noise.
+  track.screened.setConstant(times, false);
+  double peak = 0.0;
+  for (Eigen::Index j = 0; j < times; ++j) {
+    if (path(j) >= 0) peak = std::max(peak, std::abs(scalogram.coefficients(j, path(j))));
+  }
+  for (Eigen::Index j = 0; j < times; ++j) {
+    if (path(j) < 0) continue;
+    if (std::abs(scalogram.coefficients(j, path(j))) <= options.min_relative_magnitude * peak) {
+      track.screened(j) = true;
+      track.inside_coi(j) = false;
+      track.frequency_Hz(j) = kNaN;
     }
   }
   return track;

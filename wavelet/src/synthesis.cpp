@@ -152,6 +152,7 @@ RidgeTrack SynchrosqueezedRidge(const SynchrosqueezedTransform& sst, const Ridge
   track.frequency_Hz.resize(times);
   track.amplitude.resize(times);
   track.inside_coi.resize(times);
+  track.screened.setConstant(times, false);
   const Eigen::MatrixXd& field = sst.reassigned_frequency_Hz;
   constexpr Eigen::Index kReach = 3;  // bins either side of the path searched for the fixed point
   for (Eigen::Index j = 0; j < times; ++j) {

@@ -61,6 +61,13 @@ struct RidgeOptions {
   double separation_octaves = 0.5;  ///< exclusion half-width around a found ridge, > 0
   FrequencyEstimator estimator = FrequencyEstimator::kPhase;
   bool parabolic_refinement = true;  ///< refine between grid scales (both estimators)
+  /// Screening, in [0, 1): a ridge sample whose |W| is at most this fraction
+  /// of the ridge's peak |W| gets no IF (NaN) and counts as outside the cone:
+  /// there W is rounding noise (the transform keeps W to ~1e-12 of its peak),
+  /// and its phase derivative is meaningless (an impulse gave IFs of -0.046 Hz
+  /// inside the cone without it). 1e-6 keeps the IF's relative error from
+  /// that noise below ~1e-6.
+  double min_relative_magnitude = 1e-6;
 
   bool IsValid(std::string* why) const;
 };
@@ -72,8 +79,12 @@ struct RidgeTrack {
   Eigen::VectorXd grid_frequency_Hz;  ///< (dim n_times) f_{k_j}, the ridge's grid frequency
   Eigen::VectorXd frequency_Hz;       ///< (dim n_times) instantaneous frequency
   Eigen::VectorXd amplitude;          ///< (dim n_times) instantaneous amplitude, signal units
-  /// (dim n_times) whether (j, k_j) is inside the cone of influence.
+  /// (dim n_times) whether (j, k_j) is inside the cone of influence and not
+  /// screened: where the IF is usable.
   Eigen::Array<bool, Eigen::Dynamic, 1> inside_coi;
+  /// (dim n_times) whether |W(j, k_j)| fell below RidgeOptions::min_relative_magnitude
+  /// of the ridge's peak (then frequency_Hz is NaN).
+  Eigen::Array<bool, Eigen::Dynamic, 1> screened;
 
   Eigen::Index size() const { return time_s.size(); }
   Eigen::Index InsideCoiCount() const { return inside_coi.count(); }
