@@ -38,6 +38,7 @@ struct CwtArguments {
   double beta = 20.0;
   std::string padding = "reflect";
   std::string normalisation = "amplitude";
+  std::string scale_convention = "ridge";
   double coi_factor = 1.0;
   bool band_limited = false;
   int threads = 1;
@@ -132,6 +133,7 @@ void Run(const CwtArguments& a) {
   cwt.wavelet.gamma = a.gamma;
   cwt.wavelet.beta = a.beta;
   cwt.wavelet.normalisation = wavelet::ParseNormalisation(a.normalisation);
+  cwt.wavelet.convention = wavelet::ParseScaleConvention(a.scale_convention);
   cwt.padding = wavelet::ParsePadding(a.padding);
   cwt.coi_factor = a.coi_factor;
   cwt.threads = a.threads;
@@ -313,6 +315,12 @@ void AddCwtCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--padding", a->padding, "reflect, zero or periodic")->capture_default_str();
   command->add_option("--normalisation", a->normalisation, "amplitude (L1) or energy (L2)")
+      ->capture_default_str();
+  command
+      ->add_option("--scale-convention", a->scale_convention,
+                   "Frequency of a scale: ridge (Torrence & Compo: where a tone peaks) or\n"
+                   "peak (MATLAB, PyWavelets: the wavelet's centre frequency); they differ\n"
+                   "only with --normalisation energy (1.36 % for Morlet omega0 6)")
       ->capture_default_str();
   command
       ->add_option("--coi-factor", a->coi_factor,

@@ -53,6 +53,22 @@ head -1 "$out/all.csv" | grep -q '^t,w1_f_Hz,w1_amplitude,w1_inside_coi,w2_f_Hz,
 [ $? -eq 1 ] || fail "--channel all --plot not exit 1"
 grep -q "expected a single --channel or --pom" "$out/stderr" || fail "all + plot message"
 
+# Scale conventions: with energy normalisation, MATLAB's / PyWavelets' peak
+# labels (omega0 / (2 pi s)) sit 6 / 6.0828 below Torrence & Compo's ridge labels.
+"$podid" cwt "$data" --channel w6 --normalisation energy --scalogram "$out/ridge_labels.csv" >/dev/null \
+  || fail "ridge convention exited $?"
+"$podid" cwt "$data" --channel w6 --normalisation energy --scale-convention peak \
+  --scalogram "$out/peak_labels.csv" >/dev/null || fail "peak convention exited $?"
+# The label of the largest |W| at t = 0.5 s: 1.36 % lower under peak (within a 2.2 % bin).
+argmax() { awk -F, 'NR == 1 { for (i = 2; i <= NF; i++) h[i] = $i + 0 }
+  NR == 2502 { b = 2; for (i = 2; i <= NF; i++) if ($i > $b) b = i; print h[b] }' "$1"; }
+fr=$(argmax "$out/ridge_labels.csv"); fp=$(argmax "$out/peak_labels.csv")
+awk -v r="$fr" -v p="$fp" 'BEGIN { q = p / r; exit !(q < 1.0 && q > 0.96) }' \
+  || fail "peak label $fp Hz not 1-4 % below ridge label $fr Hz"
+"$podid" cwt "$data" --channel w6 --scale-convention matlab 2>"$out/stderr"
+[ $? -eq 1 ] || fail "bad convention not exit 1"
+grep -q "expected one of ridge, peak" "$out/stderr" || fail "convention message"
+
 # The generalised Morse wavelet (MATLAB's default gamma 3, beta 20) sees the same mode.
 "$podid" cwt "$data" --channel w6 --wavelet morse >"$out/stdout" || fail "cwt --wavelet morse exited $?"
 grep -q "^Morse gamma 3 beta 20 (amplitude)" "$out/stdout" || fail "no Morse description"

@@ -533,3 +533,55 @@ TEST(MorseWavelet, BadParametersNameWhatWasExpected) {
 
 }  // namespace
 }  // namespace podid::wavelet
+
+namespace podid::wavelet {
+namespace {
+
+TEST(ScaleConvention, PeakIsMatlabAndPyWaveletsCentreFrequency) {
+  // MATLAB (cwt: f = omega_peak / (2 pi s)) and PyWavelets (scale2frequency
+  // of cmor2.0-C: C / s, C = omega0 / (2 pi)) label a scale by the peak of
+  // psi^; Torrence & Compo by the ridge of n(s) psi^(s w). For kEnergy Morlet
+  // omega0 = 6 the ridge is (6 + sqrt(38)) / 2 = 6.0828: 1.38 % apart in s,
+  // 1.36 % of the ridge frequency. For kAmplitude they coincide.
+  constexpr double kTolerance = 1e-14;
+  MorletWavelet w;
+  w.normalisation = Normalisation::kEnergy;
+  w.convention = ScaleConvention::kPeak;
+  EXPECT_NEAR(w.ScaleToFrequency_Hz(0.01), 6.0 / (2 * kPi * 0.01), kTolerance * 100);
+  w.convention = ScaleConvention::kRidge;
+  EXPECT_NEAR(w.ScaleToFrequency_Hz(0.01), 0.5 * (6.0 + std::sqrt(38.0)) / (2 * kPi * 0.01),
+              kTolerance * 100);
+  MorletWavelet amplitude;
+  amplitude.convention = ScaleConvention::kPeak;
+  EXPECT_EQ(amplitude.FrequencyToScale_s(33.0), MorletWavelet{}.FrequencyToScale_s(33.0));
+  MorletWavelet morse;
+  morse.family = WaveletFamily::kMorse;
+  morse.normalisation = Normalisation::kEnergy;
+  morse.convention = ScaleConvention::kPeak;
+  EXPECT_NEAR(morse.ScaleFrequencyConstant(), std::pow(20.0 / 3.0, 1.0 / 3.0), kTolerance);
+
+  // The transform's scales follow the convention, and a tone's ridge (at
+  // s = 6.0828 / (2 pi 33) whatever the labels) carries the label
+  // 6 / 6.0828 times its frequency under kPeak with kEnergy: the grid's
+  // largest |W| is within half a bin (1.1 %) of it.
+  CwtOptions o;
+  o.wavelet = w;
+  o.wavelet.convention = ScaleConvention::kPeak;
+  o.frequencies.min_frequency_Hz = 30.0;
+  o.frequencies.max_frequency_Hz = 40.0;
+  const double step = 1.0 / 5000.0;
+  const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(5001, 0.0, 1.0);
+  const Eigen::VectorXd x = (2 * kPi * 33.0 * t).array().cos();
+  const Scalogram sg = Cwt(x, step, o);
+  for (Eigen::Index k = 0; k < sg.frequencies(); ++k) {
+    EXPECT_NEAR(sg.scales_s(k), 6.0 / (2 * kPi * sg.frequencies_Hz(k)), kTolerance * sg.scales_s(k));
+  }
+  Eigen::Index best = 0;
+  const Eigen::Index mid = sg.times() / 2;
+  sg.coefficients.row(mid).cwiseAbs().maxCoeff(&best);
+  const double label = sg.frequencies_Hz(best);
+  EXPECT_NEAR(label / 33.0, 6.0 / (0.5 * (6.0 + std::sqrt(38.0))), 0.011);
+}
+
+}  // namespace
+}  // namespace podid::wavelet

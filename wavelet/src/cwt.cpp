@@ -76,7 +76,7 @@ bool CwtOptions::IsValid(std::string* why) const {
 
 struct CwtTransform::Impl {
   CwtOptions options;
-  double kappa = 0.0;
+  double kappa = 0.0;  // c of the scale convention: f = kappa / (2 pi s)
   double time_spread = 0.0;  // sigma_t of the wavelet
   double band_low = 0.0, band_high = 0.0;  // u where psi^ >= band_tolerance * peak
   Eigen::VectorXd frequencies_Hz;
@@ -245,7 +245,7 @@ CwtTransform::CwtTransform(const CwtOptions& options) : impl_(std::make_unique<I
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
   impl_->options = options;
-  impl_->kappa = options.wavelet.RidgeAngularFrequency();
+  impl_->kappa = options.wavelet.ScaleFrequencyConstant();
   impl_->time_spread = options.wavelet.TimeSpread();
   options.wavelet.Band(options.band_tolerance, &impl_->band_low, &impl_->band_high);
   impl_->frequencies_Hz = options.frequencies.Frequencies_Hz();

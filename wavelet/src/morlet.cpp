@@ -36,6 +36,16 @@ WaveletFamily ParseWaveletFamily(std::string_view name) {
   ThrowInvalid("wavelet", "one of morlet, morse", "\"" + std::string(name) + "\"");
 }
 
+const char* ToString(ScaleConvention convention) {
+  return convention == ScaleConvention::kRidge ? "ridge" : "peak";
+}
+
+ScaleConvention ParseScaleConvention(std::string_view name) {
+  if (name == "ridge") return ScaleConvention::kRidge;
+  if (name == "peak") return ScaleConvention::kPeak;
+  ThrowInvalid("scale convention", "one of ridge, peak", "\"" + std::string(name) + "\"");
+}
+
 const char* ToString(Padding padding) {
   switch (padding) {
     case Padding::kReflect:
@@ -218,12 +228,22 @@ double MorletWavelet::RidgeAngularFrequency() const {
   return 0.5 * (lo + hi);
 }
 
+double MorletWavelet::PeakAngularFrequency() const {
+  MorletWavelet amplitude = *this;
+  amplitude.normalisation = Normalisation::kAmplitude;
+  return amplitude.RidgeAngularFrequency();
+}
+
+double MorletWavelet::ScaleFrequencyConstant() const {
+  return convention == ScaleConvention::kRidge ? RidgeAngularFrequency() : PeakAngularFrequency();
+}
+
 double MorletWavelet::ScaleToFrequency_Hz(double scale_s) const {
-  return RidgeAngularFrequency() / (2.0 * kPi * scale_s);
+  return ScaleFrequencyConstant() / (2.0 * kPi * scale_s);
 }
 
 double MorletWavelet::FrequencyToScale_s(double frequency_Hz) const {
-  return RidgeAngularFrequency() / (2.0 * kPi * frequency_Hz);
+  return ScaleFrequencyConstant() / (2.0 * kPi * frequency_Hz);
 }
 
 double MorletWavelet::UnitCosineMagnitude(double scale_s) const {

@@ -1,6 +1,6 @@
 #pragma once
-// Continuous wavelet transform with the complex Morlet wavelet, computed with
-// FFTW. Units are SI: times and scales in s, frequencies in Hz unless a name
+// Continuous wavelet transform with the complex Morlet wavelet (or a
+// generalised Morse wavelet, see MorletWavelet below), computed with FFTW. Units are SI: times and scales in s, frequencies in Hz unless a name
 // says _rad_per_s. The module knows nothing of beams or POD: it transforms any
 // uniformly sampled real signal.
 //
@@ -99,6 +99,12 @@ enum class FrequencySpacing {
   kLinear,  ///< bins frequencies evenly from min_frequency_Hz to max_frequency_Hz
 };
 
+/// Which s omega labels a scale's frequency, f = c / (2 pi s).
+enum class ScaleConvention {
+  kRidge,  ///< c = kappa, the ridge of a tone (Torrence & Compo 1998): a tone at f peaks at f's scale
+  kPeak,   ///< c = the peak of psi^ (omega0, or Morse's u_p): MATLAB's and PyWavelets' centre frequency
+};
+
 enum class WaveletFamily {
   kMorlet,  ///< the complex Morlet wavelet (omega0, admissibility_correction)
   kMorse,   ///< the generalised Morse wavelet (gamma, beta), MATLAB's cwt default
@@ -110,8 +116,10 @@ const char* ToString(Normalisation normalisation);
 const char* ToString(WaveletFamily family);
 const char* ToString(Padding padding);
 const char* ToString(FrequencySpacing spacing);
+const char* ToString(ScaleConvention convention);  ///< "ridge" / "peak"
 /// Inverses of ToString; throw std::invalid_argument naming the choices.
 Normalisation ParseNormalisation(std::string_view name);
+ScaleConvention ParseScaleConvention(std::string_view name);
 Padding ParsePadding(std::string_view name);
 WaveletFamily ParseWaveletFamily(std::string_view name);
 
@@ -140,15 +148,23 @@ struct MorletWavelet {
   double gamma = 3.0;                     ///< kMorse: symmetry, in [1, 20]
   double beta = 20.0;                     ///< kMorse: decay, in [1, 500], beta / gamma <= 100
   Normalisation normalisation = Normalisation::kAmplitude;
+  /// How scales map to frequencies. The two agree for kAmplitude (without the
+  /// Morlet correction); for kEnergy Morlet omega0 = 6 the ridge is at
+  /// s omega = 6.0828, so under kPeak a tone's ridge carries a label 1.36 % below its frequency.
+  ScaleConvention convention = ScaleConvention::kRidge;
 
   bool IsValid(std::string* why) const;
+  /// The peak of psi^ alone (no n(s)): omega0 (Morlet without correction), u_p (Morse).
+  double PeakAngularFrequency() const;
+  /// c of the convention: RidgeAngularFrequency() or PeakAngularFrequency().
+  double ScaleFrequencyConstant() const;
   /// psi^(u) at u = s w (dimensionless), without the n(s) factor.
   double FourierTransform(double u) const;
   /// kappa = argmax_u n(u) psi^(u): the s omega of a pure tone's ridge.
   double RidgeAngularFrequency() const;
-  /// f = kappa / (2 pi s).
+  /// f = c / (2 pi s), c = ScaleFrequencyConstant().
   double ScaleToFrequency_Hz(double scale_s) const;
-  /// s = kappa / (2 pi f).
+  /// s = c / (2 pi f).
   double FrequencyToScale_s(double frequency_Hz) const;
   /// |W| of a unit-amplitude cosine at scale s on its ridge (frequency
   /// ScaleToFrequency_Hz(scale_s)): 1 for kAmplitude without correction.
@@ -214,7 +230,7 @@ struct CwtOptions {
 struct Scalogram {
   MorletWavelet wavelet;           ///< the wavelet it was computed with
   Eigen::VectorXd frequencies_Hz;  ///< (dim n_freq) ascending
-  Eigen::VectorXd scales_s;        ///< (dim n_freq) s_k = kappa / (2 pi f_k), descending
+  Eigen::VectorXd scales_s;        ///< (dim n_freq) s_k = c / (2 pi f_k), descending (c: ScaleConvention)
   Eigen::VectorXd time_s;          ///< (dim n_times) output sample times
   double step_s = 0.0;             ///< output time step: input step * decimation
   int decimation = 1;              ///< D: output sample j is input sample j * D
