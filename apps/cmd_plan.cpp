@@ -28,7 +28,7 @@ struct PlanArguments {
   double fmax_Hz = 120.0;
   int voices = 32;
   double omega0 = 6.0;
-  std::string padding = "reflect";
+  std::string padding;  // empty: cwt's default (zero) and identification's (reflect)
 };
 
 void Run(const PlanArguments& a) {
@@ -55,19 +55,23 @@ void Run(const PlanArguments& a) {
   // band-limited one (identification, cwt --band-limited).
   std::set<int> forward, backward;
   for (const auto& [n, step] : records) {
-    wavelet::CwtOptions options;
-    options.wavelet.omega0 = a.omega0;
-    options.padding = wavelet::ParsePadding(a.padding);
-    options.frequencies.min_frequency_Hz = a.fmin_Hz;
-    options.frequencies.max_frequency_Hz = std::min(a.fmax_Hz, 0.5 / step);
-    options.frequencies.voices_per_octave = a.voices;
-    std::string why;
-    if (!options.IsValid(&why)) throw std::invalid_argument("plan: " + why);
-    for (bool band_limited : {false, true}) {
-      options.band_limited = band_limited;
-      const wavelet::FftLengths lengths = wavelet::CwtFftLengths(options, n, step);
-      forward.insert(lengths.real_forward.begin(), lengths.real_forward.end());
-      backward.insert(lengths.complex_backward.begin(), lengths.complex_backward.end());
+    std::vector<std::string> paddings = {a.padding};
+    if (a.padding.empty()) paddings = {"zero", "reflect"};
+    for (const std::string& padding : paddings) {
+      wavelet::CwtOptions options;
+      options.wavelet.omega0 = a.omega0;
+      options.padding = wavelet::ParsePadding(padding);
+      options.frequencies.min_frequency_Hz = a.fmin_Hz;
+      options.frequencies.max_frequency_Hz = std::min(a.fmax_Hz, 0.5 / step);
+      options.frequencies.voices_per_octave = a.voices;
+      std::string why;
+      if (!options.IsValid(&why)) throw std::invalid_argument("plan: " + why);
+      for (bool band_limited : {false, true}) {
+        options.band_limited = band_limited;
+        const wavelet::FftLengths lengths = wavelet::CwtFftLengths(options, n, step);
+        forward.insert(lengths.real_forward.begin(), lengths.real_forward.end());
+        backward.insert(lengths.complex_backward.begin(), lengths.complex_backward.end());
+      }
     }
   }
   wavelet::FftLengths lengths;
@@ -110,8 +114,9 @@ void AddPlanCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--omega0", a->omega0, "Morlet centre frequency, as for cwt")
       ->capture_default_str();
-  command->add_option("--padding", a->padding, "reflect, zero or periodic, as for cwt")
-      ->capture_default_str();
+  command->add_option("--padding", a->padding,
+                      "reflect, zero or periodic (default: both cwt's zero and\n"
+                      "identification's reflect)");
   command->callback([a] { Run(*a); });
 }
 

@@ -3,7 +3,7 @@
 # fastest public C++ CWT) on fCWT's own benchmark setup: fs 64 Hz, 300
 # log-spaced frequencies 1-32 Hz, one thread, full-rate complex output.
 #   fCWT:  single precision, power-of-2 zero padding, FFTW_ESTIMATE plans (its cwt()).
-#   podid: double precision, reflect padding to a 7-smooth length, estimated
+#   podid: double precision, zero padding (the default) to a 7-smooth length, estimated
 #          plans (BM_CwtFcwtCase/N/1/0 in bench/wavelet_benchmark.cpp).
 # Both exclude one-time costs (podid's filters; fCWT's output allocation) and
 # report the best CPU time (one thread each: CPU time is what the transform

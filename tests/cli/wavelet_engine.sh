@@ -12,11 +12,13 @@ export XDG_CACHE_HOME="$out/cache"  # never the user's real cache
 
 # plan: measures once into $XDG_CACHE_HOME/podid, then finds the wisdom.
 "$podid" plan "$data" >"$out/plan1" || fail "plan exited $?"
-grep -q "FFT lengths 10240 real, 640 complex, 10240 complex" "$out/plan1" || fail "plan lengths"
-grep -q "measured 3 plan(s)" "$out/plan1" || fail "first plan did not measure 3"
+# By default both paddings: cwt's zero (9216) and identification's reflect (10240).
+grep -q "FFT lengths 9216 real, 10240 real, 576 complex, 640 complex, 9216 complex, 10240 complex" \
+  "$out/plan1" || fail "plan lengths"
+grep -q "measured 6 plan(s)" "$out/plan1" || fail "first plan did not measure 6"
 [ -s "$out/cache/podid/fftw3-wisdom" ] || fail "no wisdom file"
 "$podid" plan "$data" >"$out/plan2" || fail "second plan exited $?"
-grep -q "measured 0 plan(s) .* 3 already measured" "$out/plan2" || fail "second plan measured again"
+grep -q "measured 0 plan(s) .* 6 already measured" "$out/plan2" || fail "second plan measured again"
 ls "$out/cache/podid" | grep -qv '^fftw3-wisdom$' && fail "temporary files left in the cache"
 "$podid" cwt "$data" --channel w6 >/dev/null || fail "cwt with wisdom exited $?"
 "$podid" plan --samples 5001 2>"$out/stderr"
@@ -34,7 +36,9 @@ for amplitude in 1e300 1e200 1e-150; do
   awk -v a="$amplitude" 'BEGIN { print "t,x"; for (i = 0; i <= 5000; ++i) {
     t = i / 5000; printf "%.17g,%.17g\n", t, a * cos(2 * 3.141592653589793 * 33 * t) } }' \
     >"$out/tone.csv"
-  "$podid" cwt "$out/tone.csv" --channel x >"$out/stdout" 2>&1 || fail "cwt amplitude $amplitude exited $?"
+  # reflect padding continues the 33 whole periods exactly: the IF is 33 Hz to rounding.
+  "$podid" cwt "$out/tone.csv" --channel x --padding reflect >"$out/stdout" 2>&1 \
+    || fail "cwt amplitude $amplitude exited $?"
   grep -q "mean 33 Hz" "$out/stdout" || fail "amplitude $amplitude: $(grep mean "$out/stdout")"
 done
 # --bins is bounded by memory before allocating (was 8 GB then bad_alloc).

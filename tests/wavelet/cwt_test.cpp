@@ -135,6 +135,7 @@ TEST(Cwt, UnitCosineMagnitudeUnderEachNormalisation) {
   Eigen::VectorXd x = (2 * kPi * 33.0 * t).array().cos();
   for (Normalisation norm : {Normalisation::kAmplitude, Normalisation::kEnergy}) {
     CwtOptions o;
+    o.padding = Padding::kReflect;  // the whole periods continue exactly
     o.wavelet.normalisation = norm;
     o.frequencies.min_frequency_Hz = 33.0;
     o.frequencies.max_frequency_Hz = 66.0;
@@ -208,6 +209,7 @@ TEST(Cwt, BandLimitedModeIsTheDecimatedFullTransform) {
   const double step = 2e-4;
   const Eigen::VectorXd x = MixedSignal(5001, step);
   CwtOptions full;
+  full.padding = Padding::kReflect;
   CwtOptions band = full;
   band.band_limited = true;
   CwtTransform tb(band);
@@ -246,7 +248,9 @@ TEST(Cwt, FrequencyGridAndConeOfInfluence) {
 
   // COI at t = 0.25 s of a 1 s record: sqrt(2) s = 0.25 s <=> f = 6 sqrt(2) / (2 pi 0.25).
   const Eigen::VectorXd x = MixedSignal(1001, 1e-3);
-  const Scalogram sg = Cwt(x, 1e-3);
+  CwtOptions torrence_compo;
+  torrence_compo.coi_factor = 1.0;
+  const Scalogram sg = Cwt(x, 1e-3, torrence_compo);
   EXPECT_NEAR(sg.coi_frequency_Hz(250), 6.0 * std::sqrt(2.0) / (2 * kPi * 0.25), 1e-12);
   EXPECT_NEAR(sg.coi_frequency_Hz(750), sg.coi_frequency_Hz(250), 1e-9);
   EXPECT_TRUE(std::isinf(sg.coi_frequency_Hz(0)));
@@ -286,6 +290,7 @@ TEST(Cwt, ShortReflectPaddingEqualsTheEvenExtension) {
   const double step = 1e-3;
   const Eigen::VectorXd x = MixedSignal(1500, step);
   CwtOptions o;
+  o.padding = Padding::kReflect;
   o.remove_mean = false;
   o.frequencies.min_frequency_Hz = 60.0;  // s = 15.9 ms: support 118 samples
   o.frequencies.max_frequency_Hz = 240.0;
@@ -499,6 +504,7 @@ TEST(MorseWavelet, ToneOnItsRidgeHasUnitMagnitudeAndExactPhaseIf) {
   Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(5001, 0.0, 1.0);
   Eigen::VectorXd x = (2 * kPi * 33.0 * t).array().cos();
   CwtOptions o;
+  o.padding = Padding::kReflect;  // the whole periods continue exactly
   o.wavelet = Morse(3.0, 20.0);
   o.frequencies.min_frequency_Hz = 33.0;
   o.frequencies.max_frequency_Hz = 66.0;

@@ -72,6 +72,7 @@ TEST(Ridge, PureTonePhaseDerivativeIsExact) {
   for (bool band : {false, true}) {
     for (bool kink : {false, true}) {
       CwtOptions cwt;
+      cwt.padding = Padding::kReflect;  // (a) continues the whole periods exactly
       cwt.band_limited = band;
       cwt.coi_factor = kink ? 4.0 : 1.0;
       const RidgeTrack track = MainRidge(kink ? shifted : whole, cwt, RidgeOptions{});
@@ -97,6 +98,7 @@ TEST(Ridge, PureToneRidgeScaleWithinHalfABinThenRefined) {
     const Eigen::VectorXd x = kink ? Eigen::VectorXd((2 * kPi * 33.0 * Time().array() + 0.4).sin())
                                    : Eigen::VectorXd((2 * kPi * 33.0 * Time().array()).cos());
     CwtOptions cwt;
+    cwt.padding = Padding::kReflect;
     cwt.coi_factor = kink ? 4.0 : 1.0;
     RidgeOptions ridge;
     ridge.estimator = FrequencyEstimator::kScale;
@@ -136,6 +138,7 @@ TEST(Ridge, LinearChirpInstantaneousFrequency) {
   const Eigen::VectorXd t = Time();
   const Eigen::VectorXd x = (2 * kPi * (20.0 * t.array() + 30.0 * t.array().square())).cos();
   CwtOptions cwt;
+  cwt.padding = Padding::kReflect;
   cwt.coi_factor = 2.0;
   const RidgeTrack track = MainRidge(x, cwt, RidgeOptions{});
   const double error = MaxRelativeErrorInsideCoi(track, [](double s) { return 20.0 + 60.0 * s; });
@@ -352,6 +355,7 @@ TEST(Ridge, ScreeningLeavesNoIfWhereAnImpulsesTransformIsNegligible) {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(kSamples);
   x(kSamples / 10) = 1.0;
   CwtOptions cwt;
+  cwt.padding = Padding::kReflect;
   cwt.remove_mean = false;
   Analysis a(cwt);
   a.transform.Compute(x, kStep, &a.scalogram);

@@ -105,10 +105,15 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
 // The identification entry point: the IF of one signal along its main ridge.
 
 struct RidgeFrequencyOptions {
-  /// Defaults: 10-120 Hz, 32 voices per octave, reflect padding, band-limited.
+  /// Defaults: 10-120 Hz, 32 voices per octave, band-limited, and the
+  /// objective's reflect padding with coi_factor 1 (CwtOptions' defaults are
+  /// zero and 2 since the border measurements; identification keeps its own
+  /// until its owner re-measures the identification figures).
   CwtOptions cwt = [] {
     CwtOptions o;
     o.band_limited = true;
+    o.padding = Padding::kReflect;
+    o.coi_factor = 1.0;
     return o;
   }();
   RidgeOptions ridge;  ///< ridges is ignored (one ridge)
