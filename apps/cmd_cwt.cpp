@@ -178,9 +178,10 @@ void Run(const CwtArguments& a) {
                   sg.frequencies_Hz(sg.frequencies() - 1),
                   a.bins > 0 ? "linear" : (ToText(a.voices) + " voices/octave").c_str(),
                   wavelet::ToString(cwt.padding),
-                  a.band_limited
+                  !a.band_limited ? ""
+                  : sg.decimation > 1
                       ? (", band-limited: every " + ToText(sg.decimation) + "th sample").c_str()
-                      : "");
+                      : ", band-limited: no decimation (the band reaches Nyquist)");
       std::printf("ridge: %s%s, IF from the phase derivative%s\n",
                   wavelet::ToString(options.ridge.method),
                   options.ridge.method == wavelet::RidgeMethod::kPenalised

@@ -1,6 +1,7 @@
 // Wavelet benchmarks (issue 4). One core; sizes of the identification's call:
 // a 5001-sample record at 5 kHz. Run: bench/README.md, "Wavelet".
 #include <benchmark/benchmark.h>
+#include <sys/resource.h>
 
 #include <cmath>
 #include <fstream>
@@ -58,6 +59,30 @@ void BM_RidgeFrequencyBandLimited(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_RidgeFrequencyBandLimited)->Arg(5001)->Unit(benchmark::kMillisecond);
+
+// Issue 13 item 3: the ridge and IF of a long record (10^6 samples = 200 s at
+// 5 kHz) in one band-limited call, CwtOptions defaults (zero padding), the
+// first call included (plans, filters, every buffer): what a one-shot user
+// pays. peak_RSS_MB is the process's peak resident set after the run
+// (getrusage), which includes the signal and Google Benchmark itself.
+void BM_LongRecordRidgeFirstCall(benchmark::State& state) {
+  const Eigen::VectorXd x = Signal(state.range(0));
+  RidgeFrequencyOptions o;
+  o.cwt.padding = Padding::kZero;
+  o.cwt.coi_factor = 2.0;
+  for (auto _ : state) {
+    RidgeFrequencyEstimator estimator(o);
+    const RidgeTrack& track = estimator.Estimate(x, kStep);
+    benchmark::DoNotOptimize(track.frequency_Hz.data());
+  }
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  state.counters["peak_RSS_MB"] = static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+BENCHMARK(BM_LongRecordRidgeFirstCall)
+    ->Arg(1000000)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(2);
 
 // The same at full time resolution, for comparison.
 void BM_RidgeFrequencyFull(benchmark::State& state) {
