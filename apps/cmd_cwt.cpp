@@ -163,6 +163,19 @@ void Run(const CwtArguments& a) {
   for (std::size_t c = 0; c < signals.size(); ++c) {
     const auto& [label, signal] = signals[c];
     transform.Compute(signal, step_s, &sg);
+    if (c == 0) {
+      // Every channel's ridges are kept for the CSV: bound them too (about 64
+      // bytes per channel, ridge and output time: the track and its CSV columns).
+      const double bytes = 64.0 * static_cast<double>(signals.size()) * a.ridges *
+                           static_cast<double>(sg.times());
+      if (bytes > a.max_memory_MB * 1048576.0) {
+        ThrowInvalid("cwt --max-memory",
+                     "at least " + ToText(std::ceil(bytes / 1048576.0)) + " MB for " +
+                         ToText(signals.size()) + " channels x " + ToText(a.ridges) +
+                         " ridges x " + ToText(sg.times()) + " output times",
+                     ToText(a.max_memory_MB) + " MB (fewer channels or ridges; --band-limited has fewer output times)");
+      }
+    }
     tracks.emplace_back();
     for (const Eigen::VectorXi& path : wavelet::FindRidges(sg, options.ridge)) {
       tracks.back().push_back(wavelet::TrackRidge(sg, path, options.ridge, &transform));
@@ -333,7 +346,8 @@ void AddCwtCommand(CLI::App& app) {
   command
       ->add_option("--max-memory", a->max_memory_MB,
                    "Refuse transforms needing more than this many MB (1..16777216; the\n"
-                   "coefficients take n_times x n_frequencies x 16 bytes, 24 with --scalogram)")
+                   "coefficients take n_times x n_frequencies x 16 bytes, 24 with --scalogram;\n"
+                   "the ridges kept for -o about 64 bytes per channel, ridge and time)")
       ->capture_default_str();
   command->add_flag("--band-limited", a->band_limited,
                     "Decimated output (what identification uses); IF values are unchanged");

@@ -49,6 +49,11 @@ head -1 "$out/all.csv" | grep -q '^t,w1_f_Hz,w1_amplitude,w1_inside_coi,w2_f_Hz,
 "$podid" cwt "$data" --channel w3 --band-limited -o "$out/w3.csv" >/dev/null || fail "w3 exited $?"
 [ "$(cut -d, -f2-4 "$out/w3.csv" | tail -n +2)" = "$(cut -d, -f8-10 "$out/all.csv" | tail -n +2)" ] \
   || fail "--channel all's w3 columns differ from --channel w3"
+# The kept ridges are bounded by --max-memory too (6 x 16 x 313 x 64 bytes = 1.8 MB).
+"$podid" cwt "$data" --channel all --ridges 16 --band-limited --max-memory 1 2>"$out/stderr"
+[ $? -eq 1 ] || fail "16 ridges of 6 channels in 1 MB not exit 1"
+grep -q "expected at least 2 MB for 6 channels x 16 ridges x 313 output times, got 1 MB" "$out/stderr" \
+  || fail "ridge memory message: $(cat "$out/stderr")"
 "$podid" cwt "$data" --channel all --plot "$out/all.png" 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--channel all --plot not exit 1"
 grep -q "expected a single --channel or --pom" "$out/stderr" || fail "all + plot message"
