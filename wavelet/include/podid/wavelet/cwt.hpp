@@ -35,8 +35,10 @@
 // s = kappa / (2 pi f); kappa = omega0 for kAmplitude without correction.
 //
 // Cone of influence: the e-folding time of the Morlet wavelet at scale s is
-// sqrt(2) s (Torrence & Compo 1998, sec. 3g). A coefficient at time t is
-// inside the cone when sqrt(2) s <= min(t - t_first, t_last - t); per time
+// sqrt(2) s (Torrence & Compo 1998, sec. 3g); for any wavelet podid uses
+// 2 sigma_t s (sigma_t: MorletWavelet::TimeSpread, 1/sqrt(2) for Morlet). A
+// coefficient at time t is inside the cone when coi_factor 2 sigma_t s <=
+// min(t - t_first, t_last - t); per time
 // sample this is a lowest frequency, Scalogram::coi_frequency_Hz. There an
 // edge's influence (a jump, or a kink from reflect padding) on |W| has only
 // fallen to exp(-1); CwtOptions::coi_factor widens the cone for IF work
@@ -206,7 +208,7 @@ struct CwtOptions {
   /// 0.61 % (tone / chirp / decay) against reflect's 4.0 % / 7.5 % / 4.5 %.
   Padding padding = Padding::kZero;
   bool remove_mean = true;  ///< subtract the signal's mean before padding
-  /// The cone's half-width is coi_factor * sqrt(2) s, >= 0. 1 is Torrence &
+  /// The cone's half-width is coi_factor * 2 sigma_t s (sqrt(2) s for Morlet), >= 0. 1 is Torrence &
   /// Compo's e-folding time, where an edge's influence on |W| has fallen only
   /// to exp(-1); with coi_factor = c it is exp(-c^2) (c = 4: 1e-7). Default 2:
   /// with zero padding the worst IF error inside the cone over end phases is
@@ -252,7 +254,8 @@ struct Scalogram {
   /// CwtOutput::kMagnitudeFloat (then `coefficients` is empty); else empty.
   Eigen::MatrixXf magnitude;
   /// (dim n_times) lowest frequency inside the cone of influence at each output
-  /// time, coi_factor kappa sqrt(2) / (2 pi distance_to_nearest_edge_s); +inf at the edges.
+  /// time, coi_factor c 2 sigma_t / (2 pi distance_to_nearest_edge_s) (c: the scale
+  /// convention's constant, 2 sigma_t = sqrt(2) for Morlet); +inf at the edges.
   Eigen::VectorXd coi_frequency_Hz;
 
   Eigen::Index times() const { return time_s.size(); }
