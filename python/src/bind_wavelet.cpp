@@ -29,7 +29,12 @@ wavelet::CwtOptions MakeCwtOptions(double fmin_Hz, double fmax_Hz, int voices, d
 }
 
 // Keyword arguments shared by the three functions (the CLI's names).
+// The CLI's defaults (podid cwt): zero padding, cone factor 2 (docs/wavelet.md).
 #define PODID_CWT_KWARGS                                                                       \
+  py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("voices") = 32, py::arg("omega0") = 6.0, \
+      py::arg("padding") = "zero", py::arg("coi_factor") = 2.0, py::arg("threads") = 1
+// The wavelet objective's (RidgeFrequencyOptions): reflect padding, cone factor 1.
+#define PODID_OBJECTIVE_KWARGS                                                                 \
   py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("voices") = 32, py::arg("omega0") = 6.0, \
       py::arg("padding") = "reflect", py::arg("coi_factor") = 1.0, py::arg("threads") = 1
 
@@ -102,7 +107,7 @@ void BindWavelet(py::module_& m) {
         py::gil_scoped_release release;
         return wavelet::RidgeFrequency(x, step_s, options);
       },
-      py::arg("x"), py::arg("step_s"), PODID_CWT_KWARGS,
+      py::arg("x"), py::arg("step_s"), PODID_OBJECTIVE_KWARGS,
       "The IF of x along its main ridge, as the wavelet objective computes it (band-limited, "
       "decimated output times).");
 }
