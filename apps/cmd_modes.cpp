@@ -14,14 +14,15 @@ void AddModesCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "modes", "Print the natural frequencies (Hz) and damping ratios of the case's linear beam");
   args->AddTo(*command);
-  command->add_option("-n,--count", *count, "Number of modes to print (default: all)")
+  command->add_option("-n,--count", *count, "Number of modes to print, the lowest (default: all, by the dense solver)")
       ->check(IntegerIn(0, kMaxModesPrinted));
   command->callback([args, count] {
     const CaseSpec spec = args->Load().ToSpec();
     const BeamModel model = BeamModel::Build(spec);
-    const ModalAnalysis modes = model.Modes();
-    const int n = *count > 0 ? std::min<int>(*count, modes.frequencies_Hz.size())
-                             : static_cast<int>(modes.frequencies_Hz.size());
+    // Only the modes printed: a large model's lowest modes by the sparse solver.
+    const ModalAnalysis modes =
+        *count > 0 ? model.Modes(std::min(*count, model.dofs())) : model.Modes();
+    const int n = static_cast<int>(modes.frequencies_Hz.size());
     if (spec.model.type == ModelType::kMatrices) {
       std::printf("%s: imported matrices, %d dofs\n", spec.source.c_str(), model.dofs());
     } else {

@@ -11,6 +11,8 @@ find_package(GSL REQUIRED)
 find_package(NLopt REQUIRED)
 find_package(tomlplusplus REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
+# Spectra (libspectra-dev, header-only): the sparse eigensolver of BeamModel::Modes.
+find_path(SPECTRA_INCLUDE_DIR Spectra/SymGEigsShiftSolver.h REQUIRED)
 find_package(OpenMP REQUIRED COMPONENTS CXX)
 find_package(Threads REQUIRED)
 if(PODID_BUILD_APPS)

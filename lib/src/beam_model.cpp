@@ -1,8 +1,8 @@
 #include "podid/core/beam_model.hpp"
 
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -49,9 +49,24 @@ BeamModel BeamModel::BuildLinear(const BeamSpec& beam) {
   }
 
   const int n_nodes = beam.elements + 1;
-  const int n_all = 2 * n_nodes;
-  Eigen::MatrixXd k_all = Eigen::MatrixXd::Zero(n_all, n_all);
-  Eigen::MatrixXd m_all = Eigen::MatrixXd::Zero(n_all, n_all);
+  // The end conditions remove dofs (BeamDof() gives the remaining order):
+  // kept[2 node + (0: w, 1: theta)] is the model dof, or -1 when held.
+  BeamModel model;
+  std::vector<int> kept(2 * static_cast<std::size_t>(n_nodes), -1);
+  int n = 0;
+  for (int node = 0; node < n_nodes; ++node) {
+    for (const SensorDof which : {SensorDof::kW, SensorDof::kTheta}) {
+      const int d = BeamDof(beam, node, which);
+      if (d < 0) continue;
+      PODID_CHECK(d == n);
+      if (which == SensorDof::kW) model.transverse_.push_back(d);
+      kept[2 * node + (which == SensorDof::kW ? 0 : 1)] = d;
+      ++n;
+    }
+  }
+  std::vector<Eigen::Triplet<double>> k_triplets, m_triplets;
+  k_triplets.reserve(16 * static_cast<std::size_t>(beam.elements));
+  m_triplets.reserve(16 * static_cast<std::size_t>(beam.elements));
   int first_element = 0;
   for (std::size_t i = 0; i < segments.size(); ++i) {
     const BeamSegmentSpec& seg = segments[i];
@@ -97,35 +112,42 @@ BeamModel BeamModel::BuildLinear(const BeamSpec& beam) {
         -13 * l, -3 * l * l, -22 * l, 4 * l * l;
     me *= rho_a * l / 420.0;
     for (int e = first_element; e < first_element + seg.elements; ++e) {
-      k_all.block<4, 4>(2 * e, 2 * e) += ke;
-      m_all.block<4, 4>(2 * e, 2 * e) += me;
+      for (int r = 0; r < 4; ++r) {
+        const int dr = kept[2 * e + r];
+        if (dr < 0) continue;
+        for (int c = 0; c < 4; ++c) {
+          const int dc = kept[2 * e + c];
+          if (dc < 0) continue;
+          k_triplets.emplace_back(dr, dc, ke(r, c));
+          m_triplets.emplace_back(dr, dc, me(r, c));
+        }
+      }
     }
     first_element += seg.elements;
   }
-  // The end conditions remove dofs (BeamDof() gives the remaining order).
-  std::vector<int> keep;
-  BeamModel model;
-  for (int node = 0; node < n_nodes; ++node) {
-    for (const SensorDof which : {SensorDof::kW, SensorDof::kTheta}) {
-      const int d = BeamDof(beam, node, which);
-      if (d < 0) continue;
-      PODID_CHECK(d == static_cast<int>(keep.size()));
-      if (which == SensorDof::kW) model.transverse_.push_back(d);
-      keep.push_back(2 * node + (which == SensorDof::kW ? 0 : 1));
-    }
-  }
-  const int n = static_cast<int>(keep.size());
-  model.stiffness_ = k_all(keep, keep);
-  model.mass_ = m_all(keep, keep);
-  model.damping_ = Eigen::MatrixXd::Zero(n, n);
+  // setFromTriplets sums the duplicates: the elements' shared nodes.
+  model.stiffness_.resize(n, n);
+  model.stiffness_.setFromTriplets(k_triplets.begin(), k_triplets.end());
+  model.mass_.resize(n, n);
+  model.mass_.setFromTriplets(m_triplets.begin(), m_triplets.end());
+  model.damping_.resize(n, n);
   return model;
 }
 
 BeamModel BeamModel::FromMatrices(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& stiffness,
                                   const Eigen::MatrixXd& damping,
                                   const std::vector<NonlinearitySpec>& nonlinearities) {
+  return FromMatrices(Eigen::SparseMatrix<double>(mass.sparseView(0.0, 0.0)),
+                      Eigen::SparseMatrix<double>(stiffness.sparseView(0.0, 0.0)),
+                      Eigen::SparseMatrix<double>(damping.sparseView(0.0, 0.0)), nonlinearities);
+}
+
+BeamModel BeamModel::FromMatrices(const Eigen::SparseMatrix<double>& mass,
+                                  const Eigen::SparseMatrix<double>& stiffness,
+                                  const Eigen::SparseMatrix<double>& damping,
+                                  const std::vector<NonlinearitySpec>& nonlinearities) {
   const Eigen::Index n = mass.rows();
-  for (const Eigen::MatrixXd* m : {&mass, &stiffness, &damping}) {
+  for (const Eigen::SparseMatrix<double>* m : {&mass, &stiffness, &damping}) {
     if (m->rows() != n || m->cols() != n) {
       ThrowInvalid("BeamModel::FromMatrices", "square matrices of one size " + ToText(n),
                    ToText(m->rows()) + " x " + ToText(m->cols()));
@@ -135,6 +157,8 @@ BeamModel BeamModel::FromMatrices(const Eigen::MatrixXd& mass, const Eigen::Matr
   model.mass_ = mass;
   model.stiffness_ = stiffness;
   model.damping_ = damping;
+  for (Eigen::SparseMatrix<double>* m : {&model.mass_, &model.stiffness_, &model.damping_})
+    m->makeCompressed();
   // Node k's transverse dof is 2 (k - 1): nodes 1..(n + 1) / 2 exist.
   model.nonlinear_ = NonlinearForces(nonlinearities, static_cast<int>((n + 1) / 2));
   for (int d : model.nonlinear_.dofs()) {
@@ -156,7 +180,7 @@ void RayleighFromModalRatios(double omega1_rad_per_s, double zeta1, double omega
 BeamModel BeamModel::Build(const CaseSpec& spec) {
   BeamModel model = BuildStructure(spec);
   // The springs' dashpots and an imported C, added to Rayleigh damping below.
-  const Eigen::MatrixXd extra_damping = model.damping_;
+  const Eigen::SparseMatrix<double> extra_damping = model.damping_;
   const DampingSpec& d = spec.damping;
   if (d.type == DampingType::kRayleigh) {
     if (d.from_modal_ratios) {
@@ -170,7 +194,8 @@ BeamModel BeamModel::Build(const CaseSpec& spec) {
       if (d.modes[0] == d.modes[1]) {
         ThrowInvalid("damping.modes", "two different modes", ToText(d.modes[0]) + " twice");
       }
-      const ModalAnalysis modes = model.Modes();
+      // Only the modes the ratios name (the lowest max(modes) of them).
+      const ModalAnalysis modes = model.Modes(std::max(d.modes[0], d.modes[1]));
       const double w1 = 2 * std::numbers::pi * modes.frequencies_Hz[d.modes[0] - 1];
       const double w2 = 2 * std::numbers::pi * modes.frequencies_Hz[d.modes[1] - 1];
       if (!(w1 > 0 && w2 > 0 && w1 != w2 && std::isfinite(w1) && std::isfinite(w2))) {
@@ -186,64 +211,51 @@ BeamModel BeamModel::Build(const CaseSpec& spec) {
       model.beta_s_ = d.beta_s;
     }
     model.damping_ = model.alpha_per_s_ * model.mass_ + model.beta_s_ * model.stiffness_;
-    if (extra_damping.any()) model.damping_ += extra_damping;
+    if (extra_damping.nonZeros() > 0) model.damping_ += extra_damping;
+    model.damping_.makeCompressed();
   }
   return model;
-}
-
-ModalAnalysis BeamModel::Modes() const {
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(stiffness_, mass_);
-  // Values that pass the input checks can still give M and K too far apart in
-  // scale for double precision: an input error, not a bug.
-  if (solver.info() != Eigen::Success || !solver.eigenvalues().allFinite() ||
-      !solver.eigenvectors().allFinite()) {
-    ThrowInvalid("model (" + std::string(kBeamKeys) + ")",
-                 "finite M (positive definite) and K whose modes double precision can compute",
-                 "a failed eigensolution (max |M| " + ToText(mass_.cwiseAbs().maxCoeff()) +
-                     ", max |K| " + ToText(stiffness_.cwiseAbs().maxCoeff()) + ")");
-  }
-  ModalAnalysis result;
-  const int n = dofs();
-  result.shapes = solver.eigenvectors();  // ascending eigenvalues, M-normalised
-  result.frequencies_Hz.resize(n);
-  result.damping_ratios.resize(n);
-  for (int k = 0; k < n; ++k) {
-    const double omega = std::sqrt(std::max(solver.eigenvalues()[k], 0.0));
-    result.frequencies_Hz[k] = omega / (2 * std::numbers::pi);
-    auto phi = result.shapes.col(k);
-    // Sign convention: the largest-magnitude transverse component is positive.
-    Eigen::Index best = transverse_.empty() ? 0 : transverse_.front();
-    for (const int i : transverse_) {
-      if (std::abs(phi[i]) > std::abs(phi[best])) best = i;
-    }
-    if (phi[best] < 0) phi = -phi;
-    result.damping_ratios[k] = omega > 0 ? phi.dot(damping_ * phi) / (2 * omega) : 0.0;
-  }
-  return result;
 }
 
 Eigen::VectorXd SolveStatic(const BeamModel& model, const Eigen::VectorXd& force,
                             const StaticSolveOptions& options, StaticSolveSummary* summary) {
   PODID_CHECK(force.size() == model.dofs());
   PODID_CHECK(summary != nullptr);
-  const Eigen::MatrixXd& k = model.stiffness();
+  const Eigen::SparseMatrix<double>& k = model.stiffness();
   const NonlinearForces& nl = model.nonlinear();
   const std::vector<int>& a = nl.dofs();
   const int na = static_cast<int>(a.size());
-  const Eigen::LLT<Eigen::MatrixXd> k_llt(k);
-  if (model.has_rigid_body_modes() || k_llt.info() != Eigen::Success) {
+  const int n = model.dofs();
+  // One sparse LDL^T of K (fill-reducing ordering), reused by every Newton step.
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> k_ldlt(k);
+  if (model.has_rigid_body_modes() || k_ldlt.info() != Eigen::Success ||
+      !(k_ldlt.vectorD().minCoeff() > 0.0)) {
     ThrowInvalid("initial static force",
                  "a model whose stiffness holds it (positive definite K: no rigid-body motion)",
                  "a stiffness matrix without a Cholesky factor");
   }
-  Eigen::VectorXd x = k_llt.solve(force);  // linear solution as the start
+  Eigen::VectorXd x = k_ldlt.solve(force);  // linear solution as the start
   Eigen::VectorXd wa(na), va = Eigen::VectorXd::Zero(na), fa(na);
   Eigen::MatrixXd ka(na, na), ca(na, na);
+  // Newton on K + U K_t U^T (U selects the `a` dofs), condensed: with
+  // Z = K^-1 U (n x n_a, once) and z0 = K^-1 (-r), u = U^T dx solves
+  // (I + U^T Z K_t) u = U^T z0 and dx = z0 - Z K_t u.
+  Eigen::MatrixXd z(n, na);
+  {
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
+    for (int i = 0; i < na; ++i) {
+      e[a[i]] = 1.0;
+      z.col(i) = k_ldlt.solve(e);
+      e[a[i]] = 0.0;
+    }
+  }
+  Eigen::MatrixXd g(na, na);  // U^T Z
+  for (int i = 0; i < na; ++i) g.row(i) = z.row(a[i]);
 
   const double force_norm = std::max(force.norm(), 1e-300);
   // Backward-error scale: the residual's round-off grows with ||K|| ||x||, so
   // a fine mesh (stiff rotation dofs) cannot reach ||r|| <= tol ||F||.
-  const double k_norm = k.cwiseAbs().rowwise().sum().maxCoeff();
+  const double k_norm = (k.cwiseAbs() * Eigen::VectorXd::Ones(n)).maxCoeff();
   auto residual = [&](const Eigen::VectorXd& xx, Eigen::VectorXd* r) {
     for (int i = 0; i < na; ++i) wa[i] = xx[a[i]];
     nl.Evaluate(wa, va, fa, ka, ca);
@@ -265,10 +277,14 @@ Eigen::VectorXd SolveStatic(const BeamModel& model, const Eigen::VectorXd& force
       summary->converged = true;
       break;
     }
-    Eigen::MatrixXd jac = k;
-    for (int i = 0; i < na; ++i)
-      for (int j = 0; j < na; ++j) jac(a[i], a[j]) += ka(i, j);
-    const Eigen::VectorXd dx = jac.partialPivLu().solve(-r);
+    Eigen::VectorXd dx = k_ldlt.solve(-r);
+    if (na > 0) {
+      Eigen::VectorXd ua(na);
+      for (int i = 0; i < na; ++i) ua[i] = dx[a[i]];
+      const Eigen::MatrixXd small = Eigen::MatrixXd::Identity(na, na) + g * ka;
+      const Eigen::VectorXd u = small.partialPivLu().solve(ua);
+      dx.noalias() -= z * (ka * u);
+    }
     // Backtracking: halve the step until the residual norm decreases.
     double step = 1.0;
     bool decreased = false;

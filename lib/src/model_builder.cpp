@@ -1,7 +1,7 @@
 // BeamModel::BuildStructure: the linear structure of a case (a beam with its
 // masses and springs, or imported matrices) and the nonlinear elements placed
 // on its dofs. Rayleigh damping is added by BeamModel::Build.
-#include <Eigen/Cholesky>
+#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -42,22 +42,26 @@ namespace {
 /// matrices written with 16 significant digits are symmetric to ~1e-16.
 constexpr double kSymmetryTolerance = 1e-9;
 
-void CheckSymmetric(const Eigen::MatrixXd& a, const std::string& what) {
-  const double scale = a.cwiseAbs().maxCoeff();
-  const double asym = (a - a.transpose()).cwiseAbs().maxCoeff();
+void CheckSymmetric(const Eigen::SparseMatrix<double>& a, const std::string& what) {
+  const Eigen::SparseMatrix<double> at = a.transpose();
+  const Eigen::SparseMatrix<double> diff = a - at;
+  const double scale = a.nonZeros() > 0 ? a.coeffs().cwiseAbs().maxCoeff() : 0.0;
+  const double asym = diff.nonZeros() > 0 ? diff.coeffs().cwiseAbs().maxCoeff() : 0.0;
   if (!std::isfinite(scale) || !(asym <= kSymmetryTolerance * scale)) {
     ThrowInvalid(what, "a finite symmetric matrix (max |A - A^T| <= 1e-9 max |A|)",
                  "max |A - A^T| = " + ToText(asym) + ", max |A| = " + ToText(scale));
   }
 }
 
-/// Smallest pivot of LDL^T relative to the largest: PD needs > 0, PSD
-/// allows round-off of the order n eps.
-double RelativeMinPivot(const Eigen::MatrixXd& a) {
-  Eigen::LDLT<Eigen::MatrixXd> ldlt(a);
-  const Eigen::VectorXd d = ldlt.vectorD();
-  const double dmax = d.cwiseAbs().maxCoeff();
-  return dmax > 0 ? d.minCoeff() / dmax : 0.0;
+/// Smallest pivot of a sparse LDL^T (fill-reducing ordering, no pivoting)
+/// relative to the largest diagonal entry: PD needs > 0, PSD allows round-off
+/// of the order n eps. A zero pivot (the factorisation stops) counts as 0.
+double RelativeMinPivot(const Eigen::SparseMatrix<double>& a) {
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(a);
+  const double scale = a.diagonal().cwiseAbs().maxCoeff();
+  if (ldlt.info() != Eigen::Success || !(scale > 0)) return 0.0;
+  const double dmin = ldlt.vectorD().minCoeff();
+  return std::isfinite(dmin) ? dmin / scale : 0.0;
 }
 
 /// Relative LDL^T pivot below which an imported K is singular: a rigid-body
@@ -123,19 +127,21 @@ BeamModel BeamModel::BuildStructure(const CaseSpec& spec) {
     };
     check_size(imported.mass, "mass");
     check_size(imported.stiffness, "stiffness");
-    model.mass_ = Eigen::MatrixXd(imported.mass);
-    model.stiffness_ = Eigen::MatrixXd(imported.stiffness);
+    // Sparse matrices stay sparse (a dense .mat variable arrives converted).
+    model.mass_ = imported.mass;
+    model.stiffness_ = imported.stiffness;
     CheckSymmetric(model.mass_, src + ": model.mass");
     CheckSymmetric(model.stiffness_, src + ": model.stiffness");
     if (imported.damping.size() > 0) {
       check_size(imported.damping, "damping");
-      model.damping_ = Eigen::MatrixXd(imported.damping);
+      model.damping_ = imported.damping;
       CheckSymmetric(model.damping_, src + ": model.damping");
     } else {
-      model.damping_ = Eigen::MatrixXd::Zero(n, n);
+      model.damping_.resize(n, n);
     }
-    Eigen::LLT<Eigen::MatrixXd> llt(model.mass_);
-    if (llt.info() != Eigen::Success) {
+    for (Eigen::SparseMatrix<double>* m : {&model.mass_, &model.stiffness_, &model.damping_})
+      m->makeCompressed();
+    if (!(RelativeMinPivot(model.mass_) > 0.0)) {
       ThrowInvalid(src + ": model.mass", "a positive definite mass matrix",
                    "a matrix without a Cholesky factor (a zero or negative mass)");
     }
@@ -150,7 +156,8 @@ BeamModel BeamModel::BuildStructure(const CaseSpec& spec) {
   } else {
     model = BuildLinear(spec.beam);
     const int n = model.dofs();
-    model.damping_ = Eigen::MatrixXd::Zero(n, n);
+    // Masses, springs and dashpots on the diagonal, added as sparse matrices.
+    std::vector<Eigen::Triplet<double>> dm, dk, dc;
     for (std::size_t i = 0; i < spec.masses.size(); ++i) {
       const PointMassSpec& m = spec.masses[i];
       const std::string key = "mass." + std::to_string(i) + ".node";
@@ -160,15 +167,25 @@ BeamModel BeamModel::BuildStructure(const CaseSpec& spec) {
       // A mass on a held dof moves with the support: it adds nothing.
       const int w = BeamDof(spec.beam, m.node, SensorDof::kW);
       const int theta = BeamDof(spec.beam, m.node, SensorDof::kTheta);
-      if (w >= 0) model.mass_(w, w) += m.mass_kg;
-      if (theta >= 0) model.mass_(theta, theta) += m.inertia_kg_m2;
+      if (w >= 0) dm.emplace_back(w, w, m.mass_kg);
+      if (theta >= 0) dm.emplace_back(theta, theta, m.inertia_kg_m2);
     }
     for (std::size_t i = 0; i < spec.springs.size(); ++i) {
       const SpringSpec& k = spec.springs[i];
       const int d = ResolveDof(spec, k.node, 0, k.dof, "spring." + std::to_string(i) + ".node");
-      model.stiffness_(d, d) += k.stiffness;
-      model.damping_(d, d) += k.damping;
+      dk.emplace_back(d, d, k.stiffness);
+      dc.emplace_back(d, d, k.damping);
     }
+    auto add = [n](Eigen::SparseMatrix<double>* target, const std::vector<Eigen::Triplet<double>>& t) {
+      if (t.empty()) return;
+      Eigen::SparseMatrix<double> extra(n, n);
+      extra.setFromTriplets(t.begin(), t.end());
+      *target += extra;
+      target->makeCompressed();
+    };
+    add(&model.mass_, dm);
+    add(&model.stiffness_, dk);
+    add(&model.damping_, dc);
     model.rigid_body_modes_ = BeamHasRigidBodyModes(spec);
   }
   const int n = model.dofs();

@@ -49,6 +49,7 @@ bool NewmarkOptions::IsValid(std::string* why) const {
   if (max_iterations < 1) return fail("max_iterations: expected >= 1, got " + ToText(max_iterations));
   if (!(max_displacement > 0.0))
     return fail("max_displacement: expected > 0, got " + ToText(max_displacement));
+  if (dense_dof_limit < 0) return fail("dense_dof_limit: expected >= 0, got " + ToText(dense_dof_limit));
   return true;
 }
 
@@ -112,15 +113,49 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
   }
   inv_perm_.assign(n_, 0);
   for (int k = 0; k < n_; ++k) inv_perm_[perm_[k]] = k;
-  auto permute = [&](const Eigen::MatrixXd& m) {
-    Eigen::MatrixXd out(n_, n_);
-    for (int i = 0; i < n_; ++i)
-      for (int j = 0; j < n_; ++j) out(i, j) = m(perm_[i], perm_[j]);
+  // P A P^T from the nonzeros: entry (i, j) moves to (inv_perm i, inv_perm j).
+  auto permute = [&](const Eigen::SparseMatrix<double>& m) {
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(static_cast<std::size_t>(m.nonZeros()));
+    for (int j = 0; j < m.outerSize(); ++j)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(m, j); it; ++it)
+        t.emplace_back(inv_perm_[it.row()], inv_perm_[it.col()], it.value());
+    Eigen::SparseMatrix<double> out(n_, n_);
+    out.setFromTriplets(t.begin(), t.end());
     return out;
   };
-  mass_ = permute(model.mass());
-  damping_ = permute(model.damping());
-  stiffness_ = permute(model.stiffness());
+  mass_sparse_ = permute(model.mass());
+  damping_sparse_ = permute(model.damping());
+  stiffness_sparse_ = permute(model.stiffness());
+  // The `a` dofs are 0..na-1 in the permuted order, so the elements' local
+  // indices are already permuted indices.
+  nonlinear_ = model.nonlinear();
+  sparse_ = options.type == IntegratorType::kModifiedNewmark && n_ > options.dense_dof_limit;
+
+  if (sparse_) {
+    // No n x n dense matrix: M, C, K stay sparse and S_b is factorised once
+    // (sparse LDL^T, fill-reducing ordering). eqs. 28-29: H = S_b^-1 S_ba
+    // (n_b x n_a) and Shat = S_a - S_ab H, both computed once.
+    mass_ldlt_.compute(mass_sparse_);
+    PODID_CHECK_MSG(mass_ldlt_.info() == Eigen::Success, "M must be positive definite");
+    Eigen::SparseMatrix<double> s = a0_ * mass_sparse_ + a1_ * damping_sparse_ + stiffness_sparse_;
+    s.makeCompressed();
+    const Eigen::SparseMatrix<double> sbb = s.bottomRightCorner(nb_, nb_);
+    sbb_ldlt_.compute(sbb);
+    PODID_CHECK_MSG(sbb_ldlt_.info() == Eigen::Success, "S_b must be positive definite");
+    sbb_diagonal_ = sbb_ldlt_.vectorD();
+    sbb_permutation_ = sbb_ldlt_.permutationP().indices();
+    sab_sparse_ = s.topRightCorner(na_, nb_);
+    const Eigen::MatrixXd sba = Eigen::MatrixXd(s.bottomLeftCorner(nb_, na_));
+    h_ = sbb_ldlt_.solve(sba);
+    shat_ = Eigen::MatrixXd(s.topLeftCorner(na_, na_)) - sab_sparse_ * h_;
+    return;
+  }
+
+  // Dense path: small models, and the full-Newton reference integrator.
+  mass_ = Eigen::MatrixXd(mass_sparse_);
+  damping_ = Eigen::MatrixXd(damping_sparse_);
+  stiffness_ = Eigen::MatrixXd(stiffness_sparse_);
   s_ = a0_ * mass_ + a1_ * damping_ + stiffness_;
   s_norm_ = s_.cwiseAbs().rowwise().sum().maxCoeff();
   // rhs = M (a0 x + a2 x' + a3 x'') + C (a1 x + (g/b - 1) x' + dt (g/(2b) - 1) x'').
@@ -128,34 +163,9 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
   rhs_matrix_.leftCols(n_) = a0_ * mass_ + a1_ * damping_;
   rhs_matrix_.middleCols(n_, n_) = a2_ * mass_ + (g / b - 1.0) * damping_;
   rhs_matrix_.rightCols(n_) = a3_ * mass_ + dt * (g / (2.0 * b) - 1.0) * damping_;
-  sparse_ = options.type == IntegratorType::kModifiedNewmark && n_ > kDenseDofLimit;
-  if (sparse_) {
-    mass_sparse_ = mass_.sparseView();
-    damping_sparse_ = damping_.sparseView();
-    mass_ldlt_.compute(mass_sparse_);
-    PODID_CHECK_MSG(mass_ldlt_.info() == Eigen::Success, "M must be positive definite");
-  } else {
-    mass_inverse_ = mass_.llt().solve(Eigen::MatrixXd::Identity(n_, n_));
-  }
+  mass_inverse_ = mass_.llt().solve(Eigen::MatrixXd::Identity(n_, n_));
 
-  // The `a` dofs are 0..na-1 in the permuted order, so the elements' local
-  // indices are already permuted indices.
-  nonlinear_ = model.nonlinear();
-
-  if (sparse_) {
-    // eqs. 28-29 with one sparse LDL^T of S_b: H = S_b^-1 S_ba (n_b x n_a)
-    // and Shat = S_a - S_ab H, both computed once.
-    const Eigen::SparseMatrix<double> s = s_.sparseView();
-    const Eigen::SparseMatrix<double> sbb = s.bottomRightCorner(nb_, nb_);
-    sbb_ldlt_.compute(sbb);
-    PODID_CHECK_MSG(sbb_ldlt_.info() == Eigen::Success, "S_b must be positive definite");
-    sbb_diagonal_ = sbb_ldlt_.vectorD();
-    sbb_permutation_ = sbb_ldlt_.permutationP().indices();
-    sab_sparse_ = s.topRightCorner(na_, nb_);
-    const Eigen::MatrixXd sba = s_.bottomLeftCorner(nb_, na_);
-    h_ = sbb_ldlt_.solve(sba);
-    shat_ = s_.topLeftCorner(na_, na_) - sab_sparse_ * h_;
-  } else if (options.type == IntegratorType::kModifiedNewmark) {
+  if (options.type == IntegratorType::kModifiedNewmark) {
     // Computed once for the constant step: S_b^-1, S_ab, H = S_b^-1 S_ba and
     // the condensed matrix S_a - S_ab S_b^-1 S_ba (eqs. 28-29).
     const Eigen::MatrixXd sbb = s_.bottomRightCorner(nb_, nb_);
@@ -187,12 +197,15 @@ NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
     v->setZero(na);
   ka.setZero(na, na);
   ca.setZero(na, na);
-  jac.setZero(n, n);
   jac_a.setZero(na, na);
-  lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
   lu_a = Eigen::PartialPivLU<Eigen::MatrixXd>(na);
   if (na > 0) lu_a.compute(Eigen::MatrixXd::Identity(na, na));
-  lu.compute(Eigen::MatrixXd::Identity(n, n));
+  // The n x n jacobian only for full Newton (dense by design).
+  if (integrator.options_.type == IntegratorType::kNewmark) {
+    jac.setZero(n, n);
+    lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+    lu.compute(Eigen::MatrixXd::Identity(n, n));
+  }
 }
 
 // Velocity of the `a` dofs implied by the trial displacement w.xa (Newmark relations).
@@ -397,11 +410,13 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
   w.rhs.setZero();
   w.rhs.head(na_) = w.fa;
   if (has_load) w.rhs[load_dof] += load.values_N[0];
-  w.rhs.noalias() -= stiffness_ * x;
-  w.rhs.noalias() -= damping_ * v;
   if (sparse_) {
+    w.rhs.noalias() -= stiffness_sparse_ * x;
+    w.rhs.noalias() -= damping_sparse_ * v;
     acc = mass_ldlt_.solve(w.rhs);
   } else {
+    w.rhs.noalias() -= stiffness_ * x;
+    w.rhs.noalias() -= damping_ * v;
     acc.noalias() = mass_inverse_ * w.rhs;
   }
   // How a unit load on load_dof enters y and bhat (modified method).

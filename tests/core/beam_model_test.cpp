@@ -72,7 +72,7 @@ TEST(BeamModelTest, ModeShapesAreMassNormalised) {
   constexpr double kTolerance = 1e-10;  // eigen-solver round-off on 12 x 12
   const BeamModel model = BeamModel::Build(ReferenceCase());
   const ModalAnalysis modes = model.Modes();
-  const Eigen::MatrixXd gram = modes.shapes.transpose() * model.mass() * modes.shapes;
+  const Eigen::MatrixXd gram = modes.shapes.transpose() * model.DenseMass() * modes.shapes;
   EXPECT_TRUE(testing::ExpectMatricesNear(gram, Eigen::MatrixXd::Identity(12, 12), kTolerance));
 }
 

@@ -88,9 +88,9 @@ TEST(ImportedModel, MatAndMatrixMarketCopiesRespondAsTheBuiltInBeam) {
   ASSERT_TRUE(expected.summary.IsSolutionUsable());
 
   TempDir dir;
-  WriteMat(dir.File("beam.mat"), {{"Mbeam", beam.mass()}, {"Kbeam", beam.stiffness()}});
-  WriteMatrixMarket(dir.File("M.mtx"), beam.mass().sparseView());
-  WriteMatrixMarket(dir.File("K.mtx"), beam.stiffness().sparseView());
+  WriteMat(dir.File("beam.mat"), {{"Mbeam", beam.DenseMass()}, {"Kbeam", beam.DenseStiffness()}});
+  WriteMatrixMarket(dir.File("M.mtx"), beam.mass());
+  WriteMatrixMarket(dir.File("K.mtx"), beam.stiffness());
   const std::string tables[] = {
       "[model]\ntype = \"matrices\"\nfile = \"beam.mat\"\nmass = \"Mbeam\"\nstiffness = \"Kbeam\"",
       "[model]\ntype = \"matrices\"\nmass = \"M.mtx\"\nstiffness = \"K.mtx\"",
@@ -182,8 +182,8 @@ TEST(Joint, EqualsTheGroundedElementWhenItsOtherSideIsFixed) {
   const CaseSpec reference = ReferenceCase({"damping.modal_ratios=[0.0, 0.0]"});
   const BeamModel beam = BeamModel::BuildLinear(reference.beam);
   Eigen::MatrixXd m = Eigen::MatrixXd::Zero(13, 13), k = Eigen::MatrixXd::Zero(13, 13);
-  m.topLeftCorner(12, 12) = beam.mass();
-  k.topLeftCorner(12, 12) = beam.stiffness();
+  m.topLeftCorner(12, 12) = beam.DenseMass();
+  k.topLeftCorner(12, 12) = beam.DenseStiffness();
   m(12, 12) = 1e30;
   TempDir dir;
   WriteMatrixMarket(dir.File("M.mtx"), m.sparseView());

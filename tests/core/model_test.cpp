@@ -161,8 +161,8 @@ TEST(BeamSegments, SegmentsOfOneMaterialEqualTheUniformBeamExactly) {
       "second_moment = " + std::string(moment) + "\n[time]\nduration = 0.01\nstep = 1e-4\n";
   const BeamModel two = BeamModel::Build(Spec(text));
   const BeamModel one = BeamModel::Build(Spec(BeamCase("")));
-  EXPECT_TRUE(testing::ExpectMatricesNear(two.mass(), one.mass(), 0.0));
-  EXPECT_TRUE(testing::ExpectMatricesNear(two.stiffness(), one.stiffness(), 0.0));
+  EXPECT_TRUE(testing::ExpectMatricesNear(two.DenseMass(), one.DenseMass(), 0.0));
+  EXPECT_TRUE(testing::ExpectMatricesNear(two.DenseStiffness(), one.DenseStiffness(), 0.0));
 }
 
 TEST(BeamSegments, AStiffSegmentRaisesTheFrequencies) {
@@ -193,10 +193,10 @@ TEST(BeamSprings, SpringDamperAddsToRayleighDamping) {
       Spec(BeamCase("", 6, "[damping]\ntype = \"rayleigh\"\nalpha = 2.0\n[[spring]]\nnode = 6\nstiffness = 10.0\ndamping = 3.0"));
   const BeamModel model = BeamModel::Build(spec);
   const int w6 = TransverseDof(6);
-  EXPECT_DOUBLE_EQ(model.damping()(w6, w6), 2.0 * model.mass()(w6, w6) + 3.0);
-  EXPECT_DOUBLE_EQ(model.damping()(0, 0), 2.0 * model.mass()(0, 0));
+  EXPECT_DOUBLE_EQ(model.damping().coeff(w6, w6), 2.0 * model.mass().coeff(w6, w6) + 3.0);
+  EXPECT_DOUBLE_EQ(model.damping().coeff(0, 0), 2.0 * model.mass().coeff(0, 0));
   const BeamModel bare = BeamModel::Build(Spec(BeamCase("", 6)));
-  EXPECT_DOUBLE_EQ(model.stiffness()(w6, w6), bare.stiffness()(w6, w6) + 10.0);
+  EXPECT_DOUBLE_EQ(model.stiffness().coeff(w6, w6), bare.stiffness().coeff(w6, w6) + 10.0);
 }
 
 TEST(BeamMasses, PointMassAndInertiaEnterTheMassMatrix) {
@@ -205,7 +205,7 @@ TEST(BeamMasses, PointMassAndInertiaEnterTheMassMatrix) {
   const BeamModel model = BeamModel::Build(spec);
   const BeamModel bare = BeamModel::Build(Spec(BeamCase("left = \"pinned\"\nright = \"pinned\"", 6)));
   const int w = BeamDof(spec.beam, 3, SensorDof::kW), theta = BeamDof(spec.beam, 3, SensorDof::kTheta);
-  Eigen::MatrixXd diff = model.mass() - bare.mass();
+  Eigen::MatrixXd diff = model.DenseMass() - bare.DenseMass();
   EXPECT_DOUBLE_EQ(diff(w, w), 0.5);
   EXPECT_DOUBLE_EQ(diff(theta, theta), 1e-3);
   diff(w, w) = diff(theta, theta) = 0;

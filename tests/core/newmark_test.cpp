@@ -159,7 +159,7 @@ TEST(NewmarkEnergyTest, UndampedLinearBeamKeepsEnergy) {
   auto energy = [&](Eigen::Index i) {
     const Eigen::VectorXd x = recording.displacement.row(i).transpose();
     const Eigen::VectorXd v = recording.velocity.row(i).transpose();
-    return 0.5 * (v.dot(model.mass() * v) + x.dot(model.stiffness() * x));
+    return 0.5 * (v.dot(Eigen::VectorXd(model.mass() * v)) + x.dot(Eigen::VectorXd(model.stiffness() * x)));
   };
   const double e0 = energy(0);
   double worst = 0;

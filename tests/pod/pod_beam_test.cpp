@@ -53,7 +53,7 @@ TEST(PodBeam, MassWeightedPodOfMode1FreeVibrationRecoversMode1) {
   const LinearBeam beam = ReferenceBeam();
   const Eigen::MatrixXd x = FreeVibration(beam, 1e-3 * beam.modes.shapes.col(0), 1.0, 2e-4);
   PodOptions options;
-  options.weighting = beam.model.mass();
+  options.weighting = beam.model.DenseMass();
   const PodResult r = ComputePod(x, options);
   const double mac =
       ModalAssuranceCriterion(r.poms.leftCols(1), beam.modes.shapes.leftCols(1))(0, 0);
@@ -70,11 +70,11 @@ TEST(PodBeam, MassWeightedPodOfStaticDeflectionReleaseIsCloseToMode1) {
   const LinearBeam beam = ReferenceBeam();
   Eigen::VectorXd force = Eigen::VectorXd::Zero(beam.model.dofs());
   force(beam.model.dofs() - 2) = 20.0;  // N, transverse at the free end (README)
-  const Eigen::VectorXd x0 = beam.model.stiffness().ldlt().solve(force);
+  const Eigen::VectorXd x0 = beam.model.DenseStiffness().ldlt().solve(force);
   EXPECT_NEAR(x0(beam.model.dofs() - 2), 2.1183e-3, 1e-7);  // README: linear tip deflection
   const Eigen::MatrixXd x = FreeVibration(beam, x0, 1.0, 2e-4);
   PodOptions weighted;
-  weighted.weighting = beam.model.mass();
+  weighted.weighting = beam.model.DenseMass();
   const PodResult r = ComputePod(x, weighted);
   const Eigen::MatrixXd mac =
       ModalAssuranceCriterion(r.poms.leftCols(3), beam.modes.shapes.leftCols(3));

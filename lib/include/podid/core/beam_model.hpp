@@ -17,8 +17,11 @@
 // Equation of motion (eq. 20): M x'' + C x' + K x = g(t) + f_nl(x, x').
 // Damping: C = alpha M + beta K (Rayleigh, from the assembled M and K
 // including masses and springs) + the springs' dashpots + an imported C.
+// M, K and C are stored sparse (a beam's are banded; an imported model keeps
+// its pattern), so a model of 10^4 dofs costs O(nnz) memory, not O(n^2).
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,13 +32,24 @@
 namespace podid {
 
 /// Linear modal analysis: K phi = omega^2 M phi (generalised symmetric
-/// eigenproblem), modes sorted by increasing frequency, mass-normalised
-/// (phi^T M phi = 1), each shape's largest-|.| transverse component positive.
+/// eigenproblem), the lowest `modes` modes sorted by increasing frequency,
+/// mass-normalised (phi^T M phi = 1), each shape's largest-|.| transverse
+/// component positive.
 struct ModalAnalysis {
-  Eigen::VectorXd frequencies_Hz;   ///< (dim n_dofs) undamped natural frequencies
-  Eigen::VectorXd damping_ratios;   ///< (dim n_dofs) phi^T C phi / (2 omega)
-  Eigen::MatrixXd shapes;           ///< (n_dofs x n_dofs), column k is mode k+1
+  Eigen::VectorXd frequencies_Hz;   ///< (dim modes) undamped natural frequencies
+  Eigen::VectorXd damping_ratios;   ///< (dim modes) phi^T C phi / (2 omega)
+  Eigen::MatrixXd shapes;           ///< (n_dofs x modes), column k is mode k+1
 };
+
+/// Which eigensolver BeamModel::Modes uses.
+enum class EigenSolverChoice {
+  kAuto,    ///< dense up to kDenseModesLimit dofs or when all modes are asked, else kSparse
+  kDense,   ///< Eigen's dense generalised solver: all n modes, O(n^3)
+  kSparse,  ///< Spectra's shift-invert Lanczos with a sparse factor: the requested modes only
+};
+
+/// Largest model solved with the dense eigensolver by EigenSolverChoice::kAuto.
+inline constexpr int kDenseModesLimit = 200;
 
 /// The 0-based model dof a case refers to: `dof1` (1-based, > 0) for any model,
 /// else the beam dof `which` of `node`. Throws std::invalid_argument naming
@@ -65,11 +79,20 @@ class BeamModel {
   static BeamModel FromMatrices(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& stiffness,
                                 const Eigen::MatrixXd& damping,
                                 const std::vector<NonlinearitySpec>& nonlinearities);
+  /// Same with sparse matrices (kept sparse: for large models).
+  static BeamModel FromMatrices(const Eigen::SparseMatrix<double>& mass,
+                                const Eigen::SparseMatrix<double>& stiffness,
+                                const Eigen::SparseMatrix<double>& damping,
+                                const std::vector<NonlinearitySpec>& nonlinearities);
 
   int dofs() const { return static_cast<int>(mass_.rows()); }
-  const Eigen::MatrixXd& mass() const { return mass_; }            ///< kg, kg m, kg m^2
-  const Eigen::MatrixXd& stiffness() const { return stiffness_; }  ///< N/m, N, N m
-  const Eigen::MatrixXd& damping() const { return damping_; }      ///< N s/m ...
+  const Eigen::SparseMatrix<double>& mass() const { return mass_; }            ///< kg, kg m, kg m^2
+  const Eigen::SparseMatrix<double>& stiffness() const { return stiffness_; }  ///< N/m, N, N m
+  const Eigen::SparseMatrix<double>& damping() const { return damping_; }      ///< N s/m ...
+  /// Dense copies for small models (tests, POD weighting): n x n.
+  Eigen::MatrixXd DenseMass() const { return Eigen::MatrixXd(mass_); }
+  Eigen::MatrixXd DenseStiffness() const { return Eigen::MatrixXd(stiffness_); }
+  Eigen::MatrixXd DenseDamping() const { return Eigen::MatrixXd(damping_); }
   const NonlinearForces& nonlinear() const { return nonlinear_; }
   /// True when K leaves the structure free to move as a rigid body (a
   /// free-free or pinned-free beam without springs; an imported K with a
@@ -78,15 +101,20 @@ class BeamModel {
   double rayleigh_alpha_per_s() const { return alpha_per_s_; }
   double rayleigh_beta_s() const { return beta_s_; }
 
-  /// Modal analysis of the linear part (M, K, C).
+  /// Modal analysis of the linear part (M, K, C): all n modes (dense solver).
   ModalAnalysis Modes() const;
+  /// The lowest `count` modes (1..n). kAuto uses the sparse solver above
+  /// kDenseModesLimit dofs when count < n. Throws std::invalid_argument when
+  /// the modes cannot be computed (M and K too far apart in scale, or the
+  /// sparse solver does not converge).
+  ModalAnalysis Modes(int count, EigenSolverChoice solver = EigenSolverChoice::kAuto) const;
 
  private:
   /// M, K, the springs' and imported damping (in damping_) and the transverse
   /// mask, before Rayleigh damping and the nonlinear elements (model_builder.cpp).
   static BeamModel BuildStructure(const CaseSpec& spec);
 
-  Eigen::MatrixXd mass_, stiffness_, damping_;
+  Eigen::SparseMatrix<double> mass_, stiffness_, damping_;
   /// Dofs whose sign fixes a mode shape's sign (beam: the w dofs; else all).
   std::vector<int> transverse_;
   NonlinearForces nonlinear_;
@@ -116,7 +144,8 @@ struct StaticSolveSummary {
 
 /// Static equilibrium K x - f_nl(x, 0) = F (dim n_dofs), by Newton with
 /// backtracking (the step is halved until the residual decreases). x starts
-/// from the linear solution. Throws std::invalid_argument when K is not
+/// from the linear solution. K is factorised once (sparse LDL^T); each Newton
+/// step condenses the nonlinear dofs' tangent onto an n_a x n_a system. Throws std::invalid_argument when K is not
 /// positive definite (a model free to move as a rigid body).
 Eigen::VectorXd SolveStatic(const BeamModel& model, const Eigen::VectorXd& force,
                             const StaticSolveOptions& options, StaticSolveSummary* summary);

@@ -18,8 +18,10 @@
 //    eq. 28. Both solve the same equations, so they agree to the Newton tolerance.
 //    Up to kDenseDofLimit dofs the condensation is dense (S_b^-1 precomputed,
 //    one n x 3n product per step: fastest for small models). Above it, M, C
-//    and S_bb are sparse and S_bb is factorised once (SimplicialLDLT): a step
-//    costs two sparse products and one banded solve, linear in n.
+//    and S_bb are sparse and S_bb is factorised once (SimplicialLDLT, AMD
+//    ordering): no dense n x n matrix is formed, set-up and a step cost
+//    O(nnz(M) + nnz(C) + nnz(L)), linear in n for banded models.
+//  The full-Newton reference integrator is dense (n x n jacobian) at any size.
 //
 // Model/workspace split: a NewmarkIntegrator holds constant precomputed
 // matrices; a NewmarkWorkspace holds every buffer the time loop uses, so Run()
@@ -55,6 +57,9 @@ struct NewmarkOptions {
   /// overflowing, since the implicit scheme damps the runaway. 1e3 is far
   /// beyond any structure podid models. > 0.
   double max_displacement = 1e3;
+  /// Largest number of dofs the modified method integrates with dense
+  /// matrices; above it the sparse path (tests compare the two). >= 0.
+  int dense_dof_limit = kDenseDofLimit;
   bool IsValid(std::string* why) const;
   /// From the case's [time] and [integrator] tables.
   static NewmarkOptions FromCase(const CaseSpec& spec);
@@ -139,7 +144,7 @@ class NewmarkIntegrator {
 
   const NewmarkOptions& options() const { return options_; }
   int dofs() const { return n_; }
-  /// True when the condensed steps use sparse matrices (dofs() > kDenseDofLimit).
+  /// True when the condensed steps use sparse matrices (dofs() > options().dense_dof_limit).
   bool sparse() const { return sparse_; }
   int nonlinear_dofs() const { return na_; }
 
@@ -178,7 +183,8 @@ class NewmarkIntegrator {
   Eigen::MatrixXd mass_inverse_;  ///< dense path only
   // Sparse path (modified method, n > kDenseDofLimit).
   bool sparse_ = false;
-  Eigen::SparseMatrix<double> mass_sparse_, damping_sparse_, sab_sparse_;
+  // Permuted M, C, K (always; the dense copies above exist only on the dense path).
+  Eigen::SparseMatrix<double> mass_sparse_, damping_sparse_, stiffness_sparse_, sab_sparse_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> sbb_ldlt_, mass_ldlt_;
   Eigen::VectorXd sbb_diagonal_;    ///< D of S_bb's factor
   Eigen::VectorXi sbb_permutation_;  ///< its fill-reducing permutation (may be empty)
