@@ -128,6 +128,7 @@ constexpr SchemaEntry kSchema[] = {
     {"integrator.beta", Kind::kReal},
     {"integrator.tolerance", Kind::kReal},
     {"integrator.max_iterations", Kind::kInteger},
+    {"integrator.substeps", Kind::kInteger},
     {"identify", Kind::kTable},
     {"identify.parameter", Kind::kTableArray},
     {"identify.parameter.*.name", Kind::kString},
@@ -385,6 +386,8 @@ IntegratorSpec ReadIntegrator(const CaseDocument::Impl& doc) {
   integrator.tolerance = s.Real("tolerance", Positive(""), integrator.tolerance);
   integrator.max_iterations = static_cast<int>(
       s.OptionalInteger("max_iterations", {1, kMaxIterations}).value_or(integrator.max_iterations));
+  integrator.substeps =
+      static_cast<int>(s.OptionalInteger("substeps", {1, kMaxSubsteps}).value_or(integrator.substeps));
   return integrator;
 }
 

@@ -49,6 +49,9 @@ bool NewmarkOptions::IsValid(std::string* why) const {
   if (max_iterations < 1) return fail("max_iterations: expected >= 1, got " + ToText(max_iterations));
   if (!(max_displacement > 0.0))
     return fail("max_displacement: expected > 0, got " + ToText(max_displacement));
+  if (record_stride < 1 || steps % record_stride != 0)
+    return fail("record_stride: expected >= 1 dividing steps (" + ToText(steps) + "), got " +
+                ToText(record_stride));
   if (dense_dof_limit < 0) return fail("dense_dof_limit: expected >= 0, got " + ToText(dense_dof_limit));
   return true;
 }
@@ -60,8 +63,17 @@ NewmarkOptions NewmarkOptions::FromCase(const CaseSpec& spec) {
   o.beta = spec.integrator.beta;
   o.tolerance = spec.integrator.tolerance;
   o.max_iterations = spec.integrator.max_iterations;
-  o.step_s = spec.time.step_s;
-  o.steps = spec.time.samples() - 1;
+  const int k = spec.integrator.substeps;
+  const long long fine_steps = static_cast<long long>(spec.time.samples() - 1) * k;
+  if (k < 1 || fine_steps > std::numeric_limits<int>::max()) {
+    ThrowInvalid("integrator.substeps",
+                 "1.." + ToText(kMaxSubsteps) + " with (samples - 1) substeps <= " +
+                     ToText(std::numeric_limits<int>::max()),
+                 ToText(k) + " (" + ToText(fine_steps) + " steps)");
+  }
+  o.step_s = spec.time.step_s / k;
+  o.steps = static_cast<int>(fine_steps);
+  o.record_stride = k;
   return o;
 }
 
@@ -391,9 +403,11 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
     if (d < 0 || d >= n_) ThrowInvalid("recorded dof", "a dof in 0.." + ToText(n_ - 1), ToText(d));
     rec[k] = inv_perm_[d];
   }
-  recording->displacement.resize(steps + 1, n_rec);
-  if (recording->record_velocity) recording->velocity.resize(steps + 1, n_rec);
-  if (recording->record_acceleration) recording->acceleration.resize(steps + 1, n_rec);
+  const int stride = options_.record_stride;
+  const int rows = steps / stride + 1;
+  recording->displacement.resize(rows, n_rec);
+  if (recording->record_velocity) recording->velocity.resize(rows, n_rec);
+  if (recording->record_acceleration) recording->acceleration.resize(rows, n_rec);
 
   NewmarkWorkspace& w = *workspace;
   auto x = w.z.head(n_);
@@ -444,6 +458,7 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
       for (int k = 0; k < n_rec; ++k) recording->acceleration(row, k) = acc[rec[k]];
   };
   record(0);
+  summary.rows_recorded = 1;
 
   const double dt = options_.step_s, g = options_.gamma;
   summary.termination = SimulationTermination::kCompleted;
@@ -493,7 +508,10 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
       }
     }
     summary.steps_completed = step;
-    record(step);
+    if (step % stride == 0) {
+      record(step / stride);
+      summary.rows_recorded = step / stride + 1;
+    }
   }
   SetMallocAllowed(true);
   summary.wall_time_s =

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "podid/core/error.hpp"
+#include "podid/core/interpolate.hpp"
 #include "podid/core/noise.hpp"
 
 namespace podid {
@@ -47,10 +48,14 @@ ExternalLoad BuildLoad(const CaseSpec& spec) {
   const int samples = spec.time.samples();
   const double dt = spec.time.step_s;
   const double duration = (samples - 1) * dt;
-  load.values_N.resize(samples);
+  // Sub-stepping: analytic forces at the fine times; a sampled force on the
+  // data's grid here, interpolated band-limited below.
+  const int k = f.type == ForceType::kFile ? 1 : spec.integrator.substeps;
+  const int count = (samples - 1) * k + 1;
+  load.values_N.resize(count);
   constexpr double kTwoPi = 2 * std::numbers::pi;
-  for (int i = 0; i < samples; ++i) {
-    const double t = i * dt;
+  for (int i = 0; i < count; ++i) {
+    const double t = i * dt / k;
     double value = 0.0;
     switch (f.type) {
       case ForceType::kHarmonic:
@@ -79,6 +84,8 @@ ExternalLoad BuildLoad(const CaseSpec& spec) {
     }
     load.values_N[i] = value;
   }
+  if (f.type == ForceType::kFile && spec.integrator.substeps > 1)
+    load.values_N = InterpolateBandLimited(load.values_N, spec.integrator.substeps);
   return load;
 }
 
@@ -117,14 +124,14 @@ SimulationResult Simulate(const CaseSpec& spec, const SimulateOptions& options) 
     return result;
   }
   result.summary = integrator.Run(initial, BuildLoad(spec), &recording);
-  const int rows = result.summary.steps_completed + 1;
+  const int rows = result.summary.rows_recorded;
   const Eigen::MatrixXd& recorded =
       spec.sensors.quantity == SensorQuantity::kVelocity       ? recording.velocity
       : spec.sensors.quantity == SensorQuantity::kAcceleration ? recording.acceleration
                                                                : recording.displacement;
   result.sensors.values = recorded.topRows(rows);
   result.sensors.time_s.resize(rows);
-  for (int i = 0; i < rows; ++i) result.sensors.time_s[i] = i * newmark.step_s;
+  for (int i = 0; i < rows; ++i) result.sensors.time_s[i] = i * spec.time.step_s;
   if (options.add_noise && spec.noise.relative > 0.0) {
     AddNoise(result.sensors, spec.noise.relative, spec.noise.seed);
   }

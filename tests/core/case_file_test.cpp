@@ -650,6 +650,8 @@ TEST(CaseFileRejects, SensorsNoiseIntegrator) {
                     "integrator.beta: expected a number in (0, 0.5], got 0");
   EXPECT_CASE_ERROR(with_integrator + "tolerance = 0\n",
                     "integrator.tolerance: expected a number > 0, got 0");
+  EXPECT_CASE_ERROR(with_integrator + "substeps = 1001\n",
+                    "integrator.substeps: expected an integer in [1, 1000], got 1001");
   EXPECT_CASE_ERROR(with_integrator + "max_iterations = 0\n",
                     "integrator.max_iterations: expected an integer in [1, 1000000], got 0");
   EXPECT_CASE_ERROR(with_integrator + "type = \"rk4\"\n",

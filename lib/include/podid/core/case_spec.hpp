@@ -194,7 +194,12 @@ struct IntegratorSpec {
   double beta = 0.25;   ///< Newmark beta, in (0, 0.5]; unconditionally stable for beta >= gamma / 2
   double tolerance = 1e-10;   ///< Newton: relative residual tolerance, > 0
   int max_iterations = 50;    ///< Newton iterations per step, >= 1
+  /// Newmark steps per sample: the integrator runs at time.step / substeps
+  /// and the output keeps every substeps-th state. In [1, kMaxSubsteps].
+  int substeps = 1;
 };
+
+inline constexpr int kMaxSubsteps = 1000;
 
 /// One identified parameter: the case value at `key` is scale * value.
 struct ParameterSpec {

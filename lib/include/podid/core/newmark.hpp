@@ -60,8 +60,14 @@ struct NewmarkOptions {
   /// Largest number of dofs the modified method integrates with dense
   /// matrices; above it the sparse path (tests compare the two). >= 0.
   int dense_dof_limit = kDenseDofLimit;
+  /// Run() records every record_stride-th step (sub-stepping: step_s is the
+  /// sampling step / record_stride): rows 0..steps / record_stride. >= 1 and
+  /// divides steps.
+  int record_stride = 1;
   bool IsValid(std::string* why) const;
-  /// From the case's [time] and [integrator] tables.
+  /// From the case's [time] and [integrator] tables: step_s = time.step /
+  /// substeps, steps = (samples - 1) substeps, record_stride = substeps.
+  /// Throws std::invalid_argument when the fine steps exceed an int.
   static NewmarkOptions FromCase(const CaseSpec& spec);
 };
 
@@ -70,7 +76,8 @@ struct State {
   Eigen::VectorXd velocity;      ///< (dim n_dofs) m/s, rad/s
 };
 
-/// External force on one dof, sampled at t_n = n dt (dim steps + 1, N).
+/// External force on one dof, sampled at t_n = n dt (dim steps + 1, N), dt
+/// the integration step (the fine grid when sub-stepping).
 /// An empty `values_N` means no external force.
 struct ExternalLoad {
   int dof = -1;
@@ -96,6 +103,7 @@ struct SimulationSummary {
   int nonlinear_dofs = 0;
   int steps_requested = 0;
   int steps_completed = 0;
+  int rows_recorded = 0;            ///< valid rows of the Recording (steps_completed / stride + 1)
   long long newton_iterations = 0;  ///< total Newton corrections
   int max_step_iterations = 0;      ///< worst step
   double worst_step_time_s = 0.0;   ///< time of the worst step
@@ -108,12 +116,13 @@ struct SimulationSummary {
   std::string FullReport() const;  ///< several lines
 };
 
-/// What Run() records at each sample (rows 0..steps; row n is t = n dt).
+/// What Run() records at each sample (rows 0..steps / record_stride; row r is
+/// t = r record_stride dt).
 struct Recording {
   std::vector<int> dofs;        ///< free-dof indices to record
   bool record_velocity = false;
   bool record_acceleration = false;
-  Eigen::MatrixXd displacement;  ///< (steps + 1) x dofs.size(), sized by Run()
+  Eigen::MatrixXd displacement;  ///< (steps / record_stride + 1) x dofs.size(), sized by Run()
   Eigen::MatrixXd velocity;      ///< same, when record_velocity
   Eigen::MatrixXd acceleration;  ///< same, when record_acceleration (m/s^2, rad/s^2)
 };

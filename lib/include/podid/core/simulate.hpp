@@ -19,7 +19,11 @@ namespace podid {
 State InitialState(const CaseSpec& spec, const BeamModel& model,
                    StaticSolveSummary* static_summary = nullptr);
 
-/// The case's external force sampled at t_n = n dt, n = 0..steps.
+/// The case's external force on the integration grid: t_n = n dt / substeps,
+/// n = 0..(samples - 1) substeps (integrator.substeps; 1: the data's grid).
+/// Analytic forces are evaluated there; a force file is interpolated
+/// linearly onto the data's grid, then band-limited (InterpolateBandLimited)
+/// onto the fine one.
 ExternalLoad BuildLoad(const CaseSpec& spec);
 
 /// Free-dof indices of the case's sensors, in channel order.
