@@ -153,8 +153,8 @@ void AddIdentifyCommand(CLI::App& app) {
                       "ridge.png) to this folder");
   command->add_flag("--report", args->report, "Print the full report");
   command->callback([args] {
+    args->objective.PrepareData();  // -m and the data options become [data] keys
     std::vector<NamedFile> inputs = CaseInputFiles(args->objective.input);
-    inputs.push_back({"measured file", args->objective.measured});
     std::vector<NamedFile> outputs = {{"--json", args->json}};
     if (!args->plot_dir.empty()) {
       CheckOutputFolder({"--plot-dir", args->plot_dir});

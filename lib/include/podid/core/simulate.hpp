@@ -19,14 +19,16 @@ namespace podid {
 State InitialState(const CaseSpec& spec, const BeamModel& model,
                    StaticSolveSummary* static_summary = nullptr);
 
-/// The case's external force sampled at t_n = n dt, n = 0..steps.
+/// The case's external force sampled at t_n = n dt, n = 0..steps (file and
+/// channel forces at the record time time.start_s + t_n).
 ExternalLoad BuildLoad(const CaseSpec& spec);
 
 /// Free-dof indices of the case's sensors, in channel order.
 std::vector<int> SensorDofs(const CaseSpec& spec);
 
 struct SimulationResult {
-  TimeSeries sensors;         ///< (samples x sensors), truncated to the completed steps
+  TimeSeries sensors;         ///< (samples x sensors), truncated to the completed steps;
+                              ///< stamped time.start_s + n dt
   SimulationSummary summary;
   StaticSolveSummary static_solve;  ///< when the initial state is a static deflection
 };
