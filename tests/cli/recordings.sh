@@ -102,4 +102,13 @@ grep -q "filter cutoff: expected a cutoff in (0, 2500) Hz (the Nyquist frequency
 "$podid" identify "$out/beam.toml" >/dev/null 2>"$out/e3.err"
 [ $? -eq 1 ] || fail "identify without data: expected exit 1"
 grep -q "expected a measured file" "$out/e3.err" || fail "identify without data: $(cat "$out/e3.err")"
+# --- 5. Accelerations declared as displacements: identify warns.
+"$podid" simulate "$out/beam.toml" --set sensors.quantity=acceleration --set time.duration=1.0 \
+  -o "$out/acc.csv" >/dev/null || fail "simulate accelerations"
+"$podid" identify "$out/beam.toml" -m "$out/acc.csv" >/dev/null 2>"$out/acc.err"
+grep -q 'podid: warning: the measured/simulated amplitude ratio grows as f^.*the record looks like acceleration while \[sensors\] quantity = "displacement"' \
+  "$out/acc.err" || fail "no quantity warning: $(cat "$out/acc.err")"
+"$podid" identify "$out/beam.toml" -m "$out/rec0.csv" "${common[@]}" --set "force.file=\"$out/f0.csv\"" \
+  >/dev/null 2>"$out/ok.err" || fail "identify rec0 again"
+! grep -q "warning" "$out/ok.err" || fail "a quantity warning for matching quantities: $(cat "$out/ok.err")"
 echo "recordings: ok"
