@@ -45,6 +45,8 @@ std::vector<NamedFile> CaseInputFiles(const CaseArguments& arguments) {
   if (spec.force.type == ForceType::kFile && !spec.force.file.empty()) {
     add("force file", spec.force.file);
   }
+  // [data] file or -m: already resolved against the case's folder.
+  if (!spec.data.file.empty()) files.push_back({"data file", spec.data.file});
   if (spec.model.type == ModelType::kMatrices) {
     if (!spec.model.file.empty()) {
       add("model file", spec.model.file);

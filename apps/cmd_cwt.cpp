@@ -116,7 +116,7 @@ void PrintRidge(const wavelet::RidgeTrack& track, double coi_factor, const std::
 void Run(const CwtArguments& a) {
   CheckOutputs({{"data file", a.data}},
                {{"-o", a.output}, {"--scalogram", a.scalogram}, {"--plot", a.plot}});
-  const TimeSeries series = a.reading.Read(a.data);
+  const TimeSeries series = a.reading.ReadConditioned(a.data);
   const auto signals = SelectSignals(a, series);
   const bool several = signals.size() > 1;
   if (several && (!a.scalogram.empty() || !a.plot.empty())) {

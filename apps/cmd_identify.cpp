@@ -10,6 +10,7 @@
 #include "plot.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
+#include "podid/core/quantity_check.hpp"
 #include "podid/ident/identify.hpp"
 
 namespace podid::cli {
@@ -153,8 +154,8 @@ void AddIdentifyCommand(CLI::App& app) {
                       "ridge.png) to this folder");
   command->add_flag("--report", args->report, "Print the full report");
   command->callback([args] {
+    args->objective.PrepareData();  // -m and the data options become [data] keys
     std::vector<NamedFile> inputs = CaseInputFiles(args->objective.input);
-    inputs.push_back({"measured file", args->objective.measured});
     std::vector<NamedFile> outputs = {{"--json", args->json}};
     if (!args->plot_dir.empty()) {
       CheckOutputFolder({"--plot-dir", args->plot_dir});
@@ -180,6 +181,18 @@ void AddIdentifyCommand(CLI::App& app) {
     options.seed = args->seed;
     const ident::IdentifySummary summary = ident::Identify(*objective, options);
     std::printf("%s\n", summary.BriefReport().c_str());
+    // Measured accelerations declared as displacements (or the reverse):
+    // the spectra of the record and of the simulation at the result tell.
+    if (summary.parameters.size() == objective->parameter_count()) {
+      const SimulationResult at = objective->SimulateAt(summary.parameters);
+      if (at.summary.IsSolutionUsable() &&
+          at.sensors.channels() == objective->measured().channels()) {
+        const QuantityCheck q = CheckMeasuredQuantity(
+            objective->measured(), at.sensors,
+            objective->SpecAt(summary.parameters).sensors.quantity);
+        if (q.mismatch) std::fprintf(stderr, "podid: warning: %s\n", q.message.c_str());
+      }
+    }
     if (args->report) std::printf("%s", summary.FullReport().c_str());
     if (!args->json.empty()) WriteJson(args->json, summary);
     if (!args->plot_dir.empty()) {

@@ -99,8 +99,8 @@ void AddLandscapeCommand(CLI::App& app) {
   command->add_option("--json", args->json, "Metrics as JSON");
   command->add_option("--plot", args->plot, "PNG of the curves (1-D) or of the first objective (2-D)");
   command->callback([args] {
+    args->objective.PrepareData();  // -m and the data options become [data] keys
     std::vector<NamedFile> inputs = CaseInputFiles(args->objective.input);
-    inputs.push_back({"measured file", args->objective.measured});
     CheckOutputs(inputs, {{"-o", args->output}, {"--json", args->json}, {"--plot", args->plot}});
     const std::vector<ident::NamedObjective> objectives = ParseObjectives(args->objectives);
     bool ridges = false;

@@ -42,7 +42,7 @@ void RunPod(const PodArguments& a) {
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
   CheckOutputs({{"data file", a.data}}, {{"--json", a.json}, {"-o", a.output}});
 
-  const TimeSeries series = a.reading.Read(a.data);
+  const TimeSeries series = a.reading.ReadConditioned(a.data);
   if (options.max_modes > std::min(series.channels(), series.samples())) {
     ThrowInvalid("--modes",
                  "<= min(channels, samples) = " +
@@ -77,6 +77,7 @@ void RunPod(const PodArguments& a) {
     j["channels"] = series.channel_names;
     j["units"] = series.units;  // "" where the file names none
     j["start_s"] = series.time_s(0);
+    j["conditioning"] = a.reading.Conditioning().Describe();
     j["step_s"] = series.step_s();
     j["sampling_rate_Hz"] = 1.0 / series.step_s();
     j["numerical_rank"] = r.numerical_rank;

@@ -15,8 +15,8 @@ namespace podid::cli {
 
 struct ObjectiveArguments {
   CaseArguments input;
-  std::string measured;
-  DataArguments measured_reading;  ///< --variable, --channels, --rate, --step of --measured
+  std::string measured;            ///< -m; empty: the case's [data] file
+  DataArguments measured_reading;  ///< --variable, --channels, --rate, --step, conditioning of -m
   int modes = 1;
   bool raw_sigma = false;
   double fmin_Hz = 10.0;
@@ -25,6 +25,9 @@ struct ObjectiveArguments {
   std::vector<std::string> starts;  ///< name=value
 
   void AddTo(CLI::App& command);
+  /// Passes -m and the data options to the case as `--set data.*` keys (so
+  /// the case's [force] channel and conditioning see them). Call first.
+  void PrepareData();
   /// Loads case and data and builds the objective (prints its notes on stderr).
   /// `needs_ridges` when an objective uses dIF.
   std::unique_ptr<ident::ObjectiveFunction> Build(bool needs_ridges) const;

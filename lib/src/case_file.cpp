@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -110,9 +111,25 @@ constexpr SchemaEntry kSchema[] = {
     {"force.end_frequency", Kind::kReal},
     {"force.file", Kind::kString},
     {"force.column", Kind::kString},
+    {"force.channel", Kind::kString},
+    {"force.gain", Kind::kReal},
     {"time", Kind::kTable},
     {"time.duration", Kind::kReal},
     {"time.step", Kind::kReal},
+    {"time.start", Kind::kReal},
+    {"data", Kind::kTable},
+    {"data.file", Kind::kString},
+    {"data.variable", Kind::kString},
+    {"data.channels", Kind::kStringArray},
+    {"data.rate", Kind::kReal},
+    {"data.step", Kind::kReal},
+    {"data.window", Kind::kRealArray},
+    {"data.detrend", Kind::kString},
+    {"data.filter", Kind::kString},
+    {"data.filter_order", Kind::kInteger},
+    {"data.cutoff", Kind::kReal},
+    {"data.band", Kind::kRealArray},
+    {"data.decimate", Kind::kInteger},
     {"sensors", Kind::kTable},
     {"sensors.dof", Kind::kString},
     {"sensors.nodes", Kind::kIntegerArray},
@@ -299,11 +316,35 @@ void CheckKnown(const CaseDocument::Impl& doc,
 
 // --- the sections ----------------------------------------------------------
 
+/// A time series read once per document family (force files, the [data] file).
+std::shared_ptr<const TimeSeries> CachedSeries(const CaseDocument::Impl& doc,
+                                               const std::string& cache_key,
+                                               const std::string& key,
+                                               const std::function<TimeSeries()>& read) {
+  std::lock_guard<std::mutex> lock(doc.force_files->mutex);
+  auto& cached = doc.force_files->files[cache_key];
+  if (!cached) {
+    try {
+      cached = std::make_shared<const TimeSeries>(read());
+    } catch (const std::exception& e) {
+      doc.force_files->files.erase(cache_key);
+      throw std::invalid_argument(doc.Where(key) + ": " + key + ": " + e.what());
+    }
+  }
+  return cached;
+}
+
+std::string ChannelList(const TimeSeries& series) {
+  std::string names;
+  for (const auto& n : series.channel_names) names += (names.empty() ? "" : ", ") + n;
+  return names.size() <= 200 ? names : names.substr(0, 200) + "...";
+}
+
 ForceSpec ReadForce(const CaseDocument::Impl& doc, const CaseSpec& spec) {
   const Section s = SubSection(doc, "force", false);
   ForceSpec force;
   if (!s.present()) return force;
-  const std::string type = s.Choice("type", {"none", "harmonic", "sweep", "file"});
+  const std::string type = s.Choice("type", {"none", "harmonic", "sweep", "file", "channel"});
   const std::string why = "for type \"" + type + "\"";
   if (type == "none") return force;  // other keys ignored, as for damping
   ReadNodeOrDof(s, spec, &force.node, &force.dof);
@@ -318,37 +359,115 @@ ForceSpec ReadForce(const CaseDocument::Impl& doc, const CaseSpec& spec) {
     force.amplitude_N = s.Real("amplitude", AnyReal("N"));
     force.start_frequency_Hz = s.Real("start_frequency", Positive("Hz"));
     force.end_frequency_Hz = s.Real("end_frequency", Positive("Hz"));
-  } else {
-    s.OnlyKeys({"type", "node", "dof", "file", "column"}, why);
+  } else if (type == "file") {
+    s.OnlyKeys({"type", "node", "dof", "file", "column", "gain"}, why);
     force.type = ForceType::kFile;
     force.file = s.String("file");
     force.column = s.String("column");
+    force.gain = s.Real("gain", AnyReal("N per unit of the column"), 1.0);
     const std::string path = ResolvePath(doc, force.file);
-    std::shared_ptr<const TimeSeries> series;
-    {
-      std::lock_guard<std::mutex> lock(doc.force_files->mutex);
-      auto& cached = doc.force_files->files[path];
-      if (!cached) {
-        try {
-          cached = std::make_shared<const TimeSeries>(ReadCsv(path));
-        } catch (const std::exception& e) {
-          doc.force_files->files.erase(path);
-          throw std::invalid_argument(doc.Where(s.Full("file")) + ": " + s.Full("file") + ": " +
-                                      e.what());
-        }
-      }
-      series = cached;
-    }
+    const auto series = CachedSeries(doc, path, s.Full("file"), [&] { return ReadCsv(path); });
     const int column = series->ChannelIndex(force.column);
     if (column < 0) {
-      std::string names;
-      for (const auto& n : series->channel_names) names += (names.empty() ? "" : ", ") + n;
-      s.Fail("column", "a column of " + path + " (" + names + ")", "\"" + force.column + "\"");
+      s.Fail("column", "a column of " + path + " (" + ChannelList(*series) + ")",
+             "\"" + force.column + "\"");
     }
     force.file_time_s = series->time_s;
-    force.file_force_N = series->values.col(column);
+    force.file_force_N = force.gain * series->values.col(column);
+  } else {
+    s.OnlyKeys({"type", "node", "dof", "channel", "gain"}, why);
+    force.type = ForceType::kChannel;
+    force.channel = s.String("channel");
+    force.gain = s.Real("gain", AnyReal("N per unit of the channel"), 1.0);
+    const DataSpec& data = spec.data;
+    if (data.file.empty()) {
+      s.Fail("channel", "a [data] file to read it from (data.file, or the measured file given "
+             "on the command line)", "no data.file");
+    }
+    DataReadOptions options;
+    options.variable = data.variable;
+    options.rate_Hz = data.rate_Hz;
+    options.step_s = data.step_s;
+    const std::string cache_key = data.file + "\n" + data.variable + "\n" +
+                                  FormatReal(data.rate_Hz) + "\n" + FormatReal(data.step_s);
+    const auto series = CachedSeries(doc, cache_key, "data.file",
+                                     [&] { return ReadTimeSeries(data.file, options); });
+    const int column = series->ChannelIndex(force.channel);
+    if (column < 0) {
+      s.Fail("channel", "a channel of " + data.file + " (" + ChannelList(*series) + ")",
+             Excerpt(force.channel));
+    }
+    force.file_time_s = series->time_s;
+    force.file_force_N = force.gain * series->values.col(column);
   }
   return force;
+}
+
+DataSpec ReadData(const CaseDocument::Impl& doc) {
+  const Section s = SubSection(doc, "data", false);
+  DataSpec data;
+  if (!s.present()) return data;
+  if (const auto file = s.OptionalString("file")) data.file = ResolvePath(doc, *file);
+  data.variable = s.OptionalString("variable").value_or("");
+  if (s.Has("rate") && s.Has("step")) {
+    s.Fail("step", "either data.rate or data.step, not both", "both");
+  }
+  data.rate_Hz = s.Real("rate", Positive("Hz"), 0.0);
+  data.step_s = s.Real("step", Positive("s"), 0.0);
+  ConditioningOptions& c = data.conditioning;
+  if (s.Has("channels")) {
+    c.channels = s.StringArray("channels", 0);
+    if (c.channels.size() > 65536) {
+      s.Fail("channels", "at most 65536 names", ToText(c.channels.size()) + " names");
+    }
+  }
+  if (s.Has("window")) {
+    const auto w = s.RealArray("window", 2, AnyReal("s"));
+    if (!(w[0] < w[1])) {
+      s.Fail("window", "[start, end] with start < end (s)",
+             "[" + FormatReal(w[0]) + ", " + FormatReal(w[1]) + "]");
+    }
+    c.window_start_s = w[0];
+    c.window_end_s = w[1];
+  }
+  const std::string detrend = s.Choice("detrend", {"none", "constant", "linear"}, "none");
+  c.detrend = detrend == "linear" ? Detrend::kLinear
+              : detrend == "constant" ? Detrend::kConstant
+                                      : Detrend::kNone;
+  const std::string filter =
+      s.Choice("filter", {"none", "lowpass", "highpass", "bandpass"}, "none");
+  const std::string why = "for filter \"" + filter + "\"";
+  if (filter == "none") {
+    for (const char* key : {"filter_order", "cutoff", "band"}) {
+      if (s.Has(key)) s.Fail(key, "no " + std::string(key) + " without data.filter", "one");
+    }
+  } else {
+    c.filter.order = static_cast<int>(
+        s.OptionalInteger("filter_order", {1, kMaxFilterOrder}).value_or(c.filter.order));
+    if (filter == "bandpass") {
+      if (s.Has("cutoff")) s.Fail("cutoff", "band = [low, high] " + why, "cutoff");
+      const auto band = s.RealArray("band", 2, Positive("Hz"));
+      if (!(band[0] < band[1])) {
+        s.Fail("band", "[low, high] with low < high (Hz)",
+               "[" + FormatReal(band[0]) + ", " + FormatReal(band[1]) + "]");
+      }
+      c.filter.type = FilterType::kBandpass;
+      c.filter.low_Hz = band[0];
+      c.filter.high_Hz = band[1];
+    } else {
+      if (s.Has("band")) s.Fail("band", "cutoff = f (Hz) " + why, "band");
+      const double cutoff = s.Real("cutoff", Positive("Hz"));
+      if (filter == "lowpass") {
+        c.filter.type = FilterType::kLowpass;
+        c.filter.high_Hz = cutoff;
+      } else {
+        c.filter.type = FilterType::kHighpass;
+        c.filter.low_Hz = cutoff;
+      }
+    }
+  }
+  c.decimate = static_cast<int>(s.OptionalInteger("decimate", {1, kMaxDecimation}).value_or(1));
+  return data;
 }
 
 TimeSpec ReadTime(const CaseDocument::Impl& doc) {
@@ -356,6 +475,7 @@ TimeSpec ReadTime(const CaseDocument::Impl& doc) {
   TimeSpec time;
   time.duration_s = s.Real("duration", Positive("s"));
   time.step_s = s.Real("step", Positive("s"));
+  time.start_s = s.Real("start", AnyReal("s"), 0.0);
   if (time.step_s > time.duration_s) {
     s.Fail("step", "a step <= time.duration = " + FormatReal(time.duration_s) + " s",
            FormatReal(time.step_s));
@@ -677,6 +797,7 @@ CaseSpec ReadModel(const CaseDocument::Impl& doc) {
   CaseSpec spec;
   spec.source = doc.source;
   ReadStructure(doc, &spec);
+  spec.data = ReadData(doc);
   spec.force = ReadForce(doc, spec);
   spec.time = ReadTime(doc);
   // The simulated record, (duration / step + 1) samples x sensors doubles,

@@ -50,12 +50,14 @@ ExternalLoad BuildLoad(const CaseSpec& spec) {
   const double duration = (samples - 1) * dt;
   // Sub-stepping: analytic forces at the fine times; a sampled force on the
   // data's grid here, interpolated band-limited below.
-  const int k = f.type == ForceType::kFile ? 1 : spec.integrator.substeps;
+  const bool sampled = f.type == ForceType::kFile || f.type == ForceType::kChannel;
+  const int k = sampled ? 1 : spec.integrator.substeps;
   const int count = (samples - 1) * k + 1;
   load.values_N.resize(count);
   constexpr double kTwoPi = 2 * std::numbers::pi;
   for (int i = 0; i < count; ++i) {
-    const double t = i * dt / k;
+    const double t = i * dt / k;                   // from the simulation's start
+    const double t_abs = spec.time.start_s + t;    // on the record's time axis
     double value = 0.0;
     switch (f.type) {
       case ForceType::kHarmonic:
@@ -66,15 +68,17 @@ ExternalLoad BuildLoad(const CaseSpec& spec) {
                 std::sin(kTwoPi * (f.start_frequency_Hz * t +
                                    (f.end_frequency_Hz - f.start_frequency_Hz) * t * t / (2 * duration)));
         break;
-      case ForceType::kFile: {
+      case ForceType::kFile:
+      case ForceType::kChannel: {
         const Eigen::VectorXd& ft = f.file_time_s;
         const Eigen::VectorXd& fv = f.file_force_N;
         PODID_CHECK(ft.size() == fv.size());
-        if (ft.size() >= 2 && t >= ft[0] && t <= ft[ft.size() - 1]) {
+        if (ft.size() >= 2 && t_abs >= ft[0] && t_abs <= ft[ft.size() - 1]) {
           // Linear interpolation on the (uniform, increasing) file time grid.
           const double h = (ft[ft.size() - 1] - ft[0]) / static_cast<double>(ft.size() - 1);
-          Eigen::Index k = std::min<Eigen::Index>(static_cast<Eigen::Index>((t - ft[0]) / h), ft.size() - 2);
-          const double s = (t - ft[k]) / (ft[k + 1] - ft[k]);
+          Eigen::Index k =
+              std::min<Eigen::Index>(static_cast<Eigen::Index>((t_abs - ft[0]) / h), ft.size() - 2);
+          const double s = (t_abs - ft[k]) / (ft[k + 1] - ft[k]);
           value = (1 - s) * fv[k] + s * fv[k + 1];
         }
         break;
@@ -84,7 +88,7 @@ ExternalLoad BuildLoad(const CaseSpec& spec) {
     }
     load.values_N[i] = value;
   }
-  if (f.type == ForceType::kFile && spec.integrator.substeps > 1)
+  if (sampled && spec.integrator.substeps > 1)
     load.values_N = InterpolateBandLimited(load.values_N, spec.integrator.substeps);
   return load;
 }
@@ -131,7 +135,7 @@ SimulationResult Simulate(const CaseSpec& spec, const SimulateOptions& options) 
                                                                : recording.displacement;
   result.sensors.values = recorded.topRows(rows);
   result.sensors.time_s.resize(rows);
-  for (int i = 0; i < rows; ++i) result.sensors.time_s[i] = i * spec.time.step_s;
+  for (int i = 0; i < rows; ++i) result.sensors.time_s[i] = spec.time.start_s + i * spec.time.step_s;
   if (options.add_noise && spec.noise.relative > 0.0) {
     AddNoise(result.sensors, spec.noise.relative, spec.noise.seed);
   }

@@ -599,10 +599,10 @@ TEST(CaseFileRejects, Force) {
   const std::string with_force = std::string(kBase) + "[force]\n";  // line 39
   EXPECT_CASE_ERROR(with_force + "type = \"impulse\"\n",
                     "case.toml:39: force.type: expected one of \"none\", \"harmonic\", \"sweep\", "
-                    "\"file\", got \"impulse\"");
+                    "\"file\", \"channel\", got \"impulse\"");
   EXPECT_CASE_ERROR(with_force + "amplitude = 1\n",
                     "case.toml:38: force.type: expected one of \"none\", \"harmonic\", \"sweep\", "
-                    "\"file\", got nothing");
+                    "\"file\", \"channel\", got nothing");
   EXPECT_CASE_ERROR(with_force + "type = \"harmonic\"\namplitude = 1\n",
                     "case.toml:38: force.frequency: expected a number > 0 (Hz), got nothing");
   EXPECT_CASE_ERROR(with_force + "type = \"harmonic\"\namplitude = 1\nfrequency = 30\nnode = 0\n",

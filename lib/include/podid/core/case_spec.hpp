@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "podid/core/conditioning.hpp"
+
 namespace podid {
 
 /// Upper bound on the dofs of any model (beam: 2 (elements + 1); imported: n).
@@ -139,12 +141,14 @@ struct InitialSpec {
   Eigen::VectorXd velocity;      ///< kExplicit: (dim n_dofs), m/s and rad/s
 };
 
-enum class ForceType { kNone, kHarmonic, kSweep, kFile };
+enum class ForceType { kNone, kHarmonic, kSweep, kFile, kChannel };
 
-/// External transverse force at `node`:
+/// External transverse force at `node`. t is the simulation's time from its
+/// start (time.start_s), t_abs = time.start_s + t the record's time:
 ///  harmonic: F = A sin(2 pi f t);
 ///  sweep:    F = A sin(2 pi (f0 t + (f1 - f0) t^2 / (2 T))), T = duration;
-///  file:     F(t) read from a CSV column, linearly interpolated, 0 outside.
+///  file:     F = gain x (a CSV column at t_abs), linearly interpolated, 0 outside;
+///  channel:  F = gain x (a channel of the [data] file at t_abs), the same way.
 struct ForceSpec {
   ForceType type = ForceType::kNone;
   int node = 0;
@@ -155,13 +159,19 @@ struct ForceSpec {
   double end_frequency_Hz = 0.0;    ///< sweep
   std::string file;                 ///< file: CSV path (relative to the case file)
   std::string column;               ///< file: column name
-  Eigen::VectorXd file_time_s;      ///< file: filled by ToSpec()
-  Eigen::VectorXd file_force_N;     ///< file: filled by ToSpec()
+  std::string channel;              ///< channel: channel name in the [data] file
+  double gain = 1.0;                ///< file, channel: N per unit of the column (e.g. N/V)
+  Eigen::VectorXd file_time_s;      ///< file, channel: the column's time (s), filled by ToSpec()
+  Eigen::VectorXd file_force_N;     ///< file, channel: gain x the column (N), filled by ToSpec()
 };
 
 struct TimeSpec {
   double duration_s = 0.0;  ///< > 0
   double step_s = 0.0;      ///< > 0, <= duration
+  /// Record time of the first sample (s): the simulation starts there from
+  /// the initial state; its sensors are stamped start + n step, and file and
+  /// channel forces are read at that time. Default 0.
+  double start_s = 0.0;
   /// Number of samples including t = 0: round(duration / step) + 1.
   int samples() const;
 };
@@ -211,6 +221,18 @@ struct ParameterSpec {
   double upper = 0.0;
 };
 
+/// [data]: the recording a case is identified from and its conditioning.
+struct DataSpec {
+  std::string file;      ///< resolved path; "" when none (given on the command line)
+  std::string variable;  ///< .mat variable or struct
+  double rate_Hz = 0.0;  ///< sampling rate of a file without time (or step_s)
+  double step_s = 0.0;
+  /// channels: the file's channels, in the order of the case's sensors (they
+  /// are renamed to the sensors' names). The rest applies to the measured
+  /// record and, identically, to the simulated sensors.
+  ConditioningOptions conditioning;
+};
+
 struct CaseSpec {
   std::string source;  ///< the file it came from (for messages)
   ModelSpec model;
@@ -226,6 +248,7 @@ struct CaseSpec {
   NoiseSpec noise;
   IntegratorSpec integrator;
   std::vector<ParameterSpec> parameters;
+  DataSpec data;
 
   /// Number of model dofs (beam: its unconstrained dofs; imported: n).
   int dofs() const;

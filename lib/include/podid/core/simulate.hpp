@@ -21,16 +21,18 @@ State InitialState(const CaseSpec& spec, const BeamModel& model,
 
 /// The case's external force on the integration grid: t_n = n dt / substeps,
 /// n = 0..(samples - 1) substeps (integrator.substeps; 1: the data's grid).
-/// Analytic forces are evaluated there; a force file is interpolated
-/// linearly onto the data's grid, then band-limited (InterpolateBandLimited)
-/// onto the fine one.
+/// Analytic forces are evaluated there; a force file or channel is read at
+/// the record's times time.start_s + n dt (linear interpolation within the
+/// file), then interpolated band-limited (InterpolateBandLimited) onto the
+/// fine grid.
 ExternalLoad BuildLoad(const CaseSpec& spec);
 
 /// Free-dof indices of the case's sensors, in channel order.
 std::vector<int> SensorDofs(const CaseSpec& spec);
 
 struct SimulationResult {
-  TimeSeries sensors;         ///< (samples x sensors), truncated to the completed steps
+  TimeSeries sensors;         ///< (samples x sensors), truncated to the completed steps;
+                              ///< stamped time.start_s + n dt
   SimulationSummary summary;
   StaticSolveSummary static_solve;  ///< when the initial state is a static deflection
 };

@@ -1,0 +1,122 @@
+#include "podid/core/quantity_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <unsupported/Eigen/FFT>
+#include <vector>
+
+#include "podid/core/error.hpp"
+
+namespace podid {
+namespace {
+
+// Power per bin 0..n/2, summed over channels (Hann window, mean removed).
+Eigen::VectorXd Power(const TimeSeries& s, Eigen::Index n) {
+  Eigen::FFT<double> fft;
+  Eigen::VectorXd power = Eigen::VectorXd::Zero(n / 2 + 1);
+  std::vector<double> x(static_cast<std::size_t>(n));
+  std::vector<std::complex<double>> spectrum;
+  for (Eigen::Index c = 0; c < s.channels(); ++c) {
+    const double mean = s.values.col(c).head(n).mean();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double hann =
+          0.5 - 0.5 * std::cos(2 * std::numbers::pi * i / static_cast<double>(n - 1));
+      x[static_cast<std::size_t>(i)] = hann * (s.values(i, c) - mean);
+    }
+    fft.fwd(spectrum, x);
+    for (Eigen::Index k = 0; k <= n / 2; ++k)
+      power[k] += std::norm(spectrum[static_cast<std::size_t>(k)]);
+  }
+  return power;
+}
+
+std::string Short(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.3g", x);
+  return buffer;
+}
+
+int Order(SensorQuantity q) {
+  return q == SensorQuantity::kDisplacement ? 0 : q == SensorQuantity::kVelocity ? 1 : 2;
+}
+
+}  // namespace
+
+const char* ToString(SensorQuantity quantity) {
+  switch (quantity) {
+    case SensorQuantity::kDisplacement:
+      return "displacement";
+    case SensorQuantity::kVelocity:
+      return "velocity";
+    case SensorQuantity::kAcceleration:
+      return "acceleration";
+  }
+  return "?";
+}
+
+QuantityCheck CheckMeasuredQuantity(const TimeSeries& measured,
+                                    const TimeSeries& simulated,
+                                    SensorQuantity declared) {
+  QuantityCheck check;
+  check.likely = declared;
+  PODID_CHECK(measured.channels() == simulated.channels());
+  const Eigen::Index n = std::min(measured.samples(), simulated.samples());
+  if (n < 16 || measured.channels() == 0) return check;
+  const Eigen::VectorXd pm = Power(measured, n), ps = Power(simulated, n);
+  const double max_m = pm.tail(pm.size() - 1).maxCoeff(), max_s = ps.tail(ps.size() - 1).maxCoeff();
+  if (!(max_m > 0.0) || !(max_s > 0.0) || !std::isfinite(max_m) || !std::isfinite(max_s))
+    return check;
+  const double df = 1.0 / (static_cast<double>(n) * measured.step_s());
+  // The simulated spectrum's peaks (its modes): a bin that is the largest
+  // within +-max(3, k / 20) bins, with more than 1e-8 of the peak power on
+  // both sides. At a peak the ratio is the mode's w^k; between peaks both
+  // spectra are the same peaks' leakage, whose ratio is flat.
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  check.low_Hz = std::numeric_limits<double>::infinity();
+  const Eigen::Index last = ps.size() - 1;
+  for (Eigen::Index k = 2; k < last; ++k) {
+    const Eigen::Index r = std::max<Eigen::Index>(3, k / 20);
+    const Eigen::Index lo = std::max<Eigen::Index>(1, k - r), hi = std::min(last, k + r);
+    if (ps[k] < ps.segment(lo, hi - lo + 1).maxCoeff()) continue;
+    if (!(ps[k] > 1e-8 * max_s && pm[k] > 1e-8 * max_m)) continue;
+    const double f = static_cast<double>(k) * df;
+    const double x = std::log10(f), y = 0.5 * std::log10(pm[k] / ps[k]);
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+    ++check.bins;
+    check.low_Hz = std::min(check.low_Hz, f);
+    check.high_Hz = std::max(check.high_Hz, f);
+  }
+  const double count = check.bins;
+  const double spread = count > 0 ? sxx / count - (sx / count) * (sx / count) : 0.0;
+  if (check.bins < kQuantityCheckMinPeaks || !(check.high_Hz >= 1.5 * check.low_Hz) ||
+      !(spread > 0)) {
+    return check;
+  }
+  check.determined = true;
+  check.exponent = (sxy / count - (sx / count) * (sy / count)) / spread;
+  if (std::abs(check.exponent) < 0.5) return check;
+  check.mismatch = true;
+  const int order =
+      std::clamp(Order(declared) + static_cast<int>(std::lround(check.exponent)), 0, 2);
+  check.likely = order == 0   ? SensorQuantity::kDisplacement
+                 : order == 1 ? SensorQuantity::kVelocity
+                              : SensorQuantity::kAcceleration;
+  check.message = "the measured/simulated amplitude ratio grows as f^" + Short(check.exponent) +
+                  " (" + Short(20 * check.exponent) + " dB/decade over " + Short(check.low_Hz) +
+                  ".." + Short(check.high_Hz) +
+                  " Hz; f^0 when the quantities agree): the record "
+                  "looks like " +
+                  ToString(check.likely) + " while [sensors] quantity = \"" + ToString(declared) +
+                  "\"";
+  return check;
+}
+
+}  // namespace podid
