@@ -109,7 +109,7 @@ void WritePlots(const std::string& dir, const ident::ObjectiveFunction& objectiv
   PlotLines(dir + "/convergence.png", {"Objective per evaluation", "evaluation", "F", true},
             {{"F", evaluation, value}, {"best so far", evaluation, best}});
   if (ridges && !objective.measured_ridges().empty()) {
-    wavelet::RidgeFrequencyEstimator estimator(objective.options().ridge);
+    wavelet::RidgeFrequencyEstimator estimator(objective.mode_ridge_options(0));
     const PodResult& pod = objective.measured_pod();
     const wavelet::RidgeTrack& measured_ridge = estimator.Estimate(pod.time_modes.col(0), measured.step_s());
     const wavelet::Scalogram& sc = estimator.scalogram();
@@ -169,11 +169,10 @@ void AddIdentifyCommand(CLI::App& app) {
     }
     CheckOutputs(inputs, outputs);
     const ident::ObjectiveWeights weights = WeightsFrom(args->preset, args->terms, args->weights);
-    const auto objective = args->objective.Build(weights.NeedsRidges());
+    const auto objective = args->objective.Build({{weights.ToString(), weights}});
     ident::IdentifyOptions options;
     options.algorithm = ident::ParseAlgorithm(args->algorithm);
     options.local_algorithm = ident::ParseAlgorithm(args->local_algorithm);
-    options.weights = weights;
     options.start = args->objective.Start(*objective);
     options.multistart = args->multistart;
     options.max_evaluations = args->max_evaluations;

@@ -103,13 +103,10 @@ void AddLandscapeCommand(CLI::App& app) {
     std::vector<NamedFile> inputs = CaseInputFiles(args->objective.input);
     CheckOutputs(inputs, {{"-o", args->output}, {"--json", args->json}, {"--plot", args->plot}});
     const std::vector<ident::NamedObjective> objectives = ParseObjectives(args->objectives);
-    bool ridges = false;
-    for (const auto& o : objectives) ridges = ridges || o.weights.NeedsRidges();
     if (args->param2.empty() != args->range2.empty()) {
       ThrowInvalid("--param2/--range2", "both or neither", args->param2.empty() ? "--range2 alone" : "--param2 alone");
     }
     ident::LandscapeOptions options;
-    options.objectives = objectives;
     options.x = ParseRange("--range", args->range);
     if (!args->param2.empty()) options.y = ParseRange("--range2", args->range2);
     if (options.y && static_cast<long long>(options.x.points) * options.y->points >
@@ -118,7 +115,7 @@ void AddLandscapeCommand(CLI::App& app) {
                                            " grid points in all",
                    ToText(options.x.points) + " x " + ToText(options.y->points));
     }
-    const auto objective = args->objective.Build(ridges);
+    const auto objective = args->objective.Build(objectives);
     SetParameter(*objective, "--param", args->param, &options.x);
     if (options.y) SetParameter(*objective, "--param2", args->param2, &*options.y);
     options.base = args->objective.Start(*objective);  // --start sets the other parameters

@@ -1,6 +1,7 @@
 #include "ident_common.hpp"
 
 #include <cstdio>
+#include <utility>
 
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
@@ -35,7 +36,8 @@ void ObjectiveArguments::PrepareData() {
 // the measured record's grid, which decimation coarsens.
 constexpr bool kObjectiveConditionsSimulated = false;
 
-std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(bool needs_ridges) const {
+std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
+    std::vector<ident::NamedObjective> weightings) const {
   CaseDocument document = input.Load();
   const CaseSpec spec = document.ToSpec();
   const DataSpec& data_spec = spec.data;
@@ -74,12 +76,13 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(bool needs_r
   }
   for (const std::string& note : notes) std::fprintf(stderr, "podid: note: %s\n", note.c_str());
   ident::ObjectiveOptions options;
+  options.weightings = std::move(weightings);
   options.modes = modes;
   options.relative_sigma = !raw_sigma;
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin_Hz;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax_Hz;
   options.ridge.ridge.penalty_s = penalty_s;
-  auto objective = std::make_unique<ident::ObjectiveFunction>(document, data, options, needs_ridges);
+  auto objective = std::make_unique<ident::ObjectiveFunction>(document, data, options);
   for (const std::string& note : objective->notes()) std::fprintf(stderr, "podid: note: %s\n", note.c_str());
   return objective;
 }

@@ -28,9 +28,9 @@ struct ObjectiveArguments {
   /// Passes -m and the data options to the case as `--set data.*` keys (so
   /// the case's [force] channel and conditioning see them). Call first.
   void PrepareData();
-  /// Loads case and data and builds the objective (prints its notes on stderr).
-  /// `needs_ridges` when an objective uses dIF.
-  std::unique_ptr<ident::ObjectiveFunction> Build(bool needs_ridges) const;
+  /// Loads case and data and builds the objective with `weightings` (one
+  /// simulation serves them all; prints its notes on stderr).
+  std::unique_ptr<ident::ObjectiveFunction> Build(std::vector<ident::NamedObjective> weightings) const;
   /// The start vector after --start overrides (throws for unknown names).
   Eigen::VectorXd Start(const ident::ObjectiveFunction& objective) const;
 };

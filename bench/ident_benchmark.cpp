@@ -35,14 +35,15 @@ const TimeSeries& MeasuredRecord() {
 // ordinary one, not a failure path) with the named preset's terms.
 void Evaluation(benchmark::State& state, const char* preset) {
   const ident::ObjectiveWeights weights = ident::ObjectiveWeights::Preset(preset);
-  const ident::ObjectiveFunction objective(ReferenceCase(), MeasuredRecord(), ident::ObjectiveOptions{},
-                                           weights.NeedsRidges());
+  ident::ObjectiveOptions options;
+  options.SetWeights(weights);
+  const ident::ObjectiveFunction objective(ReferenceCase(), MeasuredRecord(), options);
   ident::EvaluationWorkspace workspace;
   Eigen::VectorXd values = objective.StartValues();
   values[0] = 50.0;
   ident::TermValues terms;
   for (auto _ : state) {
-    terms = objective.Evaluate(values, weights, &workspace);
+    terms = objective.Evaluate(values, &workspace).terms;
     // Not DoNotOptimize(terms.u): with GCC its "+m,r" asm on a double can
     // corrupt the value (google/benchmark#903); the counters below need it.
     benchmark::ClobberMemory();
@@ -83,10 +84,10 @@ double ProcessCpuSeconds() {
 
 void BM_LandscapeWavelet1s(benchmark::State& state) {
   const ident::ObjectiveWeights weights = ident::ObjectiveWeights::Preset("wavelet");
-  const ident::ObjectiveFunction objective(ReferenceCase(), MeasuredRecord(), ident::ObjectiveOptions{},
-                                           true);
+  ident::ObjectiveOptions objective_options;
+  objective_options.SetWeights(weights);
+  const ident::ObjectiveFunction objective(ReferenceCase(), MeasuredRecord(), objective_options);
   ident::LandscapeOptions options;
-  options.objectives.push_back({"wavelet", weights});
   options.x.parameter = 0;
   options.x.lower = objective.parameters()[0].lower;
   options.x.upper = objective.parameters()[0].upper;

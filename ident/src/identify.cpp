@@ -77,7 +77,7 @@ const char* NloptResultText(nlopt_result r) {
 
 struct RunState {
   const ObjectiveFunction* objective = nullptr;
-  const ObjectiveWeights* weights = nullptr;
+  int weighting = 0;
   const std::atomic<bool>* cancel = nullptr;
   nlopt_opt opt = nullptr;
   EvaluationWorkspace workspace;
@@ -96,8 +96,11 @@ struct RunState {
 
 double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
   s.x = Eigen::Map<const Eigen::VectorXd>(x, n);
-  const TermValues terms = s.objective->Evaluate(s.x, *s.weights, &s.workspace);
-  const double value = terms.Combine(*s.weights, s.objective->options().failure_value);
+  Evaluation evaluation = s.objective->Evaluate(s.x, &s.workspace);
+  const TermValues& terms = evaluation.terms;
+  const double value = static_cast<std::size_t>(s.weighting) < evaluation.values.size()
+                           ? evaluation.values[s.weighting]
+                           : s.objective->options().failure_value;
   ++s.evaluations;
   if (terms.failed && s.failed++ == 0) s.first_failure = terms.failure;  // the start, when all fail
   if (!terms.failed && value < s.best) {
@@ -268,6 +271,11 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
   const int n = objective.parameter_count();
   std::string why;
   if (!options.IsValid(n, &why)) throw std::invalid_argument("identify options: " + why);
+  if (options.weighting < 0 || options.weighting >= objective.weighting_count()) {
+    ThrowInvalid("identify options: weighting",
+                 "an index of the objective's weightings in 0.." + ToText(objective.weighting_count() - 1),
+                 ToText(options.weighting));
+  }
   const auto start_time = std::chrono::steady_clock::now();
   Eigen::VectorXd lower(n), upper(n);
   for (int i = 0; i < n; ++i) {
@@ -298,7 +306,7 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
     // No exception may leave the parallel region: keep it for after.
     try {
       run.objective = &objective;
-      run.weights = &options.weights;
+      run.weighting = options.weighting;
       run.cancel = options.cancel;
       run.start = static_cast<int>(s);
       // A first trust region / simplex of a tenth of the box. Allocate before
@@ -340,7 +348,7 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
   summary.algorithm = ToString(options.algorithm);
   if (options.algorithm == Algorithm::kGnMlslLds)
     summary.algorithm += std::string(" + ") + ToString(options.local_algorithm);
-  summary.objective = options.weights.ToString();
+  summary.objective = objective.options().weightings[options.weighting].weights.ToString();
   for (const ParameterSpec& p : objective.parameters()) summary.parameter_names.push_back(p.name);
   summary.initial_parameters = first;
   summary.starts = static_cast<int>(starts.size());

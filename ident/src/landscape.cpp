@@ -27,7 +27,6 @@ bool LandscapeOptions::IsValid(int parameter_count, std::string* why) const {
     if (why) *why = text;
     return false;
   };
-  if (objectives.empty()) return fail("objectives: expected at least one, got none");
   for (const LandscapeAxis* axis : {&x, y ? &*y : nullptr}) {
     if (!axis) continue;
     if (axis->parameter < 0 || axis->parameter >= parameter_count)
@@ -129,7 +128,8 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
   }
   const auto start_time = std::chrono::steady_clock::now();
   LandscapeResult result;
-  for (const NamedObjective& o : options.objectives) result.names.push_back(o.name);
+  const std::vector<NamedObjective>& weightings = objective.options().weightings;
+  for (const NamedObjective& o : weightings) result.names.push_back(o.name);
   result.x = options.x.Values();
   result.parameter_names.push_back(objective.parameters()[options.x.parameter].name);
   if (options.y) {
@@ -140,15 +140,9 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
   const Eigen::Index ny = std::max<Eigen::Index>(result.y.size(), 1);
   const Eigen::Index total = nx * ny;
 
-  // One simulation per point computes the union of the objectives' terms.
-  ObjectiveWeights all{0.0, 0.0, 0.0, 0.0};
-  for (const NamedObjective& o : options.objectives) {
-    all.u = std::max(all.u, o.weights.u != 0 ? 1.0 : 0.0);
-    all.s = std::max(all.s, o.weights.s != 0 ? 1.0 : 0.0);
-    all.v = std::max(all.v, o.weights.v != 0 ? 1.0 : 0.0);
-    all.f = std::max(all.f, o.weights.f != 0 ? 1.0 : 0.0);
-  }
+  // One simulation per point gives every weighting's value (Evaluate).
   result.terms.assign(total, TermValues{});
+  std::vector<std::vector<double>> point_values(total);
   std::vector<char> done(total, 0);
   const Eigen::VectorXd base = options.base.size() ? options.base : objective.StartValues();
   const bool progress = options.progress && isatty(STDERR_FILENO);
@@ -172,7 +166,9 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
           const Eigen::Index i = p / ny, j = p % ny;
           values[options.x.parameter] = result.x[i];
           if (options.y) values[options.y->parameter] = result.y[j];
-          result.terms[p] = objective.Evaluate(values, all, &workspace);
+          Evaluation e = objective.Evaluate(values, &workspace);
+          result.terms[p] = std::move(e.terms);
+          point_values[p] = std::move(e.values);
           done[p] = 1;
         } catch (...) {
 #pragma omp critical(podid_landscape_error)
@@ -198,13 +194,13 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
   if (error) std::rethrow_exception(error);
 
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  for (const NamedObjective& o : options.objectives) {
+  for (std::size_t k = 0; k < weightings.size(); ++k) {
     Eigen::MatrixXd v(nx, ny);
     for (Eigen::Index p = 0; p < total; ++p) {
-      // A failed point is NaN, never the failure value (which is not an objective).
-      v(p / ny, p % ny) = done[p] && !result.terms[p].failed
-                              ? result.terms[p].Combine(o.weights, nan)
-                              : nan;
+      // A failed point is NaN, never the failure value (which is not an
+      // objective); so is a non-finite combination.
+      const bool usable = done[p] && !result.terms[p].failed && point_values[p].size() > k;
+      v(p / ny, p % ny) = usable ? result.terms[p].Combine(weightings[k].weights, nan) : nan;
     }
     result.values.push_back(v);
   }

@@ -1,6 +1,9 @@
 #include "podid/ident/objective.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <numbers>
 #include <new>
 #include <sstream>
 #include <utility>
@@ -93,14 +96,30 @@ std::string ObjectiveWeights::ToString() const {
   return os.str();
 }
 
+void ObjectiveOptions::SetWeights(const ObjectiveWeights& weights) {
+  weightings = {{weights.ToString(), weights}};
+}
+
 bool ObjectiveOptions::IsValid(std::string* why) const {
   auto fail = [why](const std::string& text) {
     if (why) *why = text;
     return false;
   };
+  if (weightings.empty()) return fail("weightings: expected at least one, got none");
+  for (const NamedObjective& w : weightings) {
+    const ObjectiveWeights& x = w.weights;
+    for (double value : {x.u, x.s, x.v, x.f}) {
+      if (!(value >= 0 && std::isfinite(value)))
+        return fail("weighting " + w.name + ": expected finite weights >= 0, got " + ToText(value));
+    }
+    if (x.u == 0 && x.s == 0 && x.v == 0 && x.f == 0)
+      return fail("weighting " + w.name + ": expected at least one positive weight, got none");
+  }
   if (modes < 1) return fail("modes: expected >= 1, got " + ToText(modes));
   if (!(failure_value > 0 && std::isfinite(failure_value)))
     return fail("failure_value: expected a finite value > 0, got " + ToText(failure_value));
+  if (!(mode_band_fraction >= 0 && std::isfinite(mode_band_fraction)))
+    return fail("mode_band_fraction: expected a finite value >= 0, got " + ToText(mode_band_fraction));
   std::string ridge_why;
   if (!ridge.IsValid(&ridge_why)) return fail("ridge: " + ridge_why);
   return true;
@@ -116,12 +135,61 @@ double TermValues::Combine(const ObjectiveWeights& w, double failure_value) cons
   return std::isfinite(total) ? total : failure_value;
 }
 
+EvaluationWorkspace::EvaluationWorkspace() = default;
+EvaluationWorkspace::~EvaluationWorkspace() = default;
+EvaluationWorkspace::EvaluationWorkspace(EvaluationWorkspace&&) noexcept = default;
+EvaluationWorkspace& EvaluationWorkspace::operator=(EvaluationWorkspace&&) noexcept = default;
+
+namespace {
+
+std::atomic<unsigned long long> next_objective_id{1};
+
+/// The frequency of the largest peak of the Hann-windowed periodogram of
+/// `x` (step dt) in [f_min, f_max], on a grid 8 times finer than 1 / T.
+double DominantFrequency_Hz(const Eigen::Ref<const Eigen::VectorXd>& x, double dt, double f_min,
+                            double f_max) {
+  const Eigen::Index n = x.size();
+  Eigen::VectorXd w(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    w[i] = x[i] * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n - 1)));
+  }
+  const double df = 1.0 / (8.0 * static_cast<double>(n) * dt);
+  const int bins = std::min(100000, static_cast<int>((f_max - f_min) / df) + 1);
+  double best = -1.0, best_f = f_min;
+  for (int b = 0; b < bins; ++b) {
+    const double f = f_min + b * df;
+    // Goertzel recurrence: |sum w_i exp(-2 pi i f i dt)|^2.
+    const double c = 2.0 * std::cos(2.0 * std::numbers::pi * f * dt);
+    double s1 = 0.0, s2 = 0.0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double s0 = w[i] + c * s1 - s2;
+      s2 = s1;
+      s1 = s0;
+    }
+    const double power = s1 * s1 + s2 * s2 - c * s1 * s2;
+    if (power > best) {
+      best = power;
+      best_f = f;
+    }
+  }
+  return best_f;
+}
+
+}  // namespace
+
 ObjectiveFunction::ObjectiveFunction(const CaseDocument& case_document, const TimeSeries& measured,
-                                     const ObjectiveOptions& options, bool weights_needing_ridges,
+                                     const ObjectiveOptions& options,
                                      std::vector<ParameterSpec> parameters)
-    : document_(case_document), measured_(measured), options_(options) {
+    : id_(next_objective_id.fetch_add(1)), document_(case_document), measured_(measured),
+      options_(options) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("objective options: " + why);
+  for (const NamedObjective& w : options_.weightings) {
+    if (w.weights.u != 0) needed_.u = 1.0;
+    if (w.weights.s != 0) needed_.s = 1.0;
+    if (w.weights.v != 0) needed_.v = 1.0;
+    if (w.weights.f != 0) needed_.f = 1.0;
+  }
   const std::string& source = document_.source_name();
   if (measured.samples() < 4) {
     ThrowInvalid("measured data", "at least 4 samples", ToText(measured.samples()));
@@ -142,8 +210,8 @@ ObjectiveFunction::ObjectiveFunction(const CaseDocument& case_document, const Ti
   document_.SetNumber("time.step", step);
   document_.SetNumber("time.duration", duration);
 
-  const CaseSpec spec = document_.ToSpec();
-  const std::vector<std::string> channels = spec.sensors.ChannelNames();
+  base_spec_ = document_.ToSpec();
+  const std::vector<std::string> channels = base_spec_.sensors.ChannelNames();
   if (channels != measured.channel_names) {
     ThrowInvalid("measured data channels", JoinNames(channels) + " (the sensors of " + source + ")",
                  JoinNames(measured.channel_names));
@@ -153,7 +221,7 @@ ObjectiveFunction::ObjectiveFunction(const CaseDocument& case_document, const Ti
                  ToText(options.modes));
   }
 
-  parameters_ = parameters.empty() ? spec.parameters : std::move(parameters);
+  parameters_ = parameters.empty() ? base_spec_.parameters : std::move(parameters);
   if (parameters_.empty()) {
     ThrowInvalid(source, "at least one [[identify.parameter]] (or parameters given by the caller)",
                  "none");
@@ -166,6 +234,12 @@ ObjectiveFunction::ObjectiveFunction(const CaseDocument& case_document, const Ti
       ThrowInvalid("parameter " + p.name, "lower <= start <= upper with lower < upper",
                    ToText(p.lower) + " <= " + ToText(p.start) + " <= " + ToText(p.upper));
     }
+    try {
+      bindings_.push_back(ModelParameter::Resolve(base_spec_, p.key));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("identification parameter " + p.name + ": " + e.what());
+    }
+    has_document_parameters_ = has_document_parameters_ || !bindings_.back().typed();
   }
   // Setting every parameter at its start validates the keys against the case.
   try {
@@ -179,21 +253,38 @@ ObjectiveFunction::ObjectiveFunction(const CaseDocument& case_document, const Ti
     ThrowInvalid("measured data", "a record with a nonzero POD", measured_pod_.message);
   }
 
-  if (weights_needing_ridges) {
-    // The record must hold the cone of influence at the lowest frequency:
-    // 2 * coi_factor * sqrt(2) s(f_min).
-    const auto& cwt = options_.ridge.cwt;
-    const double s_min = cwt.wavelet.FrequencyToScale_s(cwt.frequencies.min_frequency_Hz);
-    const double needed = 2.0 * cwt.coi_factor * wavelet::MorletWavelet::ConeOfInfluence_s(s_min);
-    if (duration <= needed) {
-      ThrowInvalid("measured data", "a record longer than " + ToText(needed) +
-                       " s for the wavelet objective's lowest frequency " +
-                       ToText(cwt.frequencies.min_frequency_Hz) +
-                       " Hz (its cone of influence; raise --fmin or give a longer record)",
-                   ToText(duration) + " s");
+  // The ridge band of each mode: ridge.cwt's, or around the measured time
+  // mode's dominant frequency when several modes are compared.
+  const auto& band = options_.ridge.cwt.frequencies;
+  for (int k = 0; k < options_.modes; ++k) {
+    wavelet::RidgeFrequencyOptions mode_options = options_.ridge;
+    if (options_.modes > 1 && options_.mode_band_fraction > 0) {
+      const double f_k = DominantFrequency_Hz(measured_pod_.time_modes.col(k), step,
+                                              band.min_frequency_Hz, band.max_frequency_Hz);
+      const double b = 1.0 + options_.mode_band_fraction;
+      mode_options.cwt.frequencies.min_frequency_Hz = std::max(band.min_frequency_Hz, f_k / b);
+      mode_options.cwt.frequencies.max_frequency_Hz = std::min(band.max_frequency_Hz, f_k * b);
+      std::string band_why;
+      if (!mode_options.IsValid(&band_why)) mode_options = options_.ridge;  // too narrow: the whole band
     }
-    wavelet::RidgeFrequencyEstimator estimator(options_.ridge);
+    mode_ridge_options_.push_back(mode_options);
+  }
+
+  if (needed_.f != 0) {
     for (int k = 0; k < options_.modes; ++k) {
+      // The record must hold the cone of influence at the lowest frequency:
+      // 2 * coi_factor * sqrt(2) s(f_min).
+      const auto& cwt = mode_ridge_options_[k].cwt;
+      const double s_min = cwt.wavelet.FrequencyToScale_s(cwt.frequencies.min_frequency_Hz);
+      const double needed = 2.0 * cwt.coi_factor * wavelet::MorletWavelet::ConeOfInfluence_s(s_min);
+      if (duration <= needed) {
+        ThrowInvalid("measured data", "a record longer than " + ToText(needed) +
+                         " s for the wavelet objective's lowest frequency " +
+                         ToText(cwt.frequencies.min_frequency_Hz) +
+                         " Hz (its cone of influence; raise --fmin or give a longer record)",
+                     ToText(duration) + " s");
+      }
+      wavelet::RidgeFrequencyEstimator estimator(mode_ridge_options_[k]);
       measured_ridges_.push_back(estimator.Estimate(measured_pod_.time_modes.col(k), step));
       if (measured_ridges_.back().InsideCoiCount() == 0) {
         ThrowInvalid("measured data", "a ridge of mode " + ToText(k + 1) +
@@ -203,19 +294,44 @@ ObjectiveFunction::ObjectiveFunction(const CaseDocument& case_document, const Ti
   }
 }
 
+ObjectiveFunction::ObjectiveFunction(const ObjectiveFunction& other)
+    : id_(next_objective_id.fetch_add(1)), document_(other.document_), base_spec_(other.base_spec_),
+      measured_(other.measured_), options_(other.options_), needed_(other.needed_),
+      parameters_(other.parameters_), bindings_(other.bindings_),
+      has_document_parameters_(other.has_document_parameters_), measured_pod_(other.measured_pod_),
+      mode_ridge_options_(other.mode_ridge_options_), measured_ridges_(other.measured_ridges_),
+      notes_(other.notes_) {}
+
+ObjectiveFunction::~ObjectiveFunction() = default;
+
 Eigen::VectorXd ObjectiveFunction::StartValues() const {
   Eigen::VectorXd values(parameter_count());
   for (int i = 0; i < parameter_count(); ++i) values[i] = parameters_[i].start;
   return values;
 }
 
-CaseSpec ObjectiveFunction::SpecAt(const Eigen::VectorXd& values) const {
-  PODID_CHECK(values.size() == parameter_count());
+CaseSpec ObjectiveFunction::DocumentSpecAt(const Eigen::VectorXd& values) const {
+  if (!has_document_parameters_) return base_spec_;
   CaseDocument document = document_;
   for (int i = 0; i < parameter_count(); ++i) {
-    document.SetNumber(parameters_[i].key, parameters_[i].scale * values[i]);
+    if (!bindings_[i].typed()) document.SetNumber(parameters_[i].key, parameters_[i].scale * values[i]);
   }
   return document.ToSpec();
+}
+
+CaseSpec ObjectiveFunction::SpecAt(const Eigen::VectorXd& values) const {
+  if (values.size() != parameter_count()) {
+    ThrowInvalid("parameter values", ToText(parameter_count()) + " values", ToText(values.size()));
+  }
+  CaseSpec spec = DocumentSpecAt(values);
+  for (int i = 0; i < parameter_count(); ++i) {
+    if (!bindings_[i].typed()) continue;
+    std::string why;
+    if (!bindings_[i].Set(parameters_[i].scale * values[i], &spec, &why)) {
+      throw std::invalid_argument(why);
+    }
+  }
+  return spec;
 }
 
 SimulationResult ObjectiveFunction::SimulateAt(const Eigen::VectorXd& values) const {
@@ -224,77 +340,126 @@ SimulationResult ObjectiveFunction::SimulateAt(const Eigen::VectorXd& values) co
   return Simulate(SpecAt(values), options);
 }
 
-TermValues ObjectiveFunction::Evaluate(const Eigen::VectorXd& values,
-                                       const ObjectiveWeights& weights) const {
-  EvaluationWorkspace workspace;
-  return Evaluate(values, weights, &workspace);
+Evaluation ObjectiveFunction::Evaluate(const Eigen::VectorXd& values) const noexcept {
+  return Evaluate(values, nullptr);
 }
 
-TermValues ObjectiveFunction::Evaluate(const Eigen::VectorXd& values, const ObjectiveWeights& weights,
-                                       EvaluationWorkspace* workspace) const {
-  PODID_CHECK(workspace != nullptr);
+Evaluation ObjectiveFunction::Evaluate(const Eigen::VectorXd& values,
+                                       EvaluationWorkspace* workspace) const noexcept {
   // The evaluation boundary: nothing may leave it as an exception (NLopt's C
   // callback and OpenMP regions call it). A failed point keeps the reason.
-  auto failed = [](const char* prefix, const char* reason) noexcept {
-    TermValues terms;
-    terms.failed = true;
+  Evaluation result;
+  auto failed = [&](const char* prefix, const char* reason) noexcept {
+    result.terms = TermValues{};
+    result.terms.failed = true;
     try {
-      terms.failure = std::string(prefix) + reason;
+      result.terms.failure = std::string(prefix) + reason;
     } catch (...) {  // no memory for the reason: the point still fails
     }
-    return terms;
   };
   try {
-    return EvaluateOrThrow(values, weights, workspace);
+    std::unique_ptr<EvaluationWorkspace> local;
+    if (workspace == nullptr) {
+      local = std::make_unique<EvaluationWorkspace>();
+      workspace = local.get();
+    }
+    EvaluateOrThrow(values, workspace, &result);
   } catch (const std::invalid_argument& e) {
-    return failed("", e.what());  // e.g. a value the case rejects, a zero response
+    failed("", e.what());  // e.g. a value the case rejects, a zero response
   } catch (const std::bad_alloc&) {
-    return failed("out of memory during the evaluation", "");
+    failed("out of memory during the evaluation", "");
   } catch (const std::exception& e) {
-    return failed("evaluation failed: ", e.what());
+    failed("evaluation failed: ", e.what());
   } catch (...) {
-    return failed("evaluation failed: unknown exception", "");
+    failed("evaluation failed: unknown exception", "");
   }
+  try {
+    result.values.resize(options_.weightings.size());
+    for (std::size_t k = 0; k < result.values.size(); ++k) {
+      result.values[k] = result.terms.Combine(options_.weightings[k].weights, options_.failure_value);
+    }
+  } catch (...) {  // no memory for the values
+    result.values.clear();
+    result.terms.failed = true;
+  }
+  return result;
 }
 
-TermValues ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values,
-                                              const ObjectiveWeights& weights,
-                                              EvaluationWorkspace* workspace) const {
-  TermValues terms;
-  const SimulationResult sim = SimulateAt(values);
-  if (!sim.summary.IsSolutionUsable()) {
+void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, EvaluationWorkspace* workspace,
+                                        Evaluation* result) const {
+  TermValues& terms = result->terms;
+  auto fail = [&terms](std::string why) {
     terms.failed = true;
-    terms.failure = sim.summary.message;
-    return terms;
+    terms.failure = std::move(why);
+  };
+  if (values.size() != parameter_count()) {
+    return fail("parameter values: expected " + ToText(parameter_count()) + " values, got " +
+                ToText(values.size()));
   }
-  if (!workspace->pod) workspace->pod = std::make_unique<PodSolver>(MeasuredPodOptions());
-  PodResult pod = workspace->pod->Compute(sim.sensors);
-  if (pod.IsDegenerate()) {  // e.g. no excitation: a zero response
-    terms.failed = true;
-    terms.failure = "simulated response: " + pod.message;
-    return terms;
+  EvaluationWorkspace& w = *workspace;
+  if (w.owner != id_) {  // a workspace of another objective: start afresh
+    w = EvaluationWorkspace{};
+    w.owner = id_;
   }
+  if (has_document_parameters_) {
+    Eigen::VectorXd document_values = values;
+    for (int i = 0; i < parameter_count(); ++i) {
+      if (bindings_[i].typed()) document_values[i] = 0.0;
+    }
+    if (!w.simulator || w.document_values.size() != values.size() ||
+        w.document_values != document_values) {
+      CaseSpec spec = DocumentSpecAt(values);
+      w.document_values.resize(0);  // until the new case is in place
+      if (w.simulator) {
+        w.simulator->Reset(std::move(spec));
+      } else {
+        w.simulator = std::make_unique<Simulator>(std::move(spec));
+      }
+      w.document_values = document_values;
+    }
+  } else if (!w.simulator) {
+    w.simulator = std::make_unique<Simulator>(base_spec_);
+  }
+  for (int i = 0; i < parameter_count(); ++i) {
+    if (!bindings_[i].typed()) continue;
+    std::string why;
+    if (!w.simulator->Set(bindings_[i], parameters_[i].scale * values[i], &why)) return fail(why);
+  }
+  const SimulationResult sim = w.simulator->Run();
+  if (!sim.summary.IsSolutionUsable()) return fail(sim.summary.message);
+  if (!w.pod) w.pod = std::make_unique<PodSolver>(MeasuredPodOptions());
+  PodResult pod = w.pod->Compute(sim.sensors);
+  if (pod.IsDegenerate()) return fail("simulated response: " + pod.message);  // e.g. no excitation
   AlignToReference(measured_pod_, &pod);
 
   const int k = options_.modes;
   const PodResult& m = measured_pod_;
-  if (weights.u != 0) terms.u = (pod.poms.leftCols(k) - m.poms.leftCols(k)).squaredNorm();
-  if (weights.s != 0) {
+  if (needed_.u != 0) terms.u = (pod.poms.leftCols(k) - m.poms.leftCols(k)).squaredNorm();
+  if (needed_.s != 0) {
     Eigen::ArrayXd diff = pod.singular_values.head(k).array() - m.singular_values.head(k).array();
     if (options_.relative_sigma) diff /= m.singular_values.head(k).array();
     terms.s = diff.square().sum();
   }
-  if (weights.v != 0) terms.v = (pod.time_modes.leftCols(k) - m.time_modes.leftCols(k)).squaredNorm();
-  if (weights.f != 0) {
-    if (!workspace->ridge) {
-      workspace->ridge = std::make_unique<wavelet::RidgeFrequencyEstimator>(options_.ridge);
+  if (needed_.v != 0) terms.v = (pod.time_modes.leftCols(k) - m.time_modes.leftCols(k)).squaredNorm();
+  if (needed_.f != 0) {
+    if (static_cast<int>(measured_ridges_.size()) != k) {
+      return fail("the measured ridges were not prepared");  // an invariant of the constructor
+    }
+    if (w.mode_ridges.size() != static_cast<std::size_t>(k)) {
+      w.mode_ridges.clear();
+      for (int mode = 0; mode < k; ++mode) {
+        w.mode_ridges.push_back(std::make_unique<wavelet::RidgeFrequencyEstimator>(mode_ridge_options_[mode]));
+      }
     }
     double total = 0.0;
     for (int mode = 0; mode < k; ++mode) {
-      const wavelet::RidgeTrack& sim_track =
-          workspace->ridge->Estimate(pod.time_modes.col(mode), measured_.step_s());
+      wavelet::RidgeFrequencyEstimator& estimator = *w.mode_ridges[mode];
+      const wavelet::RidgeTrack& sim_track = estimator.Estimate(pod.time_modes.col(mode), measured_.step_s());
       const wavelet::RidgeTrack& meas_track = measured_ridges_[mode];
-      PODID_CHECK(sim_track.size() == meas_track.size());
+      if (sim_track.size() != meas_track.size()) {
+        return fail("the simulated ridge of mode " + ToText(mode + 1) + " has " +
+                    ToText(sim_track.size()) + " samples, the measured one " + ToText(meas_track.size()));
+      }
       double sum = 0.0;
       int count = 0;
       for (Eigen::Index j = 0; j < sim_track.size(); ++j) {
@@ -304,15 +469,12 @@ TermValues ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values,
         ++count;
       }
       if (count == 0) {
-        terms.failed = true;
-        terms.failure = "no ridge sample of mode " + ToText(mode + 1) + " inside the cone of influence";
-        return terms;
+        return fail("no ridge sample of mode " + ToText(mode + 1) + " inside the cone of influence");
       }
-      total += sum * workspace->ridge->scalogram().decimation;
+      total += sum * estimator.scalogram().decimation;
     }
     terms.f = total;
   }
-  return terms;
 }
 
 }  // namespace podid::ident

@@ -8,6 +8,14 @@
 
 namespace podid {
 
+void NonlinearForces::SetCoefficients(const std::vector<NonlinearitySpec>& specs) {
+  PODID_CHECK(specs.size() == elements_.size());
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    PODID_CHECK(specs[i].type == elements_[i].spec.type);
+    elements_[i].spec = specs[i];
+  }
+}
+
 namespace {
 
 std::vector<std::array<int, 2>> LegacyDofs(const std::vector<NonlinearitySpec>& specs, int n_nodes) {

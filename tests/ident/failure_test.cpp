@@ -25,6 +25,14 @@
 namespace podid::ident {
 namespace {
 
+const ObjectiveWeights kTimeFree = ObjectiveWeights::Preset("time-free");
+
+ObjectiveOptions Weighted(const ObjectiveWeights& weights) {
+  ObjectiveOptions options;
+  options.SetWeights(weights);
+  return options;
+}
+
 ObjectiveFunction KnlObjective(double lower, double upper, double start) {
   const CaseDocument document = CaseDocument::Load(testing::ExamplePath("beam.toml"));
   ParameterSpec knl;
@@ -35,10 +43,8 @@ ObjectiveFunction KnlObjective(double lower, double upper, double start) {
   knl.lower = lower;
   knl.upper = upper;
   return ObjectiveFunction(document, testing::ReferenceData("measured_knl50_T0.1.csv"),
-                           ObjectiveOptions{}, /*weights_needing_ridges=*/false, {knl});
+                           Weighted(kTimeFree), {knl});
 }
-
-const ObjectiveWeights kTimeFree = ObjectiveWeights::Preset("time-free");
 
 /// The best non-failed point of the history, as Identify must report it.
 const IterationRecord* BestRecord(const IdentifySummary& summary) {
@@ -59,13 +65,13 @@ void ExpectBestPointKept(const IdentifySummary& summary) {
 
 TEST(ObjectiveFailure, DivergingSimulationIsAFailedEvaluationWithItsReason) {
   const ObjectiveFunction f = KnlObjective(-100.0, 200.0, 40.0);
-  const TermValues bad = f.Evaluate(Eigen::VectorXd::Constant(1, -50.0), kTimeFree);
+  const TermValues bad = f.Evaluate(Eigen::VectorXd::Constant(1, -50.0)).terms;
   EXPECT_TRUE(bad.failed);
   EXPECT_FALSE(bad.failure.empty());
   std::printf("knl = -50: %s\n", bad.failure.c_str());
   EXPECT_EQ(bad.Combine(kTimeFree, f.options().failure_value), kDefaultFailureValue);
   // The same objective still evaluates a good point afterwards.
-  const TermValues good = f.Evaluate(Eigen::VectorXd::Constant(1, 50.0), kTimeFree);
+  const TermValues good = f.Evaluate(Eigen::VectorXd::Constant(1, 50.0)).terms;
   EXPECT_FALSE(good.failed) << good.failure;
   EXPECT_LT(good.Combine(kTimeFree, f.options().failure_value), 1.0);
 }
@@ -76,7 +82,6 @@ TEST(IdentifyFailure, GlobalSearchThroughTheFailingRegionCountsFailuresAndKeepsT
   const ObjectiveFunction f = KnlObjective(-100.0, 200.0, 40.0);
   IdentifyOptions options;
   options.algorithm = Algorithm::kGnDirectL;
-  options.weights = kTimeFree;
   options.max_evaluations = 30;
   const IdentifySummary summary = Identify(f, options);
   std::printf("%s\n", summary.BriefReport().c_str());
@@ -92,7 +97,6 @@ TEST(IdentifyFailure, GlobalSearchThroughTheFailingRegionCountsFailuresAndKeepsT
 TEST(IdentifyFailure, BudgetExhaustedSaysSoAndKeepsTheBestPoint) {
   const ObjectiveFunction f = KnlObjective(-100.0, 200.0, 40.0);
   IdentifyOptions options;
-  options.weights = kTimeFree;
   options.max_evaluations = 4;
   options.xtol_rel = 1e-12;
   options.ftol_rel = 0.0;
@@ -110,7 +114,6 @@ TEST(IdentifyFailure, OptimiserForcedToStopReturnsItsCodeAndTheBestPoint) {
   const ObjectiveFunction f = KnlObjective(-100.0, 200.0, 40.0);
   const std::atomic<bool> cancel{true};
   IdentifyOptions options;
-  options.weights = kTimeFree;
   options.cancel = &cancel;
   const IdentifySummary summary = Identify(f, options);
   EXPECT_EQ(summary.termination, Termination::kInterrupted) << summary.FullReport();
@@ -124,7 +127,6 @@ TEST(IdentifyFailure, OptimiserForcedToStopReturnsItsCodeAndTheBestPoint) {
 TEST(IdentifyFailure, EveryEvaluationFailingIsReportedWithTheReason) {
   const ObjectiveFunction f = KnlObjective(-100.0, -60.0, -80.0);
   IdentifyOptions options;
-  options.weights = kTimeFree;
   options.max_evaluations = 10;
   const IdentifySummary summary = Identify(f, options);
   EXPECT_EQ(summary.termination, Termination::kAllEvaluationsFailed);
@@ -145,7 +147,6 @@ TEST(LandscapeFailure, FailingPointsAreCountedAndTheOthersComputed) {
   // x = -100, -50, 0, 50, ..., 200: the first two fail.
   const ObjectiveFunction f = KnlObjective(-100.0, 200.0, 40.0);
   LandscapeOptions options;
-  options.objectives = {{"time-free", kTimeFree}};
   options.x = {.parameter = 0, .lower = -100.0, .upper = 200.0, .points = 7};
   const LandscapeResult result = ComputeLandscape(f, options);
   EXPECT_EQ(result.termination, LandscapeTermination::kCompleted) << result.message;
@@ -165,7 +166,6 @@ TEST(LandscapeFailure, FailingPointsAreCountedAndTheOthersComputed) {
 TEST(LandscapeFailure, EveryPointFailingIsNotCompletedAndHasNoMinimiser) {
   const ObjectiveFunction f = KnlObjective(-100.0, -60.0, -80.0);
   LandscapeOptions options;
-  options.objectives = {{"time-free", kTimeFree}};
   options.x = {.parameter = 0, .lower = -100.0, .upper = -60.0, .points = 3};
   const LandscapeResult result = ComputeLandscape(f, options);
   EXPECT_EQ(result.termination, LandscapeTermination::kNoneSucceeded) << result.message;
@@ -206,7 +206,6 @@ TEST(LandscapeFailure, MetricsLeaveFailedPointsOut) {
 TEST(LandscapeFailure, GridSizesAndBoundsAreChecked) {
   const ObjectiveFunction f = KnlObjective(-100.0, 200.0, 40.0);
   LandscapeOptions options;
-  options.objectives = {{"time-free", kTimeFree}};
   options.x = {.parameter = 0, .lower = -1.7e308, .upper = 1.7e308, .points = 3};
   PODID_EXPECT_THROW_WITH(ComputeLandscape(f, options), std::invalid_argument,
                           "landscape options: range: expected a finite width upper - lower, got "
@@ -219,7 +218,6 @@ TEST(LandscapeFailure, GridSizesAndBoundsAreChecked) {
 TEST(IdentifyFailure, CountsAreBoundedBeforeAllocation) {
   const ObjectiveFunction f = KnlObjective(-100.0, 200.0, 40.0);
   IdentifyOptions options;
-  options.weights = kTimeFree;
   options.multistart = 100'000'000;
   PODID_EXPECT_THROW_WITH(Identify(f, options), std::invalid_argument,
                           "identify options: multistart: expected 1 to 10000, got 100000000");
@@ -241,13 +239,13 @@ ObjectiveFunction ZeroResponseObjective() {
   CaseDocument document = CaseDocument::Load(testing::ExamplePath("beam.toml"));
   document.Set("initial.static_tip_force", "0");
   return ObjectiveFunction(document, testing::ReferenceData("measured_knl50_T1.0.csv"),
-                           ObjectiveOptions{}, /*weights_needing_ridges=*/true);
+                           Weighted(ObjectiveWeights::Preset("wavelet")));
 }
 
 TEST(ObjectiveFailure, ExceptionInsideAnEvaluationIsAFailedPoint) {
   const ObjectiveFunction f = ZeroResponseObjective();
   const TermValues terms =
-      f.Evaluate(Eigen::VectorXd::Constant(1, 50.0), ObjectiveWeights::Preset("wavelet"));
+      f.Evaluate(Eigen::VectorXd::Constant(1, 50.0)).terms;
   EXPECT_TRUE(terms.failed);
   EXPECT_FALSE(terms.failure.empty());
   std::printf("zero response: %s\n", terms.failure.c_str());
@@ -256,7 +254,6 @@ TEST(ObjectiveFailure, ExceptionInsideAnEvaluationIsAFailedPoint) {
 TEST(IdentifyFailure, ExceptionsNeverCrossTheCallbackOrTheParallelRegion) {
   const ObjectiveFunction f = ZeroResponseObjective();
   IdentifyOptions options;
-  options.weights = ObjectiveWeights::Preset("wavelet");
   options.max_evaluations = 5;
   options.multistart = 2;  // the parallel starts
   const IdentifySummary summary = Identify(f, options);
@@ -270,7 +267,6 @@ TEST(IdentifyFailure, ExceptionsNeverCrossTheCallbackOrTheParallelRegion) {
 TEST(LandscapeFailure, ExceptionsNeverCrossTheParallelRegion) {
   const ObjectiveFunction f = ZeroResponseObjective();
   LandscapeOptions options;
-  options.objectives = {{"wavelet", ObjectiveWeights::Preset("wavelet")}};
   options.x = {.parameter = 0, .lower = 0.0, .upper = 100.0, .points = 4};
   const LandscapeResult result = ComputeLandscape(f, options);
   EXPECT_EQ(result.termination, LandscapeTermination::kNoneSucceeded) << result.message;
@@ -281,7 +277,6 @@ TEST(LandscapeFailure, CancelledBeforeTheFirstPointComputesNothing) {
   const ObjectiveFunction f = KnlObjective(-100.0, 200.0, 40.0);
   const std::atomic<bool> cancel{true};
   LandscapeOptions options;
-  options.objectives = {{"time-free", kTimeFree}};
   options.x = {.parameter = 0, .lower = 0.0, .upper = 100.0, .points = 50};
   options.cancel = &cancel;
   const LandscapeResult result = ComputeLandscape(f, options);

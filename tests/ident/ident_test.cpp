@@ -25,10 +25,22 @@ CaseDocument ReferenceDocument(const std::vector<std::string>& overrides = {}) {
   return document;
 }
 
+/// Objective options with the named presets as weightings.
+ObjectiveOptions Presets(const std::vector<std::string>& names) {
+  ObjectiveOptions options;
+  options.weightings.clear();
+  for (const std::string& name : names) options.weightings.push_back({name, ObjectiveWeights::Preset(name)});
+  return options;
+}
+
+/// Identify minimising the objective's weighting named `preset`.
 IdentifySummary IdentifyFrom(const ObjectiveFunction& objective, const std::string& preset,
                              double start) {
   IdentifyOptions options;
-  options.weights = ObjectiveWeights::Preset(preset);
+  options.weighting = -1;
+  for (int k = 0; k < objective.weighting_count(); ++k) {
+    if (objective.options().weightings[k].name == preset) options.weighting = k;
+  }
   options.start = Eigen::VectorXd::Constant(1, start);
   return Identify(objective, options);
 }
@@ -39,7 +51,7 @@ constexpr double kKnlRelativeTolerance = 0.005;
 
 TEST(IdentifyReferenceTest, FullObjectiveFromFortyOnShortRecord) {
   const ObjectiveFunction objective(ReferenceDocument(), ReadCsv(DataPath("measured_knl50_T0.1.csv")),
-                                    ObjectiveOptions{}, false);
+                                    Presets({"full"}));
   const IdentifySummary summary = IdentifyFrom(objective, "full", 40.0);
   std::cout << summary.BriefReport() << "\n";
   ASSERT_TRUE(summary.IsSolutionUsable()) << summary.FullReport();
@@ -51,7 +63,7 @@ TEST(IdentifyReferenceTest, FullObjectiveFromFortyOnShortRecord) {
 
 TEST(IdentifyReferenceTest, WaveletObjectiveFromEveryStartOnLongRecord) {
   const ObjectiveFunction objective(ReferenceDocument(), ReadCsv(DataPath("measured_knl50_T1.0.csv")),
-                                    ObjectiveOptions{}, true);
+                                    Presets({"wavelet", "full"}));
   for (double start : {5.0, 10.0, 25.0, 100.0, 150.0, 200.0}) {
     const IdentifySummary wavelet = IdentifyFrom(objective, "wavelet", start);
     EXPECT_TRUE(wavelet.IsSolutionUsable()) << wavelet.FullReport();
@@ -71,16 +83,16 @@ TEST(ObjectiveTest, VanishesAtTheTruthOnNoiseFreeSimulatedData) {
   constexpr double kTolerance = 1e-18;
   const CaseDocument document = ReferenceDocument({"time.duration=0.5"});
   const TimeSeries data = Simulate(document.ToSpec(), SimulateOptions{false}).sensors;
-  const ObjectiveFunction objective(document, data, ObjectiveOptions{}, true);
-  const TermValues at_truth = objective.Evaluate(Eigen::VectorXd::Constant(1, 50.0),
-                                                 ObjectiveWeights{1.0, 1.0, 1.0, 1.0});
+  ObjectiveOptions all_terms;
+  all_terms.SetWeights(ObjectiveWeights{1.0, 1.0, 1.0, 1.0});
+  const ObjectiveFunction objective(document, data, all_terms);
+  const TermValues at_truth = objective.Evaluate(Eigen::VectorXd::Constant(1, 50.0)).terms;
   ASSERT_FALSE(at_truth.failed) << at_truth.failure;
   EXPECT_LE(at_truth.u, kTolerance);
   EXPECT_LE(at_truth.s, kTolerance);
   EXPECT_LE(at_truth.v, 1e-12);  // V has N = 2501 entries: round-off adds up
   EXPECT_LE(at_truth.f, 1e-12);
-  const TermValues away = objective.Evaluate(Eigen::VectorXd::Constant(1, 60.0),
-                                             ObjectiveWeights{1.0, 1.0, 1.0, 1.0});
+  const TermValues away = objective.Evaluate(Eigen::VectorXd::Constant(1, 60.0)).terms;
   EXPECT_GT(away.u, 1e-9);
   EXPECT_GT(away.s, 1e-9);
   EXPECT_GT(away.v, 1e-6);
@@ -93,18 +105,17 @@ TEST(ObjectiveTest, TimeFreeIgnoresTheSignOfTheMotionAndFullDoesNot) {
   // time-free objective cannot tell the two motions apart, the full one can.
   constexpr double kRelativeTolerance = 1e-12;
   TimeSeries data = ReadCsv(DataPath("measured_knl50_T0.1.csv"));
-  const ObjectiveFunction plain(ReferenceDocument(), data, ObjectiveOptions{}, false);
+  const ObjectiveOptions options = Presets({"time-free", "full"});  // one simulation for both
+  const ObjectiveFunction plain(ReferenceDocument(), data, options);
   data.values = -data.values;
-  const ObjectiveFunction mirrored(ReferenceDocument(), data, ObjectiveOptions{}, false);
-  const ObjectiveWeights time_free = ObjectiveWeights::Preset("time-free");
-  const ObjectiveWeights full = ObjectiveWeights::Preset("full");
+  const ObjectiveFunction mirrored(ReferenceDocument(), data, options);
   for (double knl : {20.0, 50.0, 90.0}) {
     const Eigen::VectorXd x = Eigen::VectorXd::Constant(1, knl);
-    const double a = plain.Evaluate(x, time_free).Combine(time_free, kDefaultFailureValue);
-    const double b = mirrored.Evaluate(x, time_free).Combine(time_free, kDefaultFailureValue);
+    const Evaluation p = plain.Evaluate(x), m = mirrored.Evaluate(x);
+    ASSERT_FALSE(p.failed() || m.failed()) << p.failure() << m.failure();
+    const double a = p.values[0], b = m.values[0];
     EXPECT_NEAR(a / b, 1.0, kRelativeTolerance) << "knl " << knl;
-    const double c = plain.Evaluate(x, full).Combine(full, kDefaultFailureValue);
-    const double d = mirrored.Evaluate(x, full).Combine(full, kDefaultFailureValue);
+    const double c = p.values[1], d = m.values[1];
     EXPECT_GT(d, c + 1.0) << "knl " << knl;  // dV of opposite unit vectors is near 4
   }
 }
@@ -120,9 +131,8 @@ TEST(IdentifyTwoParametersTest, KnlAndFirstModeDampingFromNoisyPodidData) {
   }();
   ParameterSpec knl{"knl", "nonlinearity.0.k3", 1e8, 30.0, 0.0, 200.0};
   ParameterSpec zeta{"zeta1", "damping.modal_ratios.0", 0.01, 1.5, 0.2, 3.0};
-  const ObjectiveFunction objective(document, data, ObjectiveOptions{}, true, {knl, zeta});
+  const ObjectiveFunction objective(document, data, Presets({"wavelet"}), {knl, zeta});
   IdentifyOptions options;
-  options.weights = ObjectiveWeights::Preset("wavelet");
   const IdentifySummary summary = Identify(objective, options);
   std::cout << summary.BriefReport() << "\n";
   ASSERT_TRUE(summary.IsSolutionUsable()) << summary.FullReport();
@@ -132,7 +142,7 @@ TEST(IdentifyTwoParametersTest, KnlAndFirstModeDampingFromNoisyPodidData) {
 
 TEST(IdentifyTest, MultistartRunsEveryStartAndKeepsTheBest) {
   const ObjectiveFunction objective(ReferenceDocument(), ReadCsv(DataPath("measured_knl50_T0.1.csv")),
-                                    ObjectiveOptions{}, false);
+                                    ObjectiveOptions{});
   IdentifyOptions options;
   options.multistart = 4;
   options.start = Eigen::VectorXd::Constant(1, 190.0);
@@ -144,7 +154,7 @@ TEST(IdentifyTest, MultistartRunsEveryStartAndKeepsTheBest) {
 
 TEST(IdentifyTest, BudgetExhaustedKeepsTheBestPoint) {
   const ObjectiveFunction objective(ReferenceDocument(), ReadCsv(DataPath("measured_knl50_T0.1.csv")),
-                                    ObjectiveOptions{}, false);
+                                    ObjectiveOptions{});
   IdentifyOptions options;
   options.max_evaluations = 3;
   const IdentifySummary summary = Identify(objective, options);
@@ -158,7 +168,7 @@ TEST(IdentifyTest, BudgetExhaustedKeepsTheBestPoint) {
 
 TEST(IdentifyTest, GlobalAlgorithmsRun) {
   const ObjectiveFunction objective(ReferenceDocument(), ReadCsv(DataPath("measured_knl50_T0.1.csv")),
-                                    ObjectiveOptions{}, false);
+                                    ObjectiveOptions{});
   for (const char* name : {"GN_DIRECT_L", "GN_CRS2_LM", "GN_ISRES", "GN_MLSL_LDS", "LN_NELDERMEAD",
                            "LN_SBPLX", "LN_COBYLA"}) {
     IdentifyOptions options;
@@ -174,29 +184,29 @@ TEST(IdentifyTest, GlobalAlgorithmsRun) {
 TEST(ObjectiveErrorsTest, ClearErrors) {
   const TimeSeries data = ReadCsv(DataPath("measured_knl50_T0.1.csv"));
   // A parameter key the case does not have.
-  PODID_EXPECT_THROW_WITH(ObjectiveFunction(ReferenceDocument(), data, ObjectiveOptions{}, false,
+  PODID_EXPECT_THROW_WITH(ObjectiveFunction(ReferenceDocument(), data, ObjectiveOptions{},
                                             {ParameterSpec{"k", "nonlinearity.3.k3", 1.0, 1.0, 0.0, 2.0}}),
                           std::invalid_argument, "nonlinearity.3");
   // A start outside its bounds.
-  PODID_EXPECT_THROW_WITH(ObjectiveFunction(ReferenceDocument(), data, ObjectiveOptions{}, false,
+  PODID_EXPECT_THROW_WITH(ObjectiveFunction(ReferenceDocument(), data, ObjectiveOptions{},
                                             {ParameterSpec{"knl", "nonlinearity.0.k3", 1e8, 250.0, 0.0, 200.0}}),
                           std::invalid_argument, "lower <= start <= upper");
-  const ObjectiveFunction objective(ReferenceDocument(), data, ObjectiveOptions{}, false);
+  const ObjectiveFunction objective(ReferenceDocument(), data, ObjectiveOptions{});
   IdentifyOptions options;
   options.start = Eigen::VectorXd::Constant(1, -5.0);
   PODID_EXPECT_THROW_WITH(Identify(objective, options), std::invalid_argument, "in its bounds");
   // Channels that do not match the case's sensors.
   TimeSeries renamed = data;
   renamed.channel_names[5] = "x6";
-  PODID_EXPECT_THROW_WITH(ObjectiveFunction(ReferenceDocument(), renamed, ObjectiveOptions{}, false),
+  PODID_EXPECT_THROW_WITH(ObjectiveFunction(ReferenceDocument(), renamed, ObjectiveOptions{}),
                           std::invalid_argument, "expected w1,w2,w3,w4,w5,w6");
   TimeSeries fewer = data;
   fewer.values.conservativeResize(Eigen::NoChange, 5);
   fewer.channel_names.pop_back();
-  PODID_EXPECT_THROW_WITH(ObjectiveFunction(ReferenceDocument(), fewer, ObjectiveOptions{}, false),
+  PODID_EXPECT_THROW_WITH(ObjectiveFunction(ReferenceDocument(), fewer, ObjectiveOptions{}),
                           std::invalid_argument, "got w1,w2,w3,w4,w5");
   // 0.1 s is shorter than the cone of influence at 10 Hz (0.27 s).
-  PODID_EXPECT_THROW_WITH(ObjectiveFunction(ReferenceDocument(), data, ObjectiveOptions{}, true),
+  PODID_EXPECT_THROW_WITH(ObjectiveFunction(ReferenceDocument(), data, Presets({"wavelet"})),
                           std::invalid_argument, "lowest frequency");
   // Unknown names.
   PODID_EXPECT_THROW_WITH(ObjectiveWeights::Preset("fast"), std::invalid_argument, "full, time-free, wavelet");
@@ -209,13 +219,13 @@ TEST(ObjectiveTest, FailedSimulationIsAPenaltyNotAnError) {
   // A negative damping ratio is rejected by the case: the evaluation fails
   // with the reason, and the objective value is the documented failure value.
   const TimeSeries data = ReadCsv(DataPath("measured_knl50_T0.1.csv"));
-  const ObjectiveFunction objective(ReferenceDocument(), data, ObjectiveOptions{}, false,
+  const ObjectiveFunction objective(ReferenceDocument(), data, ObjectiveOptions{},
                                     {ParameterSpec{"zeta1", "damping.modal_ratios.0", 0.01, 1.0, -1.0, 3.0}});
-  const ObjectiveWeights full = ObjectiveWeights::Preset("full");
-  const TermValues terms = objective.Evaluate(Eigen::VectorXd::Constant(1, -0.5), full);
-  EXPECT_TRUE(terms.failed);
-  EXPECT_NE(terms.failure.find("damping.modal_ratios"), std::string::npos) << terms.failure;
-  EXPECT_EQ(terms.Combine(full, kDefaultFailureValue), kDefaultFailureValue);
+  const Evaluation e = objective.Evaluate(Eigen::VectorXd::Constant(1, -0.5));
+  EXPECT_TRUE(e.failed());
+  EXPECT_NE(e.failure().find("damping.modal_ratios"), std::string::npos) << e.failure();
+  ASSERT_EQ(e.values.size(), 1u);
+  EXPECT_EQ(e.values[0], kDefaultFailureValue);
 }
 
 TEST(LandscapeMetricsTest, ParabolaHasOneMinimumAndAFullBasin) {
@@ -245,18 +255,15 @@ TEST(LandscapeMetricsTest, RippleCountsEveryMinimumAndNarrowsTheBasin) {
 TEST(LandscapeTest, ParallelGridMatchesDirectEvaluations) {
   // Each grid value equals a direct, single-threaded evaluation exactly.
   const ObjectiveFunction objective(ReferenceDocument(), ReadCsv(DataPath("measured_knl50_T0.1.csv")),
-                                    ObjectiveOptions{}, false);
+                                    Presets({"full", "time-free"}));
   LandscapeOptions options;
-  options.objectives = {{"full", ObjectiveWeights::Preset("full")},
-                        {"time-free", ObjectiveWeights::Preset("time-free")}};
   options.x = {0, 0.0, 100.0, 21};
   const LandscapeResult result = ComputeLandscape(objective, options);
   ASSERT_EQ(result.termination, LandscapeTermination::kCompleted);
   for (Eigen::Index i = 0; i < result.x.size(); i += 5) {
     const Eigen::VectorXd p = Eigen::VectorXd::Constant(1, result.x[i]);
     for (std::size_t k = 0; k < 2; ++k) {
-      const ObjectiveWeights& w = options.objectives[k].weights;
-      EXPECT_EQ(result.values[k](i, 0), objective.Evaluate(p, w).Combine(w, kDefaultFailureValue));
+      EXPECT_EQ(result.values[k](i, 0), objective.Evaluate(p).values[k]);
     }
   }
   ASSERT_EQ(result.metrics.size(), 2u);
@@ -265,11 +272,10 @@ TEST(LandscapeTest, ParallelGridMatchesDirectEvaluations) {
 
 TEST(LandscapeTest, TwoDimensionalGrid) {
   const ObjectiveFunction objective(
-      ReferenceDocument(), ReadCsv(DataPath("measured_knl50_T0.1.csv")), ObjectiveOptions{}, false,
+      ReferenceDocument(), ReadCsv(DataPath("measured_knl50_T0.1.csv")), Presets({"time-free"}),
       {ParameterSpec{"knl", "nonlinearity.0.k3", 1e8, 50.0, 0.0, 100.0},
        ParameterSpec{"zeta1", "damping.modal_ratios.0", 0.01, 1.0, 0.5, 2.0}});
   LandscapeOptions options;
-  options.objectives = {{"time-free", ObjectiveWeights::Preset("time-free")}};
   options.x = {0, 30.0, 70.0, 5};
   options.y = LandscapeAxis{1, 0.5, 1.5, 5};
   const LandscapeResult result = ComputeLandscape(objective, options);
@@ -279,6 +285,49 @@ TEST(LandscapeTest, TwoDimensionalGrid) {
   result.values[0].minCoeff(&i, &j);
   EXPECT_EQ(result.x[i], 50.0);
   EXPECT_EQ(result.y[j], 1.0);
+}
+
+}  // namespace
+}  // namespace podid::ident
+
+namespace podid::ident {
+namespace {
+
+// Issue 11 item 4: misuse of ObjectiveFunction is an exception at
+// construction or a failed evaluation, never a crash.
+TEST(ObjectiveMisuseTest, IsAnErrorOrAFailedEvaluationNeverACrash) {
+  const TimeSeries data = ReadCsv(DataPath("measured_knl50_T0.1.csv"));
+  ObjectiveOptions none;
+  none.weightings.clear();
+  PODID_EXPECT_THROW_WITH(ObjectiveFunction(ReferenceDocument(), data, none), std::invalid_argument,
+                          "weightings: expected at least one, got none");
+  ObjectiveOptions zero;
+  zero.SetWeights(ObjectiveWeights{0.0, 0.0, 0.0, 0.0});
+  PODID_EXPECT_THROW_WITH(ObjectiveFunction(ReferenceDocument(), data, zero), std::invalid_argument,
+                          "expected at least one positive weight");
+  const ObjectiveFunction objective(ReferenceDocument(), data, Presets({"full", "time-free"}));
+  // A wrong number of values: a failed evaluation with the reason.
+  const Evaluation wrong = objective.Evaluate(Eigen::VectorXd::Constant(3, 50.0));
+  EXPECT_TRUE(wrong.failed());
+  EXPECT_EQ(wrong.failure(), "parameter values: expected 1 values, got 3");
+  ASSERT_EQ(wrong.values.size(), 2u);
+  EXPECT_EQ(wrong.values[0], kDefaultFailureValue);
+  // A workspace used with another objective starts afresh.
+  const ObjectiveFunction other(ReferenceDocument(), data, Presets({"time-free"}),
+                                {ParameterSpec{"zeta1", "damping.modal_ratios.0", 0.01, 1.0, 0.5, 2.0}});
+  EvaluationWorkspace workspace;
+  const Eigen::VectorXd x = Eigen::VectorXd::Constant(1, 50.0);
+  const Evaluation a = objective.Evaluate(x, &workspace);
+  const Evaluation b = other.Evaluate(Eigen::VectorXd::Constant(1, 1.0), &workspace);
+  const Evaluation c = objective.Evaluate(x, &workspace);
+  ASSERT_FALSE(a.failed() || b.failed() || c.failed());
+  EXPECT_EQ(a.values, c.values);
+  EXPECT_EQ(b.values[0], a.values[1]);  // knl = 50, zeta1 = 1 %: the same case
+  // Identify's weighting must be one of the objective's.
+  IdentifyOptions options;
+  options.weighting = 2;
+  PODID_EXPECT_THROW_WITH(Identify(objective, options), std::invalid_argument,
+                          "weighting: expected an index of the objective's weightings in 0..1, got 2");
 }
 
 }  // namespace

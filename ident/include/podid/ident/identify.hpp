@@ -44,7 +44,9 @@ inline constexpr long long kMaxTotalEvaluations = 1'000'000;
 struct IdentifyOptions {
   Algorithm algorithm = Algorithm::kLnBobyqa;
   Algorithm local_algorithm = Algorithm::kLnBobyqa;  ///< for GN_MLSL_LDS; must be local
-  ObjectiveWeights weights = ObjectiveWeights::Preset("full");
+  /// The weighting minimised: an index into the objective's
+  /// ObjectiveOptions::weightings (0: the first).
+  int weighting = 0;
   /// Start (dim parameter_count); empty = the parameters' start values.
   Eigen::VectorXd start;
   double xtol_rel = 1e-6;   ///< stop when |dx| < xtol_rel |x| (> 0)

@@ -1,7 +1,8 @@
 #pragma once
 // Objective landscapes (the paper's figs. 3-6): objective vs one parameter on
-// a grid, or two parameters on a 2-D grid, for several objectives at once (one
-// simulation per grid point feeds every objective). Points run in parallel
+// a grid, or two parameters on a 2-D grid, for every weighting of the
+// objective (ObjectiveOptions::weightings) at once: one simulation per grid
+// point feeds every weighting (ObjectiveFunction::Evaluate). Points run in parallel
 // (OpenMP), one EvaluationWorkspace per thread. Other parameters stay at
 // LandscapeOptions::base (default: their start values).
 
@@ -14,11 +15,6 @@
 #include "podid/ident/objective.hpp"
 
 namespace podid::ident {
-
-struct NamedObjective {
-  std::string name;  ///< e.g. "full"
-  ObjectiveWeights weights;
-};
 
 /// The most grid points of a landscape (per axis and in total, nx * ny):
 /// about 100 MB of results, and hours of simulations at ~10 ms a point.
@@ -34,7 +30,6 @@ struct LandscapeAxis {
 };
 
 struct LandscapeOptions {
-  std::vector<NamedObjective> objectives;  ///< >= 1
   LandscapeAxis x;
   std::optional<LandscapeAxis> y;          ///< second axis for a 2-D landscape
   /// Values of the parameters not on an axis (dim parameter_count); empty =
@@ -76,15 +71,15 @@ LandscapeMetrics ComputeMetrics(const Eigen::VectorXd& x, const Eigen::VectorXd&
 enum class LandscapeTermination { kNotRun, kCompleted, kNoneSucceeded, kInterrupted };
 
 struct LandscapeResult {
-  std::vector<std::string> names;      ///< objective names
+  std::vector<std::string> names;      ///< the objective's weighting names
   std::vector<std::string> parameter_names;  ///< x (and y) parameter names
   Eigen::VectorXd x;                   ///< (dim nx) grid
   Eigen::VectorXd y;                   ///< (dim ny) grid, empty for 1-D
-  /// per objective, (nx x max(ny, 1)); NaN where the point failed or was not
+  /// per weighting, (nx x max(ny, 1)); NaN where the point failed or was not
   /// computed (never the objective's failure_value)
   std::vector<Eigen::MatrixXd> values;
   std::vector<TermValues> terms;       ///< per point, row-major (i * ny + j)
-  std::vector<LandscapeMetrics> metrics;  ///< per objective (1-D landscapes only)
+  std::vector<LandscapeMetrics> metrics;  ///< per weighting (1-D landscapes only)
   LandscapeTermination termination = LandscapeTermination::kNotRun;
   std::string message = "Landscape was not computed.";
   int evaluations = 0;

@@ -26,7 +26,9 @@
 #include <vector>
 
 #include "podid/core/case_file.hpp"
+#include "podid/core/model_parameter.hpp"
 #include "podid/core/simulate.hpp"
+#include "podid/core/simulator.hpp"
 #include "podid/core/time_series.hpp"
 #include "podid/pod/pod.hpp"
 #include "podid/wavelet/ridge.hpp"
@@ -49,18 +51,38 @@ struct ObjectiveWeights {
   std::string ToString() const;
 };
 
+/// A weighting with a name (for reports, landscapes): "full", "wavelet", ...
+struct NamedObjective {
+  std::string name;
+  ObjectiveWeights weights;
+};
+
 /// The objective value of an evaluation that failed (simulation diverged, a
 /// parameter value the case rejects): larger than any finite objective of a
 /// usable simulation in practice, finite so optimisers keep going.
 inline constexpr double kDefaultFailureValue = 1e3;
 
 struct ObjectiveOptions {
+  /// The weightings of the terms (>= 1). One evaluation computes the union of
+  /// their terms from one simulation and gives one value per weighting
+  /// (Evaluation::values); what the terms need (the measured ridges when a
+  /// weighting has IF) is prepared when the objective is built. Identify
+  /// minimises one of them (IdentifyOptions::weighting).
+  std::vector<NamedObjective> weightings{{"full", ObjectiveWeights::Preset("full")}};
   int modes = 1;                 ///< K, the leading POMs compared (>= 1, <= sensors)
   bool relative_sigma = true;    ///< dS relative to the measured sigmas (false: raw, eq. 19)
   double failure_value = kDefaultFailureValue;  ///< see kDefaultFailureValue, > 0
-  /// The IF extraction (used when a weight needs it): 10-120 Hz, 32 voices,
+  /// The IF extraction (used when a weighting needs it): 10-120 Hz, 32 voices,
   /// band-limited Morlet CWT, penalised ridge.
   wavelet::RidgeFrequencyOptions ridge;
+  /// Per-mode ridge bands (issue 13): when > 0, the ridge of time mode k (the
+  /// measured and the simulated one) is searched in [f_k / (1 + b), f_k (1 + b)]
+  /// (clipped to ridge.cwt's band), b = mode_band_fraction, f_k the dominant
+  /// frequency of the measured time mode k (the largest peak of its
+  /// periodogram inside ridge.cwt's band). 0: every mode uses ridge.cwt's band.
+  double mode_band_fraction = 0.0;
+  /// A single weighting: weightings = {{weights.ToString(), weights}}.
+  void SetWeights(const ObjectiveWeights& weights);
   bool IsValid(std::string* why) const;
 };
 
@@ -73,24 +95,39 @@ struct TermValues {
   bool failed = false;
   std::string failure;  ///< why, when failed
 
-  /// sum of weight * term, or failure_value when failed.
+  /// sum of weight * term, or failure_value when failed (or not finite).
   double Combine(const ObjectiveWeights& weights, double failure_value) const;
 };
 
-/// One identified parameter bound to its case key.
-struct Parameter {
-  ParameterSpec spec;  ///< name, key, scale, start, lower, upper (case value = scale * value)
+/// One evaluation: the terms (the union over the weightings) and the value of
+/// each weighting (ObjectiveOptions::weightings order; failure_value for every
+/// weighting when the evaluation failed).
+struct Evaluation {
+  TermValues terms;
+  std::vector<double> values;
+  bool failed() const { return terms.failed; }
+  const std::string& failure() const { return terms.failure; }
 };
 
-/// Per-thread buffers of ObjectiveFunction::Evaluate.
+/// Per-thread state of ObjectiveFunction::Evaluate: the cached simulation
+/// (podid::Simulator: only what a parameter change invalidates is rebuilt),
+/// the POD and ridge buffers. Bound to the objective that first uses it; used
+/// with another objective it starts afresh.
 class EvaluationWorkspace {
  public:
-  EvaluationWorkspace() = default;
+  EvaluationWorkspace();
+  ~EvaluationWorkspace();
+  EvaluationWorkspace(EvaluationWorkspace&&) noexcept;
+  EvaluationWorkspace& operator=(EvaluationWorkspace&&) noexcept;
 
  private:
   friend class ObjectiveFunction;
+  unsigned long long owner = 0;  ///< ObjectiveFunction id
+  std::unique_ptr<Simulator> simulator;
+  Eigen::VectorXd document_values;  ///< the kDocument parameters' values simulated
   std::unique_ptr<PodSolver> pod;
   std::unique_ptr<wavelet::RidgeFrequencyEstimator> ridge;
+  std::vector<std::unique_ptr<wavelet::RidgeFrequencyEstimator>> mode_ridges;
 };
 
 class ObjectiveFunction {
@@ -98,49 +135,67 @@ class ObjectiveFunction {
   /// Binds the case (its [[identify.parameter]]s, unless `parameters` is
   /// non-empty) to the measured data. The data's step and duration replace the
   /// case's [time] (see notes()); the case's sensor channel names must equal
-  /// the data's. Throws std::invalid_argument for channels that do not match,
-  /// no parameters, a parameter key the case cannot take, or a record too short
-  /// for the ridge's lowest frequency when `weights_needing_ridges`.
+  /// the data's. Each parameter key is resolved once into a typed
+  /// ModelParameter (model_parameter.hpp). Throws std::invalid_argument for
+  /// invalid options (e.g. no weighting), channels that do not match, no
+  /// parameters, a parameter key the case cannot take, or a record too short
+  /// for the ridge's lowest frequency when a weighting has IF.
   ObjectiveFunction(const CaseDocument& case_document, const TimeSeries& measured,
-                    const ObjectiveOptions& options, bool weights_needing_ridges,
-                    std::vector<ParameterSpec> parameters = {});
+                    const ObjectiveOptions& options, std::vector<ParameterSpec> parameters = {});
+  ObjectiveFunction(const ObjectiveFunction& other);
+  ObjectiveFunction& operator=(const ObjectiveFunction&) = delete;
+  ~ObjectiveFunction();
 
   int parameter_count() const { return static_cast<int>(parameters_.size()); }
   const std::vector<ParameterSpec>& parameters() const { return parameters_; }
+  /// The parameters' typed bindings (same order as parameters()).
+  const std::vector<ModelParameter>& bindings() const { return bindings_; }
   /// The parameters' start values (dim parameter_count()).
   Eigen::VectorXd StartValues() const;
   const ObjectiveOptions& options() const { return options_; }
+  int weighting_count() const { return static_cast<int>(options_.weightings.size()); }
   const TimeSeries& measured() const { return measured_; }
   const PodResult& measured_pod() const { return measured_pod_; }
-  /// The measured IF tracks of the first K modes (empty without ridges).
+  /// The measured IF tracks of the first K modes (empty without IF).
   const std::vector<wavelet::RidgeTrack>& measured_ridges() const { return measured_ridges_; }
+  /// The ridge options of mode k (0-based; its band when mode_band_fraction > 0).
+  const wavelet::RidgeFrequencyOptions& mode_ridge_options(int k) const { return mode_ridge_options_.at(k); }
   /// Messages about adjustments made to the case (time step from the data...).
   const std::vector<std::string>& notes() const { return notes_; }
 
-  /// The terms at `values` (dim parameter_count()). Thread-safe with one
-  /// workspace per thread. Never throws: a numerical failure, a value the case
-  /// rejects or any exception of the simulation, POD or wavelet stages (e.g.
+  /// The terms and every weighting's value at `values` (dim
+  /// parameter_count()). Thread-safe with one workspace per thread. Never
+  /// throws: a wrong number of values, a value the case rejects, a numerical
+  /// failure or any exception of the simulation, POD or wavelet stages (e.g.
   /// the CWT of an all-zero response, std::bad_alloc) marks the result failed
   /// with the reason, so that it may be called from NLopt's C callback and
-  /// from OpenMP regions.
-  TermValues Evaluate(const Eigen::VectorXd& values, const ObjectiveWeights& weights,
-                      EvaluationWorkspace* workspace) const;
-  TermValues Evaluate(const Eigen::VectorXd& values, const ObjectiveWeights& weights) const;
+  /// from OpenMP regions. A null workspace uses a temporary one.
+  Evaluation Evaluate(const Eigen::VectorXd& values, EvaluationWorkspace* workspace) const noexcept;
+  Evaluation Evaluate(const Eigen::VectorXd& values) const noexcept;
 
-  /// The case at `values` (for reports and plots).
+  /// The case at `values` (for reports and plots). Throws
+  /// std::invalid_argument for a value the case rejects.
   CaseSpec SpecAt(const Eigen::VectorXd& values) const;
   /// The noise-free simulation at `values`.
   SimulationResult SimulateAt(const Eigen::VectorXd& values) const;
 
  private:
-  TermValues EvaluateOrThrow(const Eigen::VectorXd& values, const ObjectiveWeights& weights,
-                             EvaluationWorkspace* workspace) const;
+  void EvaluateOrThrow(const Eigen::VectorXd& values, EvaluationWorkspace* workspace,
+                       Evaluation* result) const;
+  /// The base case with the kDocument parameters set from `values`.
+  CaseSpec DocumentSpecAt(const Eigen::VectorXd& values) const;
 
+  unsigned long long id_ = 0;
   CaseDocument document_;
+  CaseSpec base_spec_;
   TimeSeries measured_;
   ObjectiveOptions options_;
+  ObjectiveWeights needed_{0.0, 0.0, 0.0, 0.0};  ///< the union of the weightings' terms
   std::vector<ParameterSpec> parameters_;
+  std::vector<ModelParameter> bindings_;
+  bool has_document_parameters_ = false;
   PodResult measured_pod_;
+  std::vector<wavelet::RidgeFrequencyOptions> mode_ridge_options_;
   std::vector<wavelet::RidgeTrack> measured_ridges_;
   std::vector<std::string> notes_;
 };

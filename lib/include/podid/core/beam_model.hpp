@@ -109,6 +109,13 @@ class BeamModel {
   /// sparse solver does not converge).
   ModalAnalysis Modes(int count, EigenSolverChoice solver = EigenSolverChoice::kAuto) const;
 
+  /// The one change a built model takes: new coefficients of its nonlinear
+  /// elements (NonlinearForces::SetCoefficients), which leave M, K and C as
+  /// they are. For the owner of the model (Simulator, simulator.hpp).
+  void SetNonlinearCoefficients(const std::vector<NonlinearitySpec>& specs) {
+    nonlinear_.SetCoefficients(specs);
+  }
+
  private:
   /// M, K, the springs' and imported damping (in damping_) and the transverse
   /// mask, before Rayleigh damping and the nonlinear elements (model_builder.cpp).

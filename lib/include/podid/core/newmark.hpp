@@ -156,6 +156,11 @@ class NewmarkIntegrator {
   /// True when the condensed steps use sparse matrices (dofs() > options().dense_dof_limit).
   bool sparse() const { return sparse_; }
   int nonlinear_dofs() const { return na_; }
+  /// New coefficients of the nonlinear elements (NonlinearForces::
+  /// SetCoefficients): no matrix depends on them, nothing is refactored.
+  void SetNonlinearCoefficients(const std::vector<NonlinearitySpec>& specs) {
+    nonlinear_.SetCoefficients(specs);
+  }
 
   /// Integrates from `initial` (dim n_dofs each) over options().steps steps.
   /// On failure the recording keeps the samples up to the last good step

@@ -41,6 +41,10 @@ class NonlinearForces {
                   const std::vector<std::array<int, 2>>& dofs, int n_dofs);
 
   bool empty() const { return elements_.empty(); }
+  /// Replaces the elements' coefficients with those of `specs` (the specs
+  /// the elements were built from, in order, with only coefficients changed:
+  /// same count and types; dofs are kept). For a Simulator's parameter change.
+  void SetCoefficients(const std::vector<NonlinearitySpec>& specs);
   /// True when some element is a joint (the tangents are then not diagonal).
   bool has_joints() const { return has_joints_; }
   /// Sorted, unique free-dof indices of the nonlinear dofs (the `a` set).

@@ -1,0 +1,139 @@
+// Typed parameters and the cached Simulator against the document path they
+// replace: copy the case document, set the key, re-validate, Simulate().
+#include "podid/core/simulator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "podid/core/case_file.hpp"
+#include "podid/core/model_parameter.hpp"
+#include "podid/core/simulate.hpp"
+#include "test_support.hpp"
+
+namespace podid {
+namespace {
+
+// Every typed kind at once: segments, a point mass, a spring, modal damping,
+// a cubic element, a static initial deflection and a harmonic force.
+constexpr const char* kCase = R"(
+[beam]
+area = 0.196e-3
+[[beam.segment]]
+length = 0.3
+elements = 3
+youngs_modulus = 2.05e11
+density = 7800.0
+[[beam.segment]]
+length = 0.293
+elements = 3
+youngs_modulus = 1.9e11
+density = 7600.0
+[[mass]]
+node = 4
+mass = 0.2
+[[spring]]
+node = 2
+stiffness = 1.0e4
+damping = 2.0
+[damping]
+type = "rayleigh"
+modal_ratios = [0.01, 0.02]
+[[nonlinearity]]
+type = "cubic"
+node = 6
+k3 = 5.0e9
+[initial]
+static_tip_force = 20.0
+[force]
+type = "harmonic"
+node = 6
+amplitude = 2.0
+frequency = 30.0
+[time]
+duration = 0.05
+step = 2.0e-4
+)";
+
+// The cached path runs the same operations on the same matrices (a rebuilt
+// model is built by the same code; a nonlinear coefficient only changes the
+// elements): equal up to round-off of a different evaluation order, if any.
+constexpr double kRoundoffTolerance = 1e-12;
+
+TEST(SimulatorTest, EveryTypedChangeMatchesTheDocumentPath) {
+  CaseDocument document = CaseDocument::Parse(kCase, "simulator_test");
+  const CaseSpec base = document.ToSpec();
+  Simulator simulator(base);
+  const std::vector<std::pair<std::string, double>> changes = {
+      {"nonlinearity.0.k3", 3.0e9},
+      {"nonlinearity.0.k3", 8.0e9},
+      {"damping.modal_ratios.0", 0.03},
+      {"beam.segment.1.youngs_modulus", 2.2e11},
+      {"beam.segment.0.density", 7000.0},
+      {"mass.0.mass", 0.5},
+      {"spring.0.stiffness", 3.0e4},
+      {"spring.0.damping", 5.0},
+      {"force.amplitude", -1.0},
+      {"force.frequency", 45.0},
+      {"initial.static_tip_force", 15.0},
+      {"nonlinearity.0.k3", 5.0e9},
+  };
+  for (const auto& [key, value] : changes) {
+    const ModelParameter parameter = ModelParameter::Resolve(base, key);
+    std::string why;
+    ASSERT_TRUE(simulator.Set(parameter, value, &why)) << key << ": " << why;
+    document.SetNumber(key, value);
+    const SimulationResult expected = Simulate(document.ToSpec(), SimulateOptions{false});
+    const SimulationResult actual = simulator.Run();
+    ASSERT_TRUE(expected.summary.IsSolutionUsable()) << expected.summary.message;
+    ASSERT_TRUE(actual.summary.IsSolutionUsable()) << actual.summary.message;
+    ASSERT_EQ(actual.sensors.channel_names, expected.sensors.channel_names);
+    const double scale = expected.sensors.values.cwiseAbs().maxCoeff();
+    EXPECT_TRUE(testing::ExpectMatricesNear(actual.sensors.values / scale,
+                                            expected.sensors.values / scale, kRoundoffTolerance))
+        << "after " << key << " = " << value;
+  }
+}
+
+TEST(ModelParameterTest, ResolvesEachKeyOnceWithWhatItInvalidates) {
+  const CaseSpec spec = CaseDocument::Parse(kCase, "simulator_test").ToSpec();
+  EXPECT_EQ(ModelParameter::Resolve(spec, "nonlinearity.0.k3").effect(), ParameterEffect::kNonlinear);
+  EXPECT_EQ(ModelParameter::Resolve(spec, "damping.modal_ratios.1").effect(), ParameterEffect::kDamping);
+  EXPECT_EQ(ModelParameter::Resolve(spec, "mass.0.mass").effect(), ParameterEffect::kModel);
+  EXPECT_EQ(ModelParameter::Resolve(spec, "force.amplitude").effect(), ParameterEffect::kLoad);
+  EXPECT_EQ(ModelParameter::Resolve(spec, "initial.static_tip_force").effect(),
+            ParameterEffect::kInitialState);
+  // A real-valued key without a typed binding goes through the document.
+  EXPECT_EQ(ModelParameter::Resolve(spec, "beam.segment.0.length").effect(), ParameterEffect::kDocument);
+  // Keys the case cannot take.
+  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "nonlinearity.2.k3"), std::invalid_argument,
+                          "parameter key nonlinearity.2.k3: expected an index of the case's "
+                          "[[nonlinearity]] tables (0..0), got 2");
+  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "nonlinearity.0.k1"), std::invalid_argument,
+                          "a coefficient the element's type does not have");
+  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "damping.alpha"), std::invalid_argument,
+                          "damping given by modal_ratios");
+  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "beam.elements"), std::invalid_argument,
+                          "parameter key: expected a real-valued case-file key");
+  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "force.start_frequency"), std::invalid_argument,
+                          "force.start_frequency");
+}
+
+TEST(ModelParameterTest, ValuesOutOfRangeAreRejectedWithTheReasonAndLeaveTheCase) {
+  const CaseSpec base = CaseDocument::Parse(kCase, "simulator_test").ToSpec();
+  Simulator simulator(base);
+  std::string why;
+  const ModelParameter zeta = ModelParameter::Resolve(base, "damping.modal_ratios.0");
+  EXPECT_FALSE(simulator.Set(zeta, -0.5, &why));
+  EXPECT_EQ(why, "damping.modal_ratios.0: expected a damping ratio in [0, 1), got -0.5");
+  const ModelParameter modulus = ModelParameter::Resolve(base, "beam.segment.0.youngs_modulus");
+  EXPECT_FALSE(simulator.Set(modulus, 0.0, &why));
+  EXPECT_EQ(why, "beam.segment.0.youngs_modulus: expected a finite value > 0, got 0");
+  EXPECT_EQ(simulator.spec().damping.modal_ratios[0], 0.01);
+  EXPECT_EQ(simulator.spec().beam.segments[0].youngs_modulus_Pa, 2.05e11);
+}
+
+}  // namespace
+}  // namespace podid
