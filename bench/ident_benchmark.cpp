@@ -70,6 +70,49 @@ BENCHMARK(BM_EvaluateFull1s)->Unit(benchmark::kMillisecond);
 void BM_EvaluateTimeFree1s(benchmark::State& state) { Evaluation(state, "time-free"); }
 BENCHMARK(BM_EvaluateTimeFree1s)->Unit(benchmark::kMillisecond);
 
+// The cached path as an optimiser uses it: knl changes at every evaluation
+// (here alternating 49.9 and 50.1), so the static initial deflection is
+// solved again each time; the model and the integrator stay.
+void BM_EvaluateWaveletChanging1s(benchmark::State& state) {
+  ident::ObjectiveOptions options;
+  options.SetWeights(ident::ObjectiveWeights::Preset("wavelet"));
+  const ident::ObjectiveFunction objective(ReferenceCase(), MeasuredRecord(), options);
+  ident::EvaluationWorkspace workspace;
+  Eigen::VectorXd values = objective.StartValues();
+  bool failed = false;
+  int i = 0;
+  for (auto _ : state) {
+    values[0] = (i++ % 2) ? 50.1 : 49.9;
+    failed = failed || objective.Evaluate(values, &workspace).failed();
+    benchmark::ClobberMemory();
+  }
+  if (failed) state.SkipWithError("an evaluation failed");
+}
+BENCHMARK(BM_EvaluateWaveletChanging1s)->Unit(benchmark::kMillisecond);
+
+// How often the simulated POD falls back from the Gram (direct) method to
+// the SVD (issue 11 item 5): over 201 values of knl in [0, 200], the case's
+// bounds, on the 1 s record. Counter svd_fraction.
+void BM_PodFallbackRate1s(benchmark::State& state) {
+  ident::ObjectiveOptions options;
+  options.SetWeights(ident::ObjectiveWeights::Preset("time-free"));
+  const ident::ObjectiveFunction objective(ReferenceCase(), MeasuredRecord(), options);
+  ident::EvaluationWorkspace workspace;
+  Eigen::VectorXd values = objective.StartValues();
+  int svd = 0, total = 0;
+  for (auto _ : state) {
+    svd = total = 0;
+    for (int i = 0; i <= 200; ++i) {
+      values[0] = i;
+      const ident::Evaluation e = objective.Evaluate(values, &workspace);
+      svd += e.pod_method == PodMethod::kSvd ? 1 : 0;
+      ++total;
+    }
+  }
+  state.counters["svd_fraction"] = static_cast<double>(svd) / total;
+}
+BENCHMARK(BM_PodFallbackRate1s)->Unit(benchmark::kMillisecond)->Iterations(1);
+
 // 1000 points of knl over the case's bounds [0, 200], `wavelet` objective;
 // OpenMP threads as the environment gives them (OMP_NUM_THREADS, default all
 // cores). Wall time is what the target means: UseRealTime. The process CPU

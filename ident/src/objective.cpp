@@ -427,8 +427,17 @@ void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, Evaluatio
   }
   const SimulationResult sim = w.simulator->Run();
   if (!sim.summary.IsSolutionUsable()) return fail(sim.summary.message);
-  if (!w.pod) w.pod = std::make_unique<PodSolver>(MeasuredPodOptions());
+  if (!w.pod) {
+    // All modes for the MAC matching of swapped modes, the K compared ones
+    // accurate: the trailing modes of noise-free simulated data are below the
+    // Gram method's accuracy, and requiring them accurate sent every
+    // evaluation to the SVD.
+    PodOptions options = MeasuredPodOptions();
+    options.accurate_modes = options_.modes;
+    w.pod = std::make_unique<PodSolver>(options);
+  }
   PodResult pod = w.pod->Compute(sim.sensors);
+  result->pod_method = pod.method;
   if (pod.IsDegenerate()) return fail("simulated response: " + pod.message);  // e.g. no excitation
   AlignToReference(measured_pod_, &pod);
 

@@ -75,6 +75,10 @@ bool PodOptions::IsValid(std::string* why) const {
       return fail("PodOptions.method: expected auto, svd, direct or snapshot, got " +
                   std::to_string(static_cast<int>(method)));
   }
+  if (accurate_modes < 0) {
+    return fail("PodOptions.accurate_modes: expected >= 0 (0 = all), got " +
+                std::to_string(accurate_modes));
+  }
   if (max_modes < 0) {
     return fail("PodOptions.max_modes: expected >= 0 (0 = all), got " + std::to_string(max_modes));
   }
@@ -273,7 +277,9 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
     }
     k = kept_modes(w.sigma_all);
     bool accurate = true;
-    for (Index j = 0; j < k; ++j) {
+    const Index must_be_accurate =
+        options_.accurate_modes > 0 ? std::min<Index>(k, options_.accurate_modes) : k;
+    for (Index j = 0; j < must_be_accurate; ++j) {
       const double value = w.sigma_all(j) * w.sigma_all(j);
       if (value > 0.0 && value < kAutoGramRatio * largest) accurate = false;
     }

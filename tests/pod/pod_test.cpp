@@ -557,5 +557,38 @@ TEST(Pod, BadInputThrowsWithExpectedAndGot) {
                           std::invalid_argument, "a Gram matrix side <= 16384, got 16385");
 }
 
+// Issue 11 item 5: data whose trailing mode is below the Gram methods'
+// accuracy (lambda_3 = 1e-12 lambda_1) sent kAuto to the SVD on every call;
+// with accurate_modes = 2 only the first two must be accurate, and they are.
+TEST(Pod, AccurateModesKeepsTheGramMethodWhenOnlyTrailingModesAreTiny) {
+  constexpr int kSamples = 400;
+  Eigen::MatrixXd x(3, kSamples);
+  for (int j = 0; j < kSamples; ++j) {
+    const double t = j / 100.0;
+    x(0, j) = std::sin(7.0 * t) + 0.3 * std::cos(3.0 * t);
+    x(1, j) = 0.5 * std::sin(7.0 * t) - 0.2 * std::cos(3.0 * t);
+    x(2, j) = 1e-6 * std::sin(11.0 * t);  // sigma_3 ~ 1e-6 sigma_1: lambda_3 ~ 1e-12 lambda_1
+  }
+  PodOptions all;
+  all.remove_mean = false;
+  const PodResult reference = ComputePod(x, all);
+  EXPECT_EQ(reference.method, PodMethod::kSvd);  // the fallback: mode 3 must be accurate
+  PodOptions leading = all;
+  leading.accurate_modes = 2;
+  const PodResult fast = ComputePod(x, leading);
+  EXPECT_EQ(fast.method, PodMethod::kDirect);
+  // The Gram method resolves the two leading modes to its usual accuracy:
+  // eigenvalue round-off eps lambda_1 relative to lambda_2 ~ 0.05 lambda_1.
+  constexpr double kLeadingTolerance = 1e-12;
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_NEAR(fast.singular_values[k] / reference.singular_values[k], 1.0, kLeadingTolerance);
+    EXPECT_TRUE(testing::ExpectMatricesNear(fast.poms.col(k), reference.poms.col(k), kLeadingTolerance));
+  }
+  PodOptions negative = all;
+  negative.accurate_modes = -1;
+  PODID_EXPECT_THROW_WITH(ComputePod(x, negative), std::invalid_argument,
+                          "PodOptions.accurate_modes: expected >= 0 (0 = all), got -1");
+}
+
 }  // namespace
 }  // namespace podid

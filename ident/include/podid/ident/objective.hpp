@@ -105,6 +105,9 @@ struct TermValues {
 struct Evaluation {
   TermValues terms;
   std::vector<double> values;
+  /// The method the simulated POD used (kAuto resolved; kAuto when no POD was
+  /// computed): kSvd means the Gram method was not accurate enough (bench/).
+  PodMethod pod_method = PodMethod::kAuto;
   bool failed() const { return terms.failed; }
   const std::string& failure() const { return terms.failure; }
 };

@@ -87,6 +87,13 @@ struct PodOptions {
   /// Compute V (N x k). Without it V is empty and Reconstruct() is unavailable;
   /// the Gram methods then skip an (N x M x k) product.
   bool compute_time_modes = true;
+  /// kAuto: the number of leading modes that must be accurate to the SVD's
+  /// precision (the Gram methods are abandoned for kSvd when one of them has
+  /// lambda_k < kAutoGramRatio * lambda_1); 0 = every kept mode. The modes
+  /// after them then carry the Gram methods' accuracy, about sqrt(eps)
+  /// sigma_1 absolute (e.g. the trailing modes an objective keeps only to
+  /// match swapped modes by MAC). >= 0.
+  int accurate_modes = 0;
 
   /// True when every field is in range; otherwise `why` (if not null) says which.
   bool IsValid(std::string* why) const;
