@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <numbers>
 #include <new>
 #include <sstream>
 #include <utility>
@@ -118,8 +117,6 @@ bool ObjectiveOptions::IsValid(std::string* why) const {
   if (modes < 1) return fail("modes: expected >= 1, got " + ToText(modes));
   if (!(failure_value > 0 && std::isfinite(failure_value)))
     return fail("failure_value: expected a finite value > 0, got " + ToText(failure_value));
-  if (!(mode_band_fraction >= 0 && std::isfinite(mode_band_fraction)))
-    return fail("mode_band_fraction: expected a finite value >= 0, got " + ToText(mode_band_fraction));
   std::string ridge_why;
   if (!ridge.IsValid(&ridge_why)) return fail("ridge: " + ridge_why);
   return true;
@@ -143,37 +140,6 @@ EvaluationWorkspace& EvaluationWorkspace::operator=(EvaluationWorkspace&&) noexc
 namespace {
 
 std::atomic<unsigned long long> next_objective_id{1};
-
-/// The frequency of the largest peak of the Hann-windowed periodogram of
-/// `x` (step dt) in [f_min, f_max], on a grid 8 times finer than 1 / T.
-double DominantFrequency_Hz(const Eigen::Ref<const Eigen::VectorXd>& x, double dt, double f_min,
-                            double f_max) {
-  const Eigen::Index n = x.size();
-  Eigen::VectorXd w(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    w[i] = x[i] * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n - 1)));
-  }
-  const double df = 1.0 / (8.0 * static_cast<double>(n) * dt);
-  const int bins = std::min(100000, static_cast<int>((f_max - f_min) / df) + 1);
-  double best = -1.0, best_f = f_min;
-  for (int b = 0; b < bins; ++b) {
-    const double f = f_min + b * df;
-    // Goertzel recurrence: |sum w_i exp(-2 pi i f i dt)|^2.
-    const double c = 2.0 * std::cos(2.0 * std::numbers::pi * f * dt);
-    double s1 = 0.0, s2 = 0.0;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double s0 = w[i] + c * s1 - s2;
-      s2 = s1;
-      s1 = s0;
-    }
-    const double power = s1 * s1 + s2 * s2 - c * s1 * s2;
-    if (power > best) {
-      best = power;
-      best_f = f;
-    }
-  }
-  return best_f;
-}
 
 }  // namespace
 
@@ -253,22 +219,8 @@ ObjectiveFunction::ObjectiveFunction(const CaseDocument& case_document, const Ti
     ThrowInvalid("measured data", "a record with a nonzero POD", measured_pod_.message);
   }
 
-  // The ridge band of each mode: ridge.cwt's, or around the measured time
-  // mode's dominant frequency when several modes are compared.
-  const auto& band = options_.ridge.cwt.frequencies;
-  for (int k = 0; k < options_.modes; ++k) {
-    wavelet::RidgeFrequencyOptions mode_options = options_.ridge;
-    if (options_.modes > 1 && options_.mode_band_fraction > 0) {
-      const double f_k = DominantFrequency_Hz(measured_pod_.time_modes.col(k), step,
-                                              band.min_frequency_Hz, band.max_frequency_Hz);
-      const double b = 1.0 + options_.mode_band_fraction;
-      mode_options.cwt.frequencies.min_frequency_Hz = std::max(band.min_frequency_Hz, f_k / b);
-      mode_options.cwt.frequencies.max_frequency_Hz = std::min(band.max_frequency_Hz, f_k * b);
-      std::string band_why;
-      if (!mode_options.IsValid(&band_why)) mode_options = options_.ridge;  // too narrow: the whole band
-    }
-    mode_ridge_options_.push_back(mode_options);
-  }
+  // Each mode's ridge options (one estimator per mode in the workspace).
+  mode_ridge_options_.assign(options_.modes, options_.ridge);
 
   if (needed_.f != 0) {
     for (int k = 0; k < options_.modes; ++k) {

@@ -75,12 +75,6 @@ struct ObjectiveOptions {
   /// The IF extraction (used when a weighting needs it): 10-120 Hz, 32 voices,
   /// band-limited Morlet CWT, penalised ridge.
   wavelet::RidgeFrequencyOptions ridge;
-  /// Per-mode ridge bands (issue 13): when > 0, the ridge of time mode k (the
-  /// measured and the simulated one) is searched in [f_k / (1 + b), f_k (1 + b)]
-  /// (clipped to ridge.cwt's band), b = mode_band_fraction, f_k the dominant
-  /// frequency of the measured time mode k (the largest peak of its
-  /// periodogram inside ridge.cwt's band). 0: every mode uses ridge.cwt's band.
-  double mode_band_fraction = 0.0;
   /// A single weighting: weightings = {{weights.ToString(), weights}}.
   void SetWeights(const ObjectiveWeights& weights);
   bool IsValid(std::string* why) const;
@@ -161,7 +155,7 @@ class ObjectiveFunction {
   const PodResult& measured_pod() const { return measured_pod_; }
   /// The measured IF tracks of the first K modes (empty without IF).
   const std::vector<wavelet::RidgeTrack>& measured_ridges() const { return measured_ridges_; }
-  /// The ridge options of mode k (0-based; its band when mode_band_fraction > 0).
+  /// The ridge options of mode k (0-based): options().ridge for every mode.
   const wavelet::RidgeFrequencyOptions& mode_ridge_options(int k) const { return mode_ridge_options_.at(k); }
   /// Messages about adjustments made to the case (time step from the data...).
   const std::vector<std::string>& notes() const { return notes_; }
