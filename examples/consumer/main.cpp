@@ -18,10 +18,11 @@ int main(int argc, char** argv) {
               100 * pod.energy_fraction[0]);
 
   const podid::TimeSeries measured = podid::ReadCsv(argv[2]);
-  const podid::ident::ObjectiveFunction objective(doc, measured, {}, /*weights_needing_ridges=*/false);
-  const auto full = podid::ident::ObjectiveWeights::Preset("full");  // eq. 19: dU + dS + dV
+  const podid::ident::ObjectiveOptions options;  // one weighting: "full", eq. 19: dU + dS + dV
+  const podid::ident::ObjectiveFunction objective(doc, measured, options);
+  podid::ident::EvaluationWorkspace workspace;  // the cached simulation, reused
   for (double knl : {40.0, 50.0}) {
-    const double f = objective.Evaluate(Eigen::VectorXd::Constant(1, knl), full).Combine(full, objective.options().failure_value);
+    const double f = objective.Evaluate(Eigen::VectorXd::Constant(1, knl), &workspace).values[0];
     std::printf("F(knl = %g) = %.4g\n", knl, f);
   }
   return sim.summary.IsSolutionUsable() ? 0 : 2;
