@@ -97,6 +97,63 @@ TEST(SimulatorTest, EveryTypedChangeMatchesTheDocumentPath) {
   }
 }
 
+// A uniform beam (no segments) with Rayleigh damping given by alpha and beta,
+// a polynomial element and a sweep: the remaining typed keys.
+constexpr const char* kUniformCase = R"(
+[beam]
+length = 0.593
+elements = 6
+youngs_modulus = 2.05e11
+density = 7800.0
+area = 0.196e-3
+[damping]
+type = "rayleigh"
+alpha = 2.0
+beta = 1.0e-5
+[[nonlinearity]]
+type = "polynomial"
+node = 6
+k1 = 1.0e3
+k2 = 1.0e6
+k3 = 5.0e9
+[force]
+type = "sweep"
+node = 6
+amplitude = 5.0
+start_frequency = 20.0
+end_frequency = 60.0
+[time]
+duration = 0.05
+step = 2.0e-4
+)";
+
+TEST(SimulatorTest, UniformBeamRayleighPolynomialAndSweepKeysMatchTheDocumentPath) {
+  CaseDocument document = CaseDocument::Parse(kUniformCase, "simulator_test_uniform");
+  const CaseSpec base = document.ToSpec();
+  Simulator simulator(base);
+  const std::vector<std::pair<std::string, double>> changes = {
+      {"beam.youngs_modulus", 1.9e11},  {"beam.density", 7000.0},
+      {"damping.alpha", 5.0},           {"damping.beta", 2.0e-5},
+      {"nonlinearity.0.k1", 2.0e3},     {"nonlinearity.0.k2", -1.0e6},
+      {"force.start_frequency", 25.0},  {"force.end_frequency", 80.0},
+  };
+  for (const auto& [key, value] : changes) {
+    const ModelParameter parameter = ModelParameter::Resolve(base, key);
+    ASSERT_TRUE(parameter.typed()) << key;
+    std::string why;
+    ASSERT_TRUE(simulator.Set(parameter, value, &why)) << key << ": " << why;
+    document.SetNumber(key, value);
+    const SimulationResult expected = Simulate(document.ToSpec(), SimulateOptions{false});
+    const SimulationResult actual = simulator.Run();
+    ASSERT_TRUE(expected.summary.IsSolutionUsable()) << expected.summary.message;
+    ASSERT_TRUE(actual.summary.IsSolutionUsable()) << actual.summary.message;
+    const double scale = expected.sensors.values.cwiseAbs().maxCoeff();
+    EXPECT_TRUE(testing::ExpectMatricesNear(actual.sensors.values / scale,
+                                            expected.sensors.values / scale, kRoundoffTolerance))
+        << "after " << key << " = " << value;
+  }
+}
+
 TEST(ModelParameterTest, ResolvesEachKeyOnceWithWhatItInvalidates) {
   const CaseSpec spec = CaseDocument::Parse(kCase, "simulator_test").ToSpec();
   EXPECT_EQ(ModelParameter::Resolve(spec, "nonlinearity.0.k3").effect(), ParameterEffect::kNonlinear);
