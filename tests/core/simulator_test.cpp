@@ -94,6 +94,7 @@ TEST(SimulatorTest, EveryTypedChangeMatchesTheDocumentPath) {
     EXPECT_TRUE(testing::ExpectMatricesNear(actual.sensors.values / scale,
                                             expected.sensors.values / scale, kRoundoffTolerance))
         << "after " << key << " = " << value;
+    EXPECT_EQ(actual.sensors.time_s, expected.sensors.time_s) << "after " << key;
   }
 }
 
@@ -151,6 +152,7 @@ TEST(SimulatorTest, UniformBeamRayleighPolynomialAndSweepKeysMatchTheDocumentPat
     EXPECT_TRUE(testing::ExpectMatricesNear(actual.sensors.values / scale,
                                             expected.sensors.values / scale, kRoundoffTolerance))
         << "after " << key << " = " << value;
+    EXPECT_EQ(actual.sensors.time_s, expected.sensors.time_s) << "after " << key;
   }
 }
 
