@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "ident_common.hpp"
+#include "mpi_session.hpp"
 #include "plot.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
@@ -24,6 +25,7 @@ struct IdentifyArguments {
   std::string local_algorithm = "LN_BOBYQA";
   int multistart = 1;
   int max_evaluations = 500;
+  int threads = 0;
   double xtol_rel = 1e-6;
   std::uint64_t seed = 1;
   std::string json;
@@ -120,6 +122,84 @@ void WritePlots(const std::string& dir, const ident::ObjectiveFunction& objectiv
   }
 }
 
+// Under MPI each rank ran its share of the starts (s % ranks == rank): sum the
+// shares' per-start results and histories (a rank leaves what it did not run
+// at exactly 0, so every value arrives bit for bit) and summarise on every
+// rank. Start 0, whose first failure the summary may quote, is rank 0's.
+void MergeStarts(ident::IdentifySummary* summary, int parameters) {
+  const std::int64_t starts = static_cast<std::int64_t>(summary->start_results.size());
+  const std::int64_t p = parameters;
+  const std::int64_t width = 11 + p;  // see the layout below
+  std::vector<double> per_start(static_cast<std::size_t>(starts * width), 0.0);
+  for (std::int64_t s = 0; s < starts; ++s) {
+    const ident::StartResult& r = summary->start_results[s];
+    if (!r.computed) continue;
+    double* row = per_start.data() + s * width;
+    row[0] = 1;
+    row[1] = r.evaluations;
+    row[2] = r.failed_evaluations;
+    row[3] = r.best_objective;
+    row[4] = r.best_parameters.size() ? 1 : 0;
+    row[5] = r.best_terms.u;
+    row[6] = r.best_terms.s;
+    row[7] = r.best_terms.v;
+    row[8] = r.best_terms.f;
+    row[9] = r.best_terms.failed ? 1 : 0;
+    row[10] = r.nlopt_result;
+    for (std::int64_t i = 0; i < r.best_parameters.size(); ++i) row[11 + i] = r.best_parameters[i];
+  }
+  mpi::SumOnAll(per_start.data(), starts * width);
+  // The history, start by start: offsets from the merged evaluation counts.
+  std::vector<std::int64_t> offset(static_cast<std::size_t>(starts + 1), 0);
+  for (std::int64_t s = 0; s < starts; ++s) {
+    offset[s + 1] = offset[s] + static_cast<std::int64_t>(per_start[s * width + 1]);
+  }
+  const std::int64_t record_width = 5 + p;
+  std::vector<double> history(static_cast<std::size_t>(offset[starts] * record_width), 0.0);
+  std::vector<std::int64_t> written(static_cast<std::size_t>(starts), 0);
+  for (const ident::IterationRecord& r : summary->history) {
+    double* row = history.data() + (offset[r.start] + written[r.start]++) * record_width;
+    row[0] = r.evaluation;
+    row[1] = r.start;
+    row[2] = r.objective;
+    row[3] = r.best_objective;
+    row[4] = r.failed ? 1 : 0;
+    for (std::int64_t i = 0; i < p; ++i) row[5 + i] = r.parameters[i];
+  }
+  mpi::SumOnAll(history.data(), offset[starts] * record_width);
+
+  for (std::int64_t s = 0; s < starts; ++s) {
+    ident::StartResult& r = summary->start_results[s];
+    const double* row = per_start.data() + s * width;
+    if (r.computed) continue;  // this rank's own, already complete
+    r.computed = row[0] != 0;
+    r.evaluations = static_cast<int>(row[1]);
+    r.failed_evaluations = static_cast<int>(row[2]);
+    r.best_objective = row[3];
+    r.best_parameters.resize(row[4] != 0 ? p : 0);
+    for (std::int64_t i = 0; i < r.best_parameters.size(); ++i) r.best_parameters[i] = row[11 + i];
+    r.best_terms.u = row[5];
+    r.best_terms.s = row[6];
+    r.best_terms.v = row[7];
+    r.best_terms.f = row[8];
+    r.best_terms.failed = row[9] != 0;
+    r.nlopt_result = static_cast<int>(row[10]);
+  }
+  summary->history.clear();
+  for (std::int64_t k = 0; k < offset[starts]; ++k) {
+    const double* row = history.data() + k * record_width;
+    ident::IterationRecord r;
+    r.evaluation = static_cast<int>(row[0]);
+    r.start = static_cast<int>(row[1]);
+    r.objective = row[2];
+    r.best_objective = row[3];
+    r.failed = row[4] != 0;
+    r.parameters = Eigen::Map<const Eigen::VectorXd>(row + 5, p);
+    summary->history.push_back(std::move(r));
+  }
+  ident::SummariseStarts(summary);
+}
+
 }  // namespace
 
 void AddIdentifyCommand(CLI::App& app) {
@@ -152,6 +232,9 @@ void AddIdentifyCommand(CLI::App& app) {
   command->add_option("--plot-dir", args->plot_dir,
                       "Write signals.csv and plots (fig2a_start.png, fig2b_optimum.png, convergence.png, "
                       "ridge.png) to this folder");
+  command->add_option("--threads", args->threads,
+                      "Threads running the starts (0: OMP_NUM_THREADS or the cores, shared by the MPI ranks on a machine)")
+      ->capture_default_str()->check(IntegerIn(0, 1024));
   command->add_flag("--report", args->report, "Print the full report");
   command->callback([args] {
     args->objective.PrepareData();  // -m and the data options become [data] keys
@@ -178,7 +261,26 @@ void AddIdentifyCommand(CLI::App& app) {
     options.max_evaluations = args->max_evaluations;
     options.xtol_rel = args->xtol_rel;
     options.seed = args->seed;
-    const ident::IdentifySummary summary = ident::Identify(*objective, options);
+    options.threads = args->threads > 0 ? args->threads : mpi::DefaultThreads();
+    options.share_index = mpi::Rank();
+    options.share_count = mpi::Size();
+    ident::IdentifySummary summary;
+    std::string rank_error;
+    try {
+      summary = ident::Identify(*objective, options);
+    } catch (const std::exception& e) {  // e.g. out of memory on one rank
+      if (!mpi::Active()) throw;
+      rank_error = e.what();
+    }
+    if (mpi::Active()) {
+      const std::string error = mpi::CheckAll(rank_error);
+      if (!error.empty()) throw CommandFailed("identify: " + error + "; no file written");
+      MergeStarts(&summary, objective->parameter_count());
+      if (mpi::Rank() != 0) {  // rank 0 reports and writes; every rank exits alike
+        if (!summary.IsSolutionUsable()) throw CommandFailed("identify: " + summary.message);
+        return;
+      }
+    }
     std::printf("%s\n", summary.BriefReport().c_str());
     // Measured accelerations declared as displacements (or the reverse):
     // the spectra of the record and of the simulation at the result tell.

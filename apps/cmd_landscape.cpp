@@ -7,9 +7,11 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <unistd.h>
 
 #include "commands.hpp"
 #include "ident_common.hpp"
+#include "mpi_session.hpp"
 #include "plot.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
@@ -27,6 +29,7 @@ struct LandscapeArguments {
   std::string param2, range2;
   std::string objectives = "full,time-free,wavelet";
   std::string output, json, plot;
+  int threads = 0;
 };
 
 // "lower:upper:points"; the parameter index is resolved later (SetParameter).
@@ -76,6 +79,42 @@ std::vector<ident::NamedObjective> ParseObjectives(const std::string& list) {
   return out;
 }
 
+// Under MPI each rank computed its share of the points (p % ranks == rank):
+// sum the shares (a rank leaves the points it did not compute at exactly 0,
+// so every value arrives bit for bit) and summarise the whole grid on every
+// rank. Failure texts stay with their rank: rank 0, which writes the outputs,
+// owns point 0, the one the "none succeeded" message quotes.
+void MergeShares(const std::vector<ident::NamedObjective>& weightings, ident::LandscapeResult* result) {
+  const std::int64_t n = static_cast<std::int64_t>(result->terms.size());
+  std::vector<double> terms(static_cast<std::size_t>(4 * n), 0.0);
+  std::vector<std::int64_t> flags(static_cast<std::size_t>(2 * n), 0);
+  for (std::int64_t p = 0; p < n; ++p) {
+    if (!result->computed[p]) continue;
+    const ident::TermValues& t = result->terms[p];
+    terms[4 * p] = t.u;
+    terms[4 * p + 1] = t.s;
+    terms[4 * p + 2] = t.v;
+    terms[4 * p + 3] = t.f;
+    flags[2 * p] = 1;
+    flags[2 * p + 1] = t.failed ? 1 : 0;
+  }
+  mpi::SumOnAll(terms.data(), 4 * n);
+  mpi::SumOnAll(flags.data(), 2 * n);
+  for (std::int64_t p = 0; p < n; ++p) {
+    ident::TermValues& t = result->terms[p];
+    if (!result->computed[p]) {
+      t.u = terms[4 * p];
+      t.s = terms[4 * p + 1];
+      t.v = terms[4 * p + 2];
+      t.f = terms[4 * p + 3];
+      t.failed = flags[2 * p + 1] != 0;
+      if (t.failed) t.failure = "failed on another rank";
+    }
+    result->computed[p] = flags[2 * p] != 0;
+  }
+  ident::SummariseLandscape(weightings, result);
+}
+
 }  // namespace
 
 void AddLandscapeCommand(CLI::App& app) {
@@ -94,6 +133,10 @@ void AddLandscapeCommand(CLI::App& app) {
   command->add_option("--param2", args->param2, "Second parameter, for a 2-D landscape");
   command->add_option("--range2", args->range2, "LOWER:UPPER:POINTS of the second axis (1000000 points in all)");
   command->add_option("--objective", args->objectives, "Comma-separated presets: full, time-free, wavelet")
+      ->capture_default_str();
+  command->add_option("--threads", args->threads,
+                      "Worker threads (0: OMP_NUM_THREADS or the cores, shared by the MPI ranks on a machine)")
+      ->check(CLI::Range(0, ident::kMaxThreads))
       ->capture_default_str();
   command->add_option("-o,--output", args->output, "CSV with a column per objective");
   command->add_option("--json", args->json, "Metrics as JSON");
@@ -119,11 +162,34 @@ void AddLandscapeCommand(CLI::App& app) {
     SetParameter(*objective, "--param", args->param, &options.x);
     if (options.y) SetParameter(*objective, "--param2", args->param2, &*options.y);
     options.base = args->objective.Start(*objective);  // --start sets the other parameters
-    options.progress = true;
+    options.threads = args->threads > 0 ? args->threads : mpi::DefaultThreads();
+    options.share_index = mpi::Rank();
+    options.share_count = mpi::Size();
+    // The progress line, on a terminal, from rank 0 (its share of the points).
+    const bool show_progress = mpi::Rank() == 0 && isatty(STDERR_FILENO);
+    if (show_progress) {
+      options.progress = [](const ident::Progress& p) {
+        std::fprintf(stderr, "\rlandscape: %lld/%lld points", p.done, p.total);
+        std::fflush(stderr);
+      };
+    }
     options.cancel = &g_interrupted;
     const auto previous_handler = std::signal(SIGINT, OnInterrupt);
-    const ident::LandscapeResult result = ident::ComputeLandscape(*objective, options);
+    ident::LandscapeResult result;
+    std::string rank_error;
+    try {
+      result = ident::ComputeLandscape(*objective, options);
+    } catch (const std::exception& e) {  // e.g. out of memory on one rank
+      if (!mpi::Active()) throw;
+      rank_error = e.what();
+    }
     std::signal(SIGINT, previous_handler);  // podid's temporary-file cleanup
+    if (show_progress) std::fprintf(stderr, "\n");
+    if (mpi::Active()) {
+      const std::string error = mpi::CheckAll(rank_error);
+      if (!error.empty()) throw CommandFailed("landscape: " + error + "; no file written");
+      MergeShares(objective->options().weightings, &result);
+    }
     if (result.termination == ident::LandscapeTermination::kInterrupted) {
       throw CommandFailed("landscape: " + result.message + "; no file written", 130);
     }
@@ -131,6 +197,7 @@ void AddLandscapeCommand(CLI::App& app) {
       // Every point failed: no value, no minimiser (exit 2, CommandFailed).
       throw CommandFailed(result.BriefReport() + ": " + result.message + "; no file written");
     }
+    if (mpi::Rank() != 0) return;  // rank 0 reports and writes
     std::printf("%s\n", result.BriefReport().c_str());
     const bool one_d = !options.y;
     if (one_d) {

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cli_common.hpp"
+#include "mpi_session.hpp"
 #include "podid/core/error.hpp"
 
 namespace podid::cli {
@@ -164,7 +165,9 @@ ConditioningOptions DataArguments::Conditioning() const {
 TimeSeries DataArguments::Read(const std::string& path) const {
   std::vector<std::string> notes;
   TimeSeries series = ReadTimeSeries(path, Options(), &notes);
-  for (const std::string& note : notes) std::fprintf(stderr, "podid: note: %s\n", note.c_str());
+  if (mpi::Rank() == 0) {  // under MPI, rank 0 speaks for every rank
+    for (const std::string& note : notes) std::fprintf(stderr, "podid: note: %s\n", note.c_str());
+  }
   return series;
 }
 

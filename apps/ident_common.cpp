@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "mpi_session.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
 #include "podid/core/recording.hpp"
@@ -83,7 +84,10 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax_Hz;
   options.ridge.ridge.penalty_s = penalty_s;
   auto objective = std::make_unique<ident::ObjectiveFunction>(document, data, options);
-  for (const std::string& note : objective->notes()) std::fprintf(stderr, "podid: note: %s\n", note.c_str());
+  // Under MPI every rank builds the objective; rank 0 speaks for them.
+  if (mpi::Rank() == 0) {
+    for (const std::string& note : objective->notes()) std::fprintf(stderr, "podid: note: %s\n", note.c_str());
+  }
   return objective;
 }
 

@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include <omp.h>
+
 #ifdef PODID_HAVE_MPI
 #include <mpi.h>
 #endif
@@ -15,6 +17,7 @@ namespace {
 bool g_active = false;
 int g_rank = 0;
 int g_size = 1;
+int g_local_size = 1;
 
 bool LaunchedByMpi() {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"}) {
@@ -39,6 +42,10 @@ Session::Session([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
   g_active = g_size > 1;
+  MPI_Comm node;
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, g_rank, MPI_INFO_NULL, &node);
+  MPI_Comm_size(node, &g_local_size);
+  MPI_Comm_free(&node);
   if (!g_active) {  // one rank: behave exactly as without MPI
     g_rank = 0;
   }
@@ -57,6 +64,8 @@ Session::~Session() {
 bool Active() { return g_active; }
 int Rank() { return g_rank; }
 int Size() { return g_size; }
+int LocalSize() { return g_local_size; }
+int DefaultThreads() { return std::max(1, omp_get_max_threads() / g_local_size); }
 
 std::string CheckAll(const std::string& local_error) {
   if (!g_active) return local_error;

@@ -32,6 +32,11 @@ class Session {
 bool Active();
 int Rank();  ///< 0 without MPI
 int Size();  ///< 1 without MPI
+/// Ranks on this machine (MPI_COMM_TYPE_SHARED); 1 without MPI.
+int LocalSize();
+/// Threads for a rank when the user gave 0: the cores OpenMP sees shared by
+/// the ranks on this machine (at least 1), so N ranks do not run N x cores threads.
+int DefaultThreads();
 
 /// Collective. `local_error` is empty when this rank succeeded. Returns ""
 /// when every rank succeeded, else the lowest failed rank's message as

@@ -1,8 +1,10 @@
 #include "podid/ident/identify.hpp"
 
 #include <nlopt.h>
+#include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <chrono>
 #include <cmath>
@@ -92,6 +94,11 @@ struct RunState {
   std::vector<IterationRecord> history;
   nlopt_result result = NLOPT_FAILURE;
   std::exception_ptr error;  ///< what stopped this start (rethrown after the parallel region)
+  const ProgressCallback* progress = nullptr;
+  std::atomic<long long>* progress_done = nullptr;  ///< shared by the starts
+  std::atomic<long long>* progress_failed = nullptr;
+  long long progress_total = 0;
+  std::chrono::steady_clock::time_point start_time;
 };
 
 double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
@@ -116,6 +123,18 @@ double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
   record.best_objective = s.best;
   record.failed = terms.failed;
   s.history.push_back(std::move(record));
+  if (s.progress && *s.progress) {
+    const long long done = ++*s.progress_done;
+    const long long failed = *s.progress_failed += terms.failed ? 1 : 0;
+    Progress progress;
+    progress.done = done;
+    progress.total = s.progress_total;
+    progress.failed = failed;
+    progress.elapsed_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - s.start_time).count();
+#pragma omp critical(podid_identify_progress)
+    (*s.progress)(progress);
+  }
   if (s.cancel && s.cancel->load()) nlopt_force_stop(s.opt);
   return value;
 }
@@ -209,6 +228,11 @@ bool IdentifyOptions::IsValid(int parameter_count, std::string* why) const {
   if (multistart < 1 || multistart > kMaxMultistart)
     return fail("multistart: expected 1 to " + ToText(kMaxMultistart) + ", got " +
                 ToText(multistart));
+  if (threads < 0 || threads > 1024)
+    return fail("threads: expected 0 to 1024, got " + ToText(threads));
+  if (share_count < 1 || share_count > 65536 || share_index < 0 || share_index >= share_count)
+    return fail("share: expected 0 <= index < count <= 65536, got " + ToText(share_index) + " of " +
+                ToText(share_count));
   if (static_cast<long long>(multistart) * max_evaluations > kMaxTotalEvaluations)
     return fail("multistart * max_evaluations: expected at most " +
                 ToText(kMaxTotalEvaluations) + " evaluations in all, got " +
@@ -299,10 +323,21 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
   nlopt_srand(options.seed);  // GN_CRS2_LM, GN_ISRES and MLSL draw from NLopt's generator
 
   std::vector<RunState> runs(starts.size());
+  std::atomic<long long> progress_done{0}, progress_failed{0};
+  // This process's share of the starts.
+  std::vector<std::size_t> mine;
+  for (std::size_t s = options.share_index; s < starts.size(); s += options.share_count) mine.push_back(s);
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   // Starts run in parallel, each with its own workspace and NLopt object.
-#pragma omp parallel for schedule(dynamic) if (local && starts.size() > 1)
-  for (std::size_t s = 0; s < starts.size(); ++s) {
+#pragma omp parallel for schedule(dynamic) num_threads(threads) if (local && mine.size() > 1)
+  for (std::size_t q = 0; q < mine.size(); ++q) {
+    const std::size_t s = mine[q];
     RunState& run = runs[s];
+    run.progress = &options.progress;
+    run.progress_done = &progress_done;
+    run.progress_failed = &progress_failed;
+    run.progress_total = static_cast<long long>(starts.size()) * options.max_evaluations;
+    run.start_time = start_time;
     // No exception may leave the parallel region: keep it for after.
     try {
       run.objective = &objective;
@@ -352,37 +387,66 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
   for (const ParameterSpec& p : objective.parameters()) summary.parameter_names.push_back(p.name);
   summary.initial_parameters = first;
   summary.starts = static_cast<int>(starts.size());
-  int best = -1;
-  for (std::size_t s = 0; s < runs.size(); ++s) {
-    summary.evaluations += runs[s].evaluations;
-    summary.failed_evaluations += runs[s].failed;
-    summary.history.insert(summary.history.end(), runs[s].history.begin(), runs[s].history.end());
-    if (runs[s].best_x.size() && (best < 0 || runs[s].best < runs[best].best)) best = static_cast<int>(s);
+  summary.start_results.resize(runs.size());
+  for (std::size_t q = 0; q < mine.size(); ++q) {
+    RunState& run = runs[mine[q]];
+    StartResult& r = summary.start_results[mine[q]];
+    r.computed = true;
+    r.evaluations = run.evaluations;
+    r.failed_evaluations = run.failed;
+    r.best_objective = run.best;
+    r.best_parameters = run.best_x;
+    r.best_terms = run.best_terms;
+    r.nlopt_result = static_cast<int>(run.result);
+    r.first_failure = run.first_failure;
+    summary.history.insert(summary.history.end(), run.history.begin(), run.history.end());
   }
-  // A failed start has no objective value (the failure value is a penalty).
-  if (!runs.front().history.empty() && !runs.front().history.front().failed) {
-    summary.initial_objective = runs.front().history.front().objective;
-  }
-  if (best < 0) {
-    summary.termination = Termination::kAllEvaluationsFailed;
-    summary.parameters = first;
-    summary.message = "every evaluation failed";
-    if (!runs.front().first_failure.empty()) {
-      summary.message += "; e.g. at the start: " + runs.front().first_failure;
-    }
-  } else {
-    const RunState& b = runs[best];
-    summary.best_start = best;
-    summary.parameters = b.best_x;
-    summary.final_objective = b.best;
-    summary.final_terms = b.best_terms;
-    summary.termination = FromNlopt(b.result);
-    summary.message = std::string("NLopt returned ") + NloptResultText(b.result) + " after " +
-                      ToText(b.evaluations) + " evaluations; best point seen kept";
-  }
+  SummariseStarts(&summary);
   summary.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return summary;
+}
+
+void SummariseStarts(IdentifySummary* out) {
+  IdentifySummary& summary = *out;
+  summary.evaluations = summary.failed_evaluations = 0;
+  int best = -1;
+  bool all_computed = true;
+  for (std::size_t s = 0; s < summary.start_results.size(); ++s) {
+    const StartResult& r = summary.start_results[s];
+    all_computed = all_computed && r.computed;
+    summary.evaluations += r.evaluations;
+    summary.failed_evaluations += r.failed_evaluations;
+    if (r.best_parameters.size() &&
+        (best < 0 || r.best_objective < summary.start_results[best].best_objective)) {
+      best = static_cast<int>(s);
+    }
+  }
+  // A failed start has no objective value (the failure value is a penalty).
+  summary.initial_objective = std::numeric_limits<double>::quiet_NaN();
+  for (const IterationRecord& record : summary.history) {
+    if (record.start == 0 && record.evaluation == 1 && !record.failed) {
+      summary.initial_objective = record.objective;
+    }
+  }
+  if (best < 0) {
+    summary.termination = all_computed ? Termination::kAllEvaluationsFailed : Termination::kInterrupted;
+    summary.parameters = summary.initial_parameters;
+    summary.message = "every evaluation failed";
+    if (!summary.start_results.empty() && !summary.start_results.front().first_failure.empty()) {
+      summary.message += "; e.g. at the start: " + summary.start_results.front().first_failure;
+    }
+    return;
+  }
+  const StartResult& b = summary.start_results[best];
+  summary.best_start = best;
+  summary.parameters = b.best_parameters;
+  summary.final_objective = b.best_objective;
+  summary.final_terms = b.best_terms;
+  const nlopt_result code = static_cast<nlopt_result>(b.nlopt_result);
+  summary.termination = FromNlopt(code);
+  summary.message = std::string("NLopt returned ") + NloptResultText(code) + " after " +
+                    ToText(b.evaluations) + " evaluations; best point seen kept";
 }
 
 }  // namespace podid::ident

@@ -1,7 +1,6 @@
 #include "podid/ident/landscape.hpp"
 
 #include <omp.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -51,6 +50,11 @@ bool LandscapeOptions::IsValid(int parameter_count, std::string* why) const {
     return fail("base: expected " + ToText(parameter_count) + " values, got " + ToText(base.size()));
   if (y && y->parameter == x.parameter)
     return fail("second parameter: expected a parameter other than the first, got the same");
+  if (threads < 0 || threads > kMaxThreads)
+    return fail("threads: expected 0 to " + ToText(kMaxThreads) + ", got " + ToText(threads));
+  if (share_count < 1 || share_count > 65536 || share_index < 0 || share_index >= share_count)
+    return fail("share: expected 0 <= index < count <= 65536, got " + ToText(share_index) + " of " +
+                ToText(share_count));
   return true;
 }
 
@@ -142,46 +146,53 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
 
   // One simulation per point gives every weighting's value (Evaluate).
   result.terms.assign(total, TermValues{});
-  std::vector<std::vector<double>> point_values(total);
-  std::vector<char> done(total, 0);
+  result.computed.assign(total, 0);
   const Eigen::VectorXd base = options.base.size() ? options.base : objective.StartValues();
-  const bool progress = options.progress && isatty(STDERR_FILENO);
-  int finished = 0;
+  long long finished = 0, failed = 0;
+  long long mine = 0;  // the points of this share
+  for (Eigen::Index p = options.share_index; p < total; p += options.share_count) ++mine;
   // No exception may leave the parallel region: the first one stops the
   // remaining points and is rethrown after it. (Evaluate itself never throws;
-  // this covers the buffers, e.g. std::bad_alloc.)
+  // this covers the buffers, e.g. std::bad_alloc, and the progress callback.)
   std::exception_ptr error;
   std::atomic<bool> stop{false};
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 
-#pragma omp parallel
+#pragma omp parallel num_threads(threads)
   {
     try {
       EvaluationWorkspace workspace;
       Eigen::VectorXd values = base;
 #pragma omp for schedule(dynamic)
-      for (Eigen::Index p = 0; p < total; ++p) {
+      for (Eigen::Index q = 0; q < mine; ++q) {
         if (stop.load(std::memory_order_relaxed) || (options.cancel && options.cancel->load()))
           continue;
+        const Eigen::Index p = options.share_index + q * options.share_count;
         try {
           const Eigen::Index i = p / ny, j = p % ny;
           values[options.x.parameter] = result.x[i];
           if (options.y) values[options.y->parameter] = result.y[j];
           Evaluation e = objective.Evaluate(values, &workspace);
           result.terms[p] = std::move(e.terms);
-          point_values[p] = std::move(e.values);
-          done[p] = 1;
+          result.computed[p] = 1;
+          if (options.progress) {
+#pragma omp critical(podid_landscape_progress)
+            {
+              ++finished;
+              failed += result.terms[p].failed ? 1 : 0;
+              Progress progress;
+              progress.done = finished;
+              progress.total = mine;
+              progress.failed = failed;
+              progress.elapsed_s =
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+              options.progress(progress);
+            }
+          }
         } catch (...) {
 #pragma omp critical(podid_landscape_error)
           if (!error) error = std::current_exception();
           stop.store(true);
-        }
-        if (progress) {
-#pragma omp critical(podid_landscape_progress)
-          {
-            ++finished;
-            std::fprintf(stderr, "\rlandscape: %d/%ld points", finished, static_cast<long>(total));
-            std::fflush(stderr);
-          }
         }
       }
     } catch (...) {  // the workspace or the parameter vector
@@ -190,27 +201,41 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
       stop.store(true);
     }
   }
-  if (progress) std::fprintf(stderr, "\n");
   if (error) std::rethrow_exception(error);
+  SummariseLandscape(objective.options().weightings, &result);
+  result.wall_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return result;
+}
 
+void SummariseLandscape(const std::vector<NamedObjective>& weightings, LandscapeResult* r) {
+  LandscapeResult& result = *r;
+  const Eigen::Index nx = result.x.size();
+  const Eigen::Index ny = std::max<Eigen::Index>(result.y.size(), 1);
+  const Eigen::Index total = nx * ny;
+  PODID_CHECK(static_cast<Eigen::Index>(result.terms.size()) == total &&
+              static_cast<Eigen::Index>(result.computed.size()) == total);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  for (std::size_t k = 0; k < weightings.size(); ++k) {
+  result.values.clear();
+  for (const NamedObjective& weighting : weightings) {
     Eigen::MatrixXd v(nx, ny);
     for (Eigen::Index p = 0; p < total; ++p) {
       // A failed point is NaN, never the failure value (which is not an
       // objective); so is a non-finite combination.
-      const bool usable = done[p] && !result.terms[p].failed && point_values[p].size() > k;
-      v(p / ny, p % ny) = usable ? result.terms[p].Combine(weightings[k].weights, nan) : nan;
+      const bool usable = result.computed[p] && !result.terms[p].failed;
+      v(p / ny, p % ny) = usable ? result.terms[p].Combine(weighting.weights, nan) : nan;
     }
     result.values.push_back(v);
   }
+  result.evaluations = result.failed_evaluations = 0;
   for (Eigen::Index p = 0; p < total; ++p) {
-    if (!done[p]) continue;
+    if (!result.computed[p]) continue;
     ++result.evaluations;
     if (result.terms[p].failed) ++result.failed_evaluations;
   }
   const bool complete = result.evaluations == total;
   const bool none_succeeded = complete && result.failed_evaluations == total;
+  result.metrics.clear();
   if (!complete) {
     result.termination = LandscapeTermination::kInterrupted;
     result.message = "interrupted after " + ToText(result.evaluations) + " of " + ToText(total) +
@@ -219,10 +244,9 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
     result.termination = LandscapeTermination::kNoneSucceeded;
     result.message = "none of the " + ToText(total) + " points succeeded; e.g. at " +
                      result.parameter_names[0] + " = " + ToText(result.x[0]) +
-                     (options.y ? ", " + result.parameter_names[1] + " = " + ToText(result.y[0])
-                                : std::string()) +
-                     ": " +
-                     result.terms[0].failure;
+                     (result.y.size() ? ", " + result.parameter_names[1] + " = " + ToText(result.y[0])
+                                      : std::string()) +
+                     ": " + result.terms[0].failure;
   } else {
     result.termination = LandscapeTermination::kCompleted;
     result.message = "completed " + ToText(total) + " points";
@@ -230,7 +254,7 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
       result.message += " (" + ToText(result.failed_evaluations) + " failed, NaN)";
     }
   }
-  if (result.termination == LandscapeTermination::kCompleted && !options.y) {
+  if (result.termination == LandscapeTermination::kCompleted && result.y.size() == 0) {
     for (const Eigen::MatrixXd& v : result.values) {
       if (v.col(0).array().isFinite().any()) {
         result.metrics.push_back(ComputeMetrics(result.x, v.col(0)));
@@ -242,9 +266,6 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
       }
     }
   }
-  result.wall_time_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
-  return result;
 }
 
 }  // namespace podid::ident

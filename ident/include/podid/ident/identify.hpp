@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "podid/ident/objective.hpp"
+#include "podid/ident/progress.hpp"
 
 namespace podid::ident {
 
@@ -57,6 +58,17 @@ struct IdentifyOptions {
                               ///< multistart * max_evaluations <= kMaxTotalEvaluations
   std::uint64_t seed = 1;      ///< Latin hypercube and random global algorithms
   const std::atomic<bool>* cancel = nullptr;  ///< stops the run when it becomes true
+  /// After each evaluation (see progress.hpp; total = starts * max_evaluations,
+  /// an upper bound); empty = none.
+  ProgressCallback progress;
+  /// Starts run in parallel on this many threads, in [0, 1024]; 0 = OpenMP's
+  /// default (OMP_NUM_THREADS, else one per core).
+  int threads = 0;
+  /// This process runs the starts s with s % share_count == share_index (the
+  /// CLI's MPI ranks); merge the shares' start_results and histories, then
+  /// call SummariseStarts().
+  int share_index = 0;
+  int share_count = 1;  ///< in [1, 65536]
   bool IsValid(int parameter_count, std::string* why) const;
 };
 
@@ -83,6 +95,18 @@ struct IterationRecord {
   bool failed = false;
 };
 
+/// What one start of a (multistart) identification found.
+struct StartResult {
+  bool computed = false;   ///< run (by this process, or merged)
+  int evaluations = 0;
+  int failed_evaluations = 0;
+  double best_objective = std::numeric_limits<double>::infinity();
+  Eigen::VectorXd best_parameters;  ///< empty when every evaluation failed
+  TermValues best_terms;
+  int nlopt_result = 0;             ///< NLopt's nlopt_result code
+  std::string first_failure;        ///< the reason of its first failed evaluation
+};
+
 struct IdentifySummary {
   Termination termination = Termination::kNotRun;
   std::string message = "Identify was not called.";
@@ -100,6 +124,7 @@ struct IdentifySummary {
   int best_start = 0;
   double wall_time_s = 0.0;
   std::vector<IterationRecord> history;  ///< every evaluation, by start
+  std::vector<StartResult> start_results;  ///< per start (dim starts)
 
   bool IsSolutionUsable() const;
   std::string BriefReport() const;
@@ -109,5 +134,11 @@ struct IdentifySummary {
 /// Throws std::invalid_argument for invalid options. Numerical trouble goes
 /// into the summary.
 IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptions& options);
+
+/// Sets the totals, the best point, the termination and the message of
+/// `summary` from its start_results and history (Identify ends with it; call
+/// it again after merging the shares of several processes). A start not
+/// computed counts as interrupted.
+void SummariseStarts(IdentifySummary* summary);
 
 }  // namespace podid::ident

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "podid/ident/objective.hpp"
+#include "podid/ident/progress.hpp"
 
 namespace podid::ident {
 
@@ -35,12 +36,25 @@ struct LandscapeOptions {
   /// Values of the parameters not on an axis (dim parameter_count); empty =
   /// their start values.
   Eigen::VectorXd base;
-  bool progress = false;                   ///< a progress line on stderr
+  /// After each point (see progress.hpp); empty = none.
+  ProgressCallback progress;
   /// Checked between points: when it becomes true the run stops early and the
   /// summary says kInterrupted (values not computed are NaN).
   const std::atomic<bool>* cancel = nullptr;
+  /// Worker threads, in [0, kMaxThreads]; 0 = OpenMP's default (OMP_NUM_THREADS,
+  /// else one per core). Each thread has its own workspace (a simulation's buffers).
+  int threads = 0;
+  /// This process computes the points p (row-major, p = i ny + j) with
+  /// p % share_count == share_index; the others are left not computed, for
+  /// another process to compute (the CLI's MPI ranks). Merge the shares'
+  /// terms and `computed` flags, then call SummariseLandscape().
+  int share_index = 0;
+  int share_count = 1;  ///< in [1, 65536]
   bool IsValid(int parameter_count, std::string* why) const;
 };
+
+/// The most worker threads an option may ask for.
+inline constexpr int kMaxThreads = 1024;
 
 /// Metrics of a 1-D landscape f(x) on its grid, for comparing objectives.
 /// Failed points (NaN, or any non-finite value) are left out: the metrics are
@@ -79,6 +93,7 @@ struct LandscapeResult {
   /// computed (never the objective's failure_value)
   std::vector<Eigen::MatrixXd> values;
   std::vector<TermValues> terms;       ///< per point, row-major (i * ny + j)
+  std::vector<char> computed;          ///< per point: 1 when evaluated (by this process or merged)
   std::vector<LandscapeMetrics> metrics;  ///< per weighting (1-D landscapes only)
   LandscapeTermination termination = LandscapeTermination::kNotRun;
   std::string message = "Landscape was not computed.";
@@ -90,5 +105,11 @@ struct LandscapeResult {
 
 /// Throws std::invalid_argument for invalid options.
 LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const LandscapeOptions& options);
+
+/// Fills `values`, the counts, the termination, the message and the metrics
+/// of `result` from its `terms` and `computed` flags (ComputeLandscape ends
+/// with it; call it again after merging the shares of several processes).
+/// A point not computed makes the result kInterrupted.
+void SummariseLandscape(const std::vector<NamedObjective>& weightings, LandscapeResult* result);
 
 }  // namespace podid::ident
