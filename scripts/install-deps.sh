@@ -8,7 +8,7 @@ packages=(
   libtomlplusplus-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox python3 python3-numpy python3-scipy python3-pywt
-  python3-dev pybind11-dev python3-pytest python3-venv python3-setuptools
+  python3-dev pybind11-dev python3-pytest python3-venv python3-setuptools python3-matplotlib
   libopenmpi-dev openmpi-bin
 )
 missing=()

@@ -132,8 +132,18 @@ double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
     progress.failed = failed;
     progress.elapsed_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - s.start_time).count();
+    // No exception may leave the critical region: it stops this start and is
+    // rethrown by Identify() after the parallel region.
+    std::exception_ptr progress_error;
 #pragma omp critical(podid_identify_progress)
-    (*s.progress)(progress);
+    {
+      try {
+        (*s.progress)(progress);
+      } catch (...) {
+        progress_error = std::current_exception();
+      }
+    }
+    if (progress_error) std::rethrow_exception(progress_error);
   }
   if (s.cancel && s.cancel->load()) nlopt_force_stop(s.opt);
   return value;

@@ -154,7 +154,7 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
   // No exception may leave the parallel region: the first one stops the
   // remaining points and is rethrown after it. (Evaluate itself never throws;
   // this covers the buffers, e.g. std::bad_alloc, and the progress callback.)
-  std::exception_ptr error;
+  std::exception_ptr error, progress_error;
   std::atomic<bool> stop{false};
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 
@@ -186,7 +186,13 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
               progress.failed = failed;
               progress.elapsed_s =
                   std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
-              options.progress(progress);
+              // No exception may leave a critical region either.
+              try {
+                options.progress(progress);
+              } catch (...) {
+                if (!progress_error) progress_error = std::current_exception();
+                stop.store(true);
+              }
             }
           }
         } catch (...) {
@@ -202,6 +208,7 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
     }
   }
   if (error) std::rethrow_exception(error);
+  if (progress_error) std::rethrow_exception(progress_error);
   SummariseLandscape(objective.options().weightings, &result);
   result.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();

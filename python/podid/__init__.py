@@ -6,13 +6,16 @@ read without a copy. podid's input errors are raised as ValueError with
 podid's message.
 """
 from ._podid import (  # noqa: F401
+    Objective,
     PodResult,
     RidgeTrack,
     Scalogram,
     SimulationResult,
     TimeSeries,
     cwt,
+    identify,
     instantaneous_frequency,
+    landscape,
     pod,
     read,
     ridges,
@@ -20,6 +23,7 @@ from ._podid import (  # noqa: F401
 )
 
 __all__ = [
+    "Objective", "identify", "landscape",
     "PodResult", "RidgeTrack", "Scalogram", "SimulationResult", "TimeSeries",
     "cwt", "instantaneous_frequency", "pod", "read", "ridges", "simulate",
 ]

@@ -7,5 +7,6 @@ namespace podid::python {
 void BindPod(pybind11::module_& m);
 void BindWavelet(pybind11::module_& m);
 void BindModel(pybind11::module_& m);
+void BindIdent(pybind11::module_& m);
 
 }  // namespace podid::python

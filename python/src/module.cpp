@@ -8,4 +8,5 @@ PYBIND11_MODULE(_podid, m) {
   podid::python::BindPod(m);
   podid::python::BindWavelet(m);
   podid::python::BindModel(m);
+  podid::python::BindIdent(m);
 }

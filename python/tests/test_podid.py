@@ -110,3 +110,73 @@ def test_errors_are_value_errors_with_podid_messages():
         podid.cwt(np.sin(np.arange(100.0)), 1e-3, fmin=10, fmax=900)
     with pytest.raises(ValueError, match="no_such_file"):
         podid.read("/no_such_file.csv")
+
+
+MEASURED_1S = str(SOURCE / "examples" / "measured_knl50_T1.0.csv")
+MEASURED_01S = str(SOURCE / "tests" / "data" / "measured_knl50_T0.1.csv")
+# The reference data's true knl is 50; issue 5's acceptance bound is 0.5 %.
+KNL_TOLERANCE = 0.005
+
+
+def test_identify_finds_the_true_knl():
+    calls = []
+    r = podid.identify(CASE, MEASURED_1S, objective="wavelet", start={"knl": 25.0},
+                       progress=lambda done, total: calls.append(done))
+    assert r["usable"], r["message"]
+    assert abs(r["parameters"]["knl"] / 50.0 - 1) < KNL_TOLERANCE
+    assert calls == list(range(1, r["evaluations"] + 1))
+    assert "Identification summary" in r["summary"]
+
+
+def test_one_objective_serves_several_weightings():
+    both = podid.Objective(CASE, MEASURED_01S, weightings=["full", "time-free", "U,S:1,2"])
+    e = both.evaluate({"knl": 40.0})
+    assert not e["failed"]
+    full = podid.Objective(CASE, MEASURED_01S, weightings=["full"]).evaluate({"knl": 40.0})
+    assert e["values"]["full"] == full["values"]["full"]  # the same simulation, bit for bit
+    t = e["terms"]
+    assert e["values"]["time-free"] == pytest.approx(t["U"] + t["S"], rel=1e-15)
+    assert e["values"]["U,S:1,2"] == pytest.approx(t["U"] + 2 * t["S"], rel=1e-15)
+
+
+def test_failures_are_values_and_errors_are_exceptions():
+    o = podid.Objective(CASE, MEASURED_01S, set=["initial.static_tip_force=0"])
+    e = o.evaluate()
+    assert e["failed"] and e["failure"] and math.isnan(e["values"]["full"])
+    with pytest.raises(ValueError, match="knl"):
+        podid.Objective(CASE, MEASURED_01S).evaluate({"no_such": 1.0})
+    with pytest.raises(ValueError, match="wavelet"):  # 0.1 s is shorter than the cone at 10 Hz
+        podid.Objective(CASE, MEASURED_01S, weightings=["wavelet"])
+
+
+def test_landscape_and_a_progress_callback_that_raises():
+    calls = []
+    g = podid.landscape(CASE, MEASURED_01S, "knl", 0.0, 100.0, 11, objectives=["full", "time-free"],
+                        progress=lambda d, t: calls.append((d, t)))
+    assert len(calls) == 11 and calls[-1] == (11, 11)
+    assert g["metrics"]["time-free"]["global_minimiser"] == 50.0
+    assert np.all(np.isfinite(g["values"]["full"]))
+
+    def stop(done, total):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        podid.landscape(CASE, MEASURED_01S, "knl", 0.0, 100.0, 50, objectives=["full"], progress=stop)
+
+
+def test_readme_example_script(tmp_path):
+    import subprocess
+    import sys
+    env = dict(os.environ)
+    out = subprocess.run([sys.executable, str(SOURCE / "python" / "examples" / "identify_readme.py")],
+                         capture_output=True, text=True, env=env, check=True).stdout
+    assert "knl = 50.1456" in out
+    assert "wavelet    minima 1, minimiser 50" in out
+
+
+def test_identify_stops_when_its_progress_callback_raises():
+    def stop(done, total):
+        raise RuntimeError("stopped by the user")
+
+    with pytest.raises(RuntimeError, match="stopped by the user"):
+        podid.identify(CASE, MEASURED_01S, objective="time-free", multistart=3, threads=2, progress=stop)

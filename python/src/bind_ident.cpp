@@ -1,0 +1,272 @@
+// podid.Objective, podid.identify, podid.landscape: objectives built from a
+// case and a measured record, evaluated for several weightings at once, the
+// NLopt identification and objective landscapes (docs/method.md, docs/cli.md).
+#include <Python.h>
+#include <pybind11/eigen.h>
+#include <pybind11/functional.h>
+#include <pybind11/stl.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "bindings.hpp"
+#include "podid/core/case_file.hpp"
+#include "podid/core/io.hpp"
+#include "podid/ident/identify.hpp"
+#include "podid/ident/landscape.hpp"
+#include "podid/ident/objective.hpp"
+
+namespace py = pybind11;
+
+namespace podid::python {
+namespace {
+
+using Measured = std::variant<std::string, TimeSeries>;
+
+TimeSeries ReadMeasured(const Measured& measured) {
+  if (const auto* path = std::get_if<std::string>(&measured)) return ReadTimeSeries(*path);
+  return std::get<TimeSeries>(measured);
+}
+
+CaseDocument LoadDocument(const std::string& case_, const std::vector<std::string>& set) {
+  CaseDocument document = case_.find('\n') == std::string::npos
+                              ? CaseDocument::Load(case_)
+                              : CaseDocument::Parse(case_, "<case text>");
+  for (const std::string& assignment : set) {
+    const std::size_t eq = assignment.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      throw std::invalid_argument("set: expected key=value, got \"" + assignment + "\"");
+    }
+    document.Set(assignment.substr(0, eq), assignment.substr(eq + 1));
+  }
+  return document;
+}
+
+// "wavelet" (a preset) or "U,S,IF" or "U,S,IF:1,1,0.5" (terms and weights).
+ident::NamedObjective ParseWeighting(const std::string& text) {
+  if (text == "full" || text == "time-free" || text == "wavelet") {
+    return {text, ident::ObjectiveWeights::Preset(text)};
+  }
+  const std::size_t colon = text.find(':');
+  const ident::ObjectiveWeights w = colon == std::string::npos
+                                        ? ident::ObjectiveWeights::Parse(text)
+                                        : ident::ObjectiveWeights::Parse(text.substr(0, colon), text.substr(colon + 1));
+  return {text, w};
+}
+
+std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case_, const Measured& measured,
+                                                         const std::vector<std::string>& weightings, int modes,
+                                                         double fmin, double fmax, bool raw_sigma,
+                                                         const std::vector<std::string>& set) {
+  ident::ObjectiveOptions options;
+  options.weightings.clear();
+  for (const std::string& w : weightings) options.weightings.push_back(ParseWeighting(w));
+  options.modes = modes;
+  options.relative_sigma = !raw_sigma;
+  options.ridge.cwt.frequencies.min_frequency_Hz = fmin;
+  options.ridge.cwt.frequencies.max_frequency_Hz = fmax;
+  const CaseDocument document = LoadDocument(case_, set);
+  const TimeSeries data = ReadMeasured(measured);
+  py::gil_scoped_release release;
+  return std::make_shared<ident::ObjectiveFunction>(document, data, options);
+}
+
+// Parameter values from a {name: value} dict over the objective's starts.
+Eigen::VectorXd ValuesFrom(const ident::ObjectiveFunction& f, const std::map<std::string, double>& given) {
+  Eigen::VectorXd values = f.StartValues();
+  for (const auto& [name, value] : given) {
+    int index = -1;
+    std::string names;
+    for (int i = 0; i < f.parameter_count(); ++i) {
+      if (f.parameters()[i].name == name) index = i;
+      names += (i ? ", " : "") + f.parameters()[i].name;
+    }
+    if (index < 0) throw std::invalid_argument("parameter \"" + name + "\": expected one of " + names);
+    values[index] = value;
+  }
+  return values;
+}
+
+py::dict TermsDict(const ident::TermValues& t) {
+  py::dict d;
+  d["U"] = t.u;
+  d["S"] = t.s;
+  d["V"] = t.v;
+  d["IF"] = t.f;
+  return d;
+}
+
+// A Python callable progress(done, total) as a library callback: it runs with
+// the GIL, and Ctrl-C or an exception in it stops the computation and is
+// raised again in Python.
+ident::ProgressCallback WrapProgress(const py::object& progress) {
+  return [progress](const ident::Progress& p) {
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    if (!progress.is_none()) progress(p.done, p.total);
+  };
+}
+
+}  // namespace
+
+void BindIdent(py::module_& m) {
+  py::class_<ident::ObjectiveFunction, std::shared_ptr<ident::ObjectiveFunction>>(
+      m, "Objective",
+      "The objective(s) of a case against a measured record: one simulation per evaluation\n"
+      "gives the value of every weighting (docs/method.md).")
+      .def(py::init(&BuildObjective), py::arg("case"), py::arg("measured"),
+           py::arg("weightings") = std::vector<std::string>{"full"}, py::arg("modes") = 1,
+           py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("raw_sigma") = false,
+           py::arg("set") = std::vector<std::string>{},
+           "case: a case-file path or TOML text; measured: a file path or a TimeSeries;\n"
+           "weightings: presets (full, time-free, wavelet) or terms like \"U,S,IF:1,1,0.5\".")
+      .def_property_readonly("parameter_names",
+                             [](const ident::ObjectiveFunction& f) {
+                               std::vector<std::string> names;
+                               for (const ParameterSpec& p : f.parameters()) names.push_back(p.name);
+                               return names;
+                             })
+      .def_property_readonly("weighting_names",
+                             [](const ident::ObjectiveFunction& f) {
+                               std::vector<std::string> names;
+                               for (const auto& w : f.options().weightings) names.push_back(w.name);
+                               return names;
+                             })
+      .def_property_readonly("start", &ident::ObjectiveFunction::StartValues)
+      .def_property_readonly("notes", &ident::ObjectiveFunction::notes)
+      .def(
+          "evaluate",
+          [](const ident::ObjectiveFunction& f, const std::map<std::string, double>& values) {
+            const Eigen::VectorXd x = ValuesFrom(f, values);
+            ident::Evaluation e;
+            {
+              py::gil_scoped_release release;
+              e = f.Evaluate(x);
+            }
+            py::dict out;
+            py::dict by_name;
+            for (std::size_t k = 0; k < e.values.size(); ++k) {
+              by_name[py::str(f.options().weightings[k].name)] = e.failed() ? py::float_(NAN) : py::float_(e.values[k]);
+            }
+            out["values"] = by_name;
+            out["terms"] = TermsDict(e.terms);
+            out["failed"] = e.failed();
+            out["failure"] = e.failure();
+            return out;
+          },
+          py::arg("values") = std::map<std::string, double>{},
+          "Evaluate at {name: value} (others at their start): {'values': {weighting: F}, 'terms':\n"
+          "{U, S, V, IF}, 'failed': bool, 'failure': reason}. A failed point is NaN, not an error.");
+
+  m.def(
+      "identify",
+      [](const std::string& case_, const Measured& measured, const std::string& objective,
+         const std::map<std::string, double>& start, int multistart, const std::string& algorithm,
+         int max_evaluations, double xtol, std::uint64_t seed, int modes, double fmin, double fmax,
+         int threads, const py::object& progress, const std::vector<std::string>& set) {
+        const auto f = BuildObjective(case_, measured, {objective}, modes, fmin, fmax, false, set);
+        ident::IdentifyOptions options;
+        options.algorithm = ident::ParseAlgorithm(algorithm);
+        options.start = ValuesFrom(*f, start);
+        options.multistart = multistart;
+        options.max_evaluations = max_evaluations;
+        options.xtol_rel = xtol;
+        options.seed = seed;
+        options.threads = threads;
+        if (!progress.is_none()) options.progress = WrapProgress(progress);
+        ident::IdentifySummary summary;
+        {
+          py::gil_scoped_release release;
+          summary = ident::Identify(*f, options);
+        }
+        py::dict parameters;
+        for (int i = 0; i < f->parameter_count(); ++i) {
+          parameters[py::str(f->parameters()[i].name)] = summary.parameters[i];
+        }
+        py::dict out;
+        out["parameters"] = parameters;
+        out["usable"] = summary.IsSolutionUsable();
+        out["termination"] = std::string(ident::ToString(summary.termination));
+        out["message"] = summary.message;
+        out["objective"] = summary.objective;
+        out["initial_objective"] = summary.initial_objective;
+        out["final_objective"] = summary.final_objective;
+        out["final_terms"] = TermsDict(summary.final_terms);
+        out["evaluations"] = summary.evaluations;
+        out["failed_evaluations"] = summary.failed_evaluations;
+        out["wall_time_s"] = summary.wall_time_s;
+        out["summary"] = summary.FullReport();
+        out["brief"] = summary.BriefReport();
+        return out;
+      },
+      py::arg("case"), py::arg("measured"), py::arg("objective") = "wavelet",
+      py::arg("start") = std::map<std::string, double>{}, py::arg("multistart") = 1,
+      py::arg("algorithm") = "LN_BOBYQA", py::arg("max_evaluations") = 500, py::arg("xtol") = 1e-6,
+      py::arg("seed") = 1, py::arg("modes") = 1, py::arg("fmin") = 10.0, py::arg("fmax") = 120.0,
+      py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("set") = std::vector<std::string>{},
+      "Identify the case's parameters from a measured record, as `podid identify` does.\n"
+      "Returns a dict: 'parameters' {name: value}, 'usable', 'termination', 'summary' (the full\n"
+      "report), objectives and counts. progress(done, total) is called after each evaluation.");
+
+  m.def(
+      "landscape",
+      [](const std::string& case_, const Measured& measured, const std::string& param, double lower,
+         double upper, int points, const std::vector<std::string>& objectives,
+         const std::map<std::string, double>& base, int threads, const py::object& progress,
+         int modes, double fmin, double fmax, const std::vector<std::string>& set) {
+        const auto f = BuildObjective(case_, measured, objectives, modes, fmin, fmax, false, set);
+        ident::LandscapeOptions options;
+        options.x.parameter = -1;
+        for (int i = 0; i < f->parameter_count(); ++i) {
+          if (f->parameters()[i].name == param) options.x.parameter = i;
+        }
+        if (options.x.parameter < 0) throw std::invalid_argument("param: \"" + param + "\" is not a parameter of the case");
+        options.x.lower = lower;
+        options.x.upper = upper;
+        options.x.points = points;
+        options.base = ValuesFrom(*f, base);
+        options.threads = threads;
+        if (!progress.is_none()) options.progress = WrapProgress(progress);
+        ident::LandscapeResult result;
+        {
+          py::gil_scoped_release release;
+          result = ident::ComputeLandscape(*f, options);
+        }
+        py::dict values, metrics;
+        for (std::size_t k = 0; k < result.names.size(); ++k) {
+          values[py::str(result.names[k])] = Eigen::VectorXd(result.values[k].col(0));
+          if (k < result.metrics.size()) {
+            const ident::LandscapeMetrics& mk = result.metrics[k];
+            py::dict d;
+            d["local_minima"] = mk.local_minima;
+            d["global_minimiser"] = mk.global_minimiser;
+            d["global_minimum"] = mk.global_minimum;
+            d["basin"] = py::make_tuple(mk.basin_lower, mk.basin_upper);
+            d["basin_fraction"] = mk.basin_fraction;
+            d["roughness"] = mk.roughness;
+            metrics[py::str(result.names[k])] = d;
+          }
+        }
+        py::dict out;
+        out["x"] = result.x;
+        out["values"] = values;
+        out["metrics"] = metrics;
+        out["termination"] = result.message;
+        out["failed_points"] = result.failed_evaluations;
+        out["wall_time_s"] = result.wall_time_s;
+        return out;
+      },
+      py::arg("case"), py::arg("measured"), py::arg("param"), py::arg("lower"), py::arg("upper"),
+      py::arg("points") = 101, py::arg("objectives") = std::vector<std::string>{"full", "time-free", "wavelet"},
+      py::arg("base") = std::map<std::string, double>{}, py::arg("threads") = 0,
+      py::arg("progress") = py::none(), py::arg("modes") = 1, py::arg("fmin") = 10.0, py::arg("fmax") = 120.0,
+      py::arg("set") = std::vector<std::string>{},
+      "Objectives over a 1-D grid of `param` (one simulation per point for all objectives): a dict\n"
+      "with 'x', 'values' {objective: array (NaN where a point failed)} and 'metrics'.");
+}
+
+}  // namespace podid::python
