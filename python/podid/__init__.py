@@ -5,6 +5,7 @@ it. Arrays are NumPy float64; a (sensors x samples) matrix in Fortran order is
 read without a copy. podid's input errors are raised as ValueError with
 podid's message.
 """
+from . import _podid
 from ._podid import (  # noqa: F401
     Objective,
     PodResult,
@@ -13,9 +14,7 @@ from ._podid import (  # noqa: F401
     SimulationResult,
     TimeSeries,
     cwt,
-    identify,
     instantaneous_frequency,
-    landscape,
     pod,
     read,
     ridges,
@@ -27,3 +26,28 @@ __all__ = [
     "PodResult", "RidgeTrack", "Scalogram", "SimulationResult", "TimeSeries",
     "cwt", "instantaneous_frequency", "pod", "read", "ridges", "simulate",
 ]
+
+
+class Result(dict):
+    """A dict whose keys are also attributes: ``result.parameters["knl"]``."""
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __dir__(self):
+        return list(self.keys())
+
+
+def identify(*args, **kwargs):
+    return Result(_podid.identify(*args, **kwargs))
+
+
+def landscape(*args, **kwargs):
+    return Result(_podid.landscape(*args, **kwargs))
+
+
+identify.__doc__ = _podid.identify.__doc__
+landscape.__doc__ = _podid.landscape.__doc__

@@ -123,7 +123,7 @@ def test_identify_finds_the_true_knl():
     r = podid.identify(CASE, MEASURED_1S, objective="wavelet", start={"knl": 25.0},
                        progress=lambda done, total: calls.append(done))
     assert r["usable"], r["message"]
-    assert abs(r["parameters"]["knl"] / 50.0 - 1) < KNL_TOLERANCE
+    assert abs(r.parameters["knl"] / 50.0 - 1) < KNL_TOLERANCE
     assert calls == list(range(1, r["evaluations"] + 1))
     assert "Identification summary" in r["summary"]
 
