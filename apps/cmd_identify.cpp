@@ -1,5 +1,7 @@
 // podid identify: minimise an objective over the case's parameters.
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -13,6 +15,7 @@
 #include "podid/core/io.hpp"
 #include "podid/core/quantity_check.hpp"
 #include "podid/ident/identify.hpp"
+#include "podid/ident/objective_uncertainty.hpp"
 
 namespace podid::cli {
 namespace {
@@ -51,6 +54,22 @@ void WriteJson(const std::string& path, const ident::IdentifySummary& s) {
                 {"S", NumberOrNull(s.final_terms.s)},
                 {"V", NumberOrNull(s.final_terms.v)},
                 {"IF", NumberOrNull(s.final_terms.f)}};
+  // Each weighted term's share of F, at the start and at the optimum: one term
+  // swamping the others shows here (issue 12 item 5).
+  auto contributions = [&s](const ident::TermValues& t) {
+    nlohmann::json out;
+    const double total = t.Combine(s.weights, std::numeric_limits<double>::quiet_NaN());
+    const std::pair<const char*, std::pair<double, double>> terms[] = {
+        {"U", {s.weights.u, t.u}}, {"S", {s.weights.s, t.s}}, {"V", {s.weights.v, t.v}}, {"IF", {s.weights.f, t.f}}};
+    for (const auto& [name, wv] : terms) {
+      if (wv.first == 0) continue;
+      out[name] = {{"value", NumberOrNull(wv.second)},
+                   {"weight", wv.first},
+                   {"share", NumberOrNull(total > 0 ? wv.first * wv.second / total : NAN)}};
+    }
+    return out;
+  };
+  j["term_shares"] = {{"initial", contributions(s.initial_terms)}, {"final", contributions(s.final_terms)}};
   j["objective_terms"] = s.objective;
   j["algorithm"] = s.algorithm;
   j["evaluations"] = s.evaluations;
@@ -68,6 +87,27 @@ void WriteJson(const std::string& path, const ident::IdentifySummary& s) {
                        {"objective", NumberOrNull(r.objective)},
                        {"best", NumberOrNull(r.best_objective)},
                        {"failed", r.failed}});
+    if (r.failed) history.back()["failure"] = r.failure;
+  }
+  if (s.uncertainty.usable) {
+    nlohmann::json u;
+    u["confidence"] = s.uncertainty.confidence;
+    u["method"] = s.uncertainty.message;
+    for (std::size_t k = 0; k < s.parameter_names.size(); ++k) {
+      u["parameters"][s.parameter_names[k]] = {{"standard_error", s.uncertainty.standard_error[k]},
+                                               {"lower", s.uncertainty.lower[k]},
+                                               {"upper", s.uncertainty.upper[k]}};
+    }
+    nlohmann::json rows = nlohmann::json::array();
+    for (Eigen::Index r = 0; r < s.uncertainty.correlation.rows(); ++r) {
+      std::vector<double> row(s.uncertainty.correlation.cols());
+      for (Eigen::Index c = 0; c < s.uncertainty.correlation.cols(); ++c) row[c] = s.uncertainty.correlation(r, c);
+      rows.push_back(row);
+    }
+    u["correlation"] = rows;
+    j["uncertainty"] = u;
+  } else {
+    j["uncertainty"] = {{"usable", false}, {"reason", s.uncertainty.message}};
   }
   j["history"] = history;
   WriteFileAtomically(path, [&](std::ostream& os) { os << j.dump(2) << '\n'; });
@@ -185,6 +225,32 @@ void MergeStarts(ident::IdentifySummary* summary, int parameters) {
     r.best_terms.failed = row[9] != 0;
     r.nlopt_result = static_cast<int>(row[10]);
   }
+  // The failure texts of the history, rank by rank ("index<TAB>text" lines;
+  // the texts are one line each).
+  std::string own;
+  {
+    std::vector<std::int64_t> seen(static_cast<std::size_t>(starts), 0);
+    for (const ident::IterationRecord& r : summary->history) {
+      const std::int64_t index = offset[r.start] + seen[r.start]++;
+      if (!r.failed) continue;
+      std::string text = r.failure;
+      for (char& c : text) c = (c == '\n' || c == '\t') ? ' ' : c;
+      own += std::to_string(index) + '\t' + text + '\n';
+    }
+  }
+  std::vector<std::string> failures(static_cast<std::size_t>(offset[starts]));
+  for (int rank = 0; rank < mpi::Size(); ++rank) {
+    std::string blob = rank == mpi::Rank() ? own : std::string();
+    mpi::Broadcast(&blob, rank);
+    std::size_t pos = 0;
+    while (pos < blob.size()) {
+      const std::size_t tab = blob.find('\t', pos), end = blob.find('\n', pos);
+      if (tab == std::string::npos || end == std::string::npos || tab > end) break;
+      const std::int64_t index = std::stoll(blob.substr(pos, tab - pos));
+      if (index >= 0 && index < offset[starts]) failures[index] = blob.substr(tab + 1, end - tab - 1);
+      pos = end + 1;
+    }
+  }
   summary->history.clear();
   for (std::int64_t k = 0; k < offset[starts]; ++k) {
     const double* row = history.data() + k * record_width;
@@ -195,6 +261,7 @@ void MergeStarts(ident::IdentifySummary* summary, int parameters) {
     r.best_objective = row[3];
     r.failed = row[4] != 0;
     r.parameters = Eigen::Map<const Eigen::VectorXd>(row + 5, p);
+    if (r.failed) r.failure = failures[k];
     summary->history.push_back(std::move(r));
   }
   ident::SummariseStarts(summary);
@@ -280,6 +347,10 @@ void AddIdentifyCommand(CLI::App& app) {
         if (!summary.IsSolutionUsable()) throw CommandFailed("identify: " + summary.message);
         return;
       }
+      if (summary.IsSolutionUsable()) {  // at the merged best point (as one process does)
+        summary.uncertainty = ident::ObjectiveUncertainty(*objective, summary.parameters, options.weighting,
+                                                          options.uncertainty_options, options.seed);
+      }
     }
     std::printf("%s\n", summary.BriefReport().c_str());
     // Measured accelerations declared as displacements (or the reverse):
@@ -292,6 +363,23 @@ void AddIdentifyCommand(CLI::App& app) {
             objective->measured(), at.sensors,
             objective->SpecAt(summary.parameters).sensors.quantity);
         if (q.mismatch) std::fprintf(stderr, "podid: warning: %s\n", q.message.c_str());
+      }
+    }
+    // A weighted term with under 1 % of F at the start hardly steers the fit.
+    if (!summary.initial_terms.failed) {
+      const ident::TermValues& t = summary.initial_terms;
+      const double total = t.Combine(weights, NAN);
+      const std::pair<const char*, double> shares[] = {
+          {"dU", weights.u * t.u}, {"dS", weights.s * t.s}, {"dV", weights.v * t.v}, {"dIF", weights.f * t.f}};
+      const double w[] = {weights.u, weights.s, weights.v, weights.f};
+      for (int k = 0; k < 4; ++k) {
+        if (w[k] != 0 && total > 0 && shares[k].second < 0.01 * total) {
+          std::fprintf(stderr,
+                       "podid: note: at the start %s is %.3g %% of F (%s): it hardly steers the fit; "
+                       "see --terms/--weights\n",
+                       shares[k].first, 100 * shares[k].second / total,
+                       ident::TermContributions(t, weights).c_str());
+        }
       }
     }
     if (args->report) std::printf("%s", summary.FullReport().c_str());

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "podid/core/error.hpp"
+#include "podid/ident/objective_uncertainty.hpp"
 
 namespace podid::ident {
 namespace {
@@ -99,10 +100,22 @@ struct RunState {
   std::atomic<long long>* progress_failed = nullptr;
   long long progress_total = 0;
   std::chrono::steady_clock::time_point start_time;
+  // The start's own evaluation, made before NLopt's (which may begin
+  // elsewhere): when NLopt asks for the same point it gets this value again
+  // without a second simulation or record.
+  Eigen::VectorXd first_x;
+  double first_value = 0.0;
+  bool first_pending = false;
+  TermValues first_terms;
 };
 
 double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
   s.x = Eigen::Map<const Eigen::VectorXd>(x, n);
+  if (s.first_pending && s.x == s.first_x) {
+    s.first_pending = false;
+    return s.first_value;
+  }
+  s.first_pending = false;
   Evaluation evaluation = s.objective->Evaluate(s.x, &s.workspace);
   const TermValues& terms = evaluation.terms;
   const double value = static_cast<std::size_t>(s.weighting) < evaluation.values.size()
@@ -122,6 +135,8 @@ double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
   record.objective = value;
   record.best_objective = s.best;
   record.failed = terms.failed;
+  if (terms.failed) record.failure = terms.failure;
+  if (s.evaluations == 1) s.first_terms = terms;
   s.history.push_back(std::move(record));
   if (s.progress && *s.progress) {
     const long long done = ++*s.progress_done;
@@ -145,7 +160,7 @@ double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
     }
     if (progress_error) std::rethrow_exception(progress_error);
   }
-  if (s.cancel && s.cancel->load()) nlopt_force_stop(s.opt);
+  if (s.cancel && s.cancel->load() && s.opt) nlopt_force_stop(s.opt);
   return value;
 }
 
@@ -238,6 +253,9 @@ bool IdentifyOptions::IsValid(int parameter_count, std::string* why) const {
   if (multistart < 1 || multistart > kMaxMultistart)
     return fail("multistart: expected 1 to " + ToText(kMaxMultistart) + ", got " +
                 ToText(multistart));
+  std::string uncertainty_why;
+  if (uncertainty && !uncertainty_options.IsValid(&uncertainty_why))
+    return fail("uncertainty: " + uncertainty_why);
   if (threads < 0 || threads > 1024)
     return fail("threads: expected 0 to 1024, got " + ToText(threads));
   if (share_count < 1 || share_count > 65536 || share_index < 0 || share_index >= share_count)
@@ -262,12 +280,36 @@ bool IdentifySummary::IsSolutionUsable() const {
   }
 }
 
+std::string TermContributions(const TermValues& terms, const ObjectiveWeights& weights) {
+  if (terms.failed) return {};
+  const double total = terms.Combine(weights, std::numeric_limits<double>::quiet_NaN());
+  if (!(total > 0)) return {};
+  std::ostringstream os;
+  os.precision(3);
+  bool first = true;
+  auto add = [&](double w, double value, const char* name) {
+    if (w == 0) return;
+    os << (first ? "" : ", ") << name << " " << 100 * w * value / total << " %";
+    first = false;
+  };
+  add(weights.u, terms.u, "dU");
+  add(weights.s, terms.s, "dS");
+  add(weights.v, terms.v, "dV");
+  add(weights.f, terms.f, "dIF");
+  return os.str();
+}
+
 std::string IdentifySummary::BriefReport() const {
   std::ostringstream os;
   os.precision(6);
   os << "identify (" << algorithm << ", " << objective << "): " << ToString(termination) << ", ";
   for (std::size_t i = 0; i < parameter_names.size() && i < static_cast<std::size_t>(parameters.size()); ++i) {
-    os << parameter_names[i] << " = " << parameters[i] << ", ";
+    os << parameter_names[i] << " = " << parameters[i];
+    if (uncertainty.usable && static_cast<Eigen::Index>(i) < uncertainty.lower.size()) {
+      os << " (" << 100 * uncertainty.confidence << " % interval " << uncertainty.lower[i] << ".."
+         << uncertainty.upper[i] << ")";
+    }
+    os << ", ";
   }
   os << "F = " << final_objective << " (start " << initial_objective << "), " << evaluations
      << " evaluations";
@@ -292,12 +334,34 @@ std::string IdentifySummary::FullReport() const {
   }
   os << "  initial objective:    " << initial_objective << "\n"
      << "  final objective:      " << final_objective << "\n"
+     << "  initial terms:        dU = " << initial_terms.u << ", dS = " << initial_terms.s
+     << ", dV = " << initial_terms.v << ", dIF = " << initial_terms.f << "\n"
+     << "    share of F:         " << TermContributions(initial_terms, weights) << "\n"
      << "  final terms:          dU = " << final_terms.u << ", dS = " << final_terms.s
      << ", dV = " << final_terms.v << ", dIF = " << final_terms.f << "\n"
+     << "    share of F:         " << TermContributions(final_terms, weights) << "\n"
      << "  evaluations:          " << evaluations << " (" << failed_evaluations << " failed)\n"
      << "  wall time:            " << wall_time_s << " s\n"
      << "  termination:          " << ToString(termination) << "\n"
      << "  message:              " << message << "\n";
+  if (uncertainty.usable) {
+    os << "  uncertainty:          " << uncertainty.message << "\n";
+    for (std::size_t i = 0; i < parameter_names.size(); ++i) {
+      os << "    " << parameter_names[i] << ": standard error " << uncertainty.standard_error[i] << ", "
+         << 100 * uncertainty.confidence << " % interval [" << uncertainty.lower[i] << ", "
+         << uncertainty.upper[i] << "]\n";
+    }
+    if (parameter_names.size() > 1) {
+      os << "    correlation:\n";
+      for (Eigen::Index i = 0; i < uncertainty.correlation.rows(); ++i) {
+        os << "     ";
+        for (Eigen::Index j = 0; j < uncertainty.correlation.cols(); ++j) os << " " << uncertainty.correlation(i, j);
+        os << "\n";
+      }
+    }
+  } else if (uncertainty.message != "not computed") {
+    os << "  uncertainty:          not available: " << uncertainty.message << "\n";
+  }
   return os.str();
 }
 
@@ -357,8 +421,19 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
       // A first trust region / simplex of a tenth of the box. Allocate before
       // the NLopt objects, which nothing below may leak: after nlopt_create
       // only NLopt's C calls run, and its callback does not throw.
-      const Eigen::VectorXd step = 0.1 * (upper - lower);
       Eigen::VectorXd x = starts[s];
+      // A first step of a tenth of the box, but not beyond the nearest bound:
+      // BOBYQA moves a start lying within its first step of a bound. (At a
+      // bound, or within 1e-4 of the range of it, the tenth is kept.)
+      Eigen::VectorXd step = 0.1 * (upper - lower);
+      for (Eigen::Index i = 0; i < step.size(); ++i) {
+        const double room = std::min(x[i] - lower[i], upper[i] - x[i]);
+        if (room > 1e-4 * (upper[i] - lower[i])) step[i] = std::min(step[i], room);
+      }
+      // The start as given, first (see RunState::first_x).
+      run.first_x = x;
+      run.first_value = EvaluateOrThrow(static_cast<unsigned>(n), x.data(), run);
+      run.first_pending = true;
       run.opt = nlopt_create(ToNlopt(options.algorithm), static_cast<unsigned>(n));
       nlopt_opt local_opt = nullptr;
       if (options.algorithm == Algorithm::kGnMlslLds) {
@@ -394,6 +469,7 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
   if (options.algorithm == Algorithm::kGnMlslLds)
     summary.algorithm += std::string(" + ") + ToString(options.local_algorithm);
   summary.objective = objective.options().weightings[options.weighting].weights.ToString();
+  summary.weights = objective.options().weightings[options.weighting].weights;
   for (const ParameterSpec& p : objective.parameters()) summary.parameter_names.push_back(p.name);
   summary.initial_parameters = first;
   summary.starts = static_cast<int>(starts.size());
@@ -411,7 +487,12 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
     r.first_failure = run.first_failure;
     summary.history.insert(summary.history.end(), run.history.begin(), run.history.end());
   }
+  if (!mine.empty() && mine.front() == 0) summary.initial_terms = runs[0].first_terms;
   SummariseStarts(&summary);
+  if (options.uncertainty && options.share_count == 1 && summary.IsSolutionUsable()) {
+    summary.uncertainty = ObjectiveUncertainty(objective, summary.parameters, options.weighting,
+                                               options.uncertainty_options, options.seed);
+  }
   summary.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return summary;

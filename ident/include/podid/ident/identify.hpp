@@ -16,6 +16,7 @@
 
 #include "podid/ident/objective.hpp"
 #include "podid/ident/progress.hpp"
+#include "podid/ident/uncertainty.hpp"
 
 namespace podid::ident {
 
@@ -69,6 +70,11 @@ struct IdentifyOptions {
   /// call SummariseStarts().
   int share_index = 0;
   int share_count = 1;  ///< in [1, 65536]
+  /// Standard errors, intervals and correlations at the best point
+  /// (objective_uncertainty.hpp; 2 p + 1 simulations and noise_draws PODs).
+  /// Not with share_count > 1: the caller computes them on the merged result.
+  bool uncertainty = true;
+  UncertaintyOptions uncertainty_options;
   bool IsValid(int parameter_count, std::string* why) const;
 };
 
@@ -93,6 +99,7 @@ struct IterationRecord {
   double objective = 0.0;
   double best_objective = 0.0;  ///< best so far within the start
   bool failed = false;
+  std::string failure;  ///< why, when failed
 };
 
 /// What one start of a (multistart) identification found.
@@ -112,12 +119,16 @@ struct IdentifySummary {
   std::string message = "Identify was not called.";
   std::string algorithm;
   std::string objective;  ///< e.g. "dU + dS + dV"
+  ObjectiveWeights weights{0.0, 0.0, 0.0, 0.0};  ///< the weighting minimised
   std::vector<std::string> parameter_names;
   Eigen::VectorXd initial_parameters;
   Eigen::VectorXd parameters;  ///< the best point seen
   double initial_objective = std::numeric_limits<double>::quiet_NaN();  ///< NaN if the start failed
   double final_objective = std::numeric_limits<double>::quiet_NaN();
   TermValues final_terms;
+  /// The terms at the start as given (the first start), to see whether one
+  /// term swamps the others (see TermContributions()).
+  TermValues initial_terms;
   int evaluations = 0;
   int failed_evaluations = 0;
   int starts = 0;
@@ -125,14 +136,23 @@ struct IdentifySummary {
   double wall_time_s = 0.0;
   std::vector<IterationRecord> history;  ///< every evaluation, by start
   std::vector<StartResult> start_results;  ///< per start (dim starts)
+  /// At `parameters` (usable = false with the reason when not computed).
+  ParameterUncertainty uncertainty;
 
   bool IsSolutionUsable() const;
   std::string BriefReport() const;
   std::string FullReport() const;
 };
 
+/// Each term's share of F = sum_t w_t d_t at `terms`: "dU 0.3 %, dS 0.01 %,
+/// dIF 99.7 %" (the terms the weighting uses; empty when failed).
+std::string TermContributions(const TermValues& terms, const ObjectiveWeights& weights);
+
 /// Throws std::invalid_argument for invalid options. Numerical trouble goes
-/// into the summary.
+/// into the summary. Each start's point is evaluated first exactly as given
+/// (global algorithms, which begin elsewhere, the box centre for DIRECT,
+/// included), so the initial objective is the start's; the local algorithms'
+/// first trust region or simplex is kept inside the bounds around it.
 IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptions& options);
 
 /// Sets the totals, the best point, the termination and the message of
