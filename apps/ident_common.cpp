@@ -30,12 +30,12 @@ void ObjectiveArguments::PrepareData() {
   for (std::string& set : measured_reading.CaseSets(measured)) input.sets.push_back(std::move(set));
 }
 
-// True once ident::ObjectiveFunction conditions every simulated record with
+// ident::ObjectiveFunction conditions every simulated record with
 // ConditionSimulated() (podid/core/recording.hpp) as the measured one is
-// here: until then a detrend or a filter would reach one side only, so they
-// are refused. Decimation stays refused either way: the objective simulates on
-// the measured record's grid, which decimation coarsens.
-constexpr bool kObjectiveConditionsSimulated = false;
+// here, so a detrend or a filter reaches both sides. Decimation stays refused:
+// the objective simulates on the measured record's grid, which decimation
+// coarsens.
+constexpr bool kObjectiveConditionsSimulated = true;
 
 std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
     std::vector<ident::NamedObjective> weightings) const {

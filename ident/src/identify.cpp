@@ -113,6 +113,7 @@ double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
   s.x = Eigen::Map<const Eigen::VectorXd>(x, n);
   if (s.first_pending && s.x == s.first_x) {
     s.first_pending = false;
+    if (s.cancel && s.cancel->load() && s.opt) nlopt_force_stop(s.opt);
     return s.first_value;
   }
   s.first_pending = false;

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "podid/core/error.hpp"
+#include "podid/core/recording.hpp"
 
 namespace podid::ident {
 namespace {
@@ -289,7 +290,10 @@ CaseSpec ObjectiveFunction::SpecAt(const Eigen::VectorXd& values) const {
 SimulationResult ObjectiveFunction::SimulateAt(const Eigen::VectorXd& values) const {
   SimulateOptions options;
   options.add_noise = false;
-  return Simulate(SpecAt(values), options);
+  const CaseSpec spec = SpecAt(values);
+  SimulationResult result = Simulate(spec, options);
+  if (result.summary.IsSolutionUsable()) result.sensors = ConditionSimulated(spec, result.sensors);
+  return result;
 }
 
 Evaluation ObjectiveFunction::Evaluate(const Eigen::VectorXd& values) const noexcept {
@@ -388,7 +392,11 @@ void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, Evaluatio
     options.accurate_modes = options_.modes;
     w.pod = std::make_unique<PodSolver>(options);
   }
-  PodResult pod = w.pod->Compute(sim.sensors);
+  // The measured record's conditioning ([data] detrend, filter), applied alike
+  // to the simulated one (recording.hpp); nothing to do without it.
+  const bool condition = !base_spec_.data.conditioning.IsIdentity();
+  const TimeSeries conditioned = condition ? ConditionSimulated(base_spec_, sim.sensors) : TimeSeries{};
+  PodResult pod = w.pod->Compute(condition ? conditioned : sim.sensors);
   result->pod_method = pod.method;
   if (pod.IsDegenerate()) return fail("simulated response: " + pod.message);  // e.g. no excitation
   AlignToReference(measured_pod_, &pod);
