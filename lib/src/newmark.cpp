@@ -8,7 +8,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <sstream>
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 #include "podid/core/error.hpp"
 
@@ -20,6 +24,73 @@ void SetMallocAllowed([[maybe_unused]] bool allowed) {
   Eigen::internal::set_is_malloc_allowed(allowed);
 #endif
 }
+
+// out = A u for a small column-major A (rows x cols, rows <= kDenseDofLimit):
+// blocks of 8, 4, 2, 1 rows, each accumulated in registers over all columns
+// (fixed-size Eigen vectors, so SIMD without relying on the auto-vectoriser).
+// Eigen's general GEMV pays more in set-up and blocking than it saves here.
+template <int R>
+void MultiplyRows(const double* a, int lda, int cols, const double* u, double* out) {
+  using Block = Eigen::Matrix<double, R, 1>;
+  Block acc = Eigen::Map<const Block>(a) * u[0];
+  for (int j = 1; j < cols; ++j) acc.noalias() += Eigen::Map<const Block>(a + j * lda) * u[j];
+  Eigen::Map<Block> result(out);
+  result = acc;
+}
+
+void MultiplySmall(const double* a, int rows, int cols, const double* u, double* out) {
+  int i = 0;
+  for (; i + 8 <= rows; i += 8) MultiplyRows<8>(a + i, rows, cols, u, out + i);
+  if (i + 4 <= rows) {
+    MultiplyRows<4>(a + i, rows, cols, u, out + i);
+    i += 4;
+  }
+  if (i + 2 <= rows) {
+    MultiplyRows<2>(a + i, rows, cols, u, out + i);
+    i += 2;
+  }
+  if (i < rows) MultiplyRows<1>(a + i, rows, cols, u, out + i);
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#define PODID_NEWMARK_AVX2 1
+// The same product with AVX2 + FMA (4 doubles a register, fused multiply-add),
+// compiled for that target only and called only when the CPU reports both
+// (the binary stays x86-64 baseline). Columns in the same order as
+// MultiplySmall; FMA rounds once where SSE2 rounds twice: round-off only.
+// K registers of 4 rows each (rows i .. i + 4K - 1), accumulated over all columns.
+template <int K>
+__attribute__((target("avx2,fma"))) void MultiplyRowsAvx2(const double* a, int rows, int cols,
+                                                          const double* u, double* out) {
+  __m256d s[K];
+  const __m256d b0 = _mm256_broadcast_sd(u);
+#pragma GCC unroll 4
+  for (int k = 0; k < K; ++k) s[k] = _mm256_mul_pd(_mm256_loadu_pd(a + 4 * k), b0);
+  for (int j = 1; j < cols; ++j) {
+    const double* col = a + static_cast<std::ptrdiff_t>(j) * rows;
+    const __m256d b = _mm256_broadcast_sd(u + j);
+#pragma GCC unroll 4
+    for (int k = 0; k < K; ++k) s[k] = _mm256_fmadd_pd(_mm256_loadu_pd(col + 4 * k), b, s[k]);
+  }
+#pragma GCC unroll 4
+  for (int k = 0; k < K; ++k) _mm256_storeu_pd(out + 4 * k, s[k]);
+}
+
+__attribute__((target("avx2,fma"))) void MultiplySmallAvx2(const double* a, int rows, int cols,
+                                                           const double* u, double* out) {
+  int i = 0;
+  for (; i + 16 <= rows; i += 16) MultiplyRowsAvx2<4>(a + i, rows, cols, u, out + i);
+  const int left = (rows - i) / 4;  // 0..3 registers, one pass for all of them
+  if (left == 3) MultiplyRowsAvx2<3>(a + i, rows, cols, u, out + i);
+  if (left == 2) MultiplyRowsAvx2<2>(a + i, rows, cols, u, out + i);
+  if (left == 1) MultiplyRowsAvx2<1>(a + i, rows, cols, u, out + i);
+  for (i += 4 * left; i < rows; ++i) {
+    double s = a[i] * u[0];
+    for (int j = 1; j < cols; ++j) s = std::fma(a[static_cast<std::ptrdiff_t>(j) * rows + i], u[j], s);
+    out[i] = s;
+  }
+}
+#endif
 
 }  // namespace
 
@@ -117,6 +188,8 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
   a1_ = g / (b * dt);
   a2_ = 1.0 / (b * dt);
   a3_ = 1.0 / (2.0 * b) - 1.0;
+  a4_ = g / b - 1.0;
+  a5_ = dt * (g / (2.0 * b) - 1.0);
 
   // Permutation putting the `a` dofs first (eq. 21), so partitions are blocks.
   perm_ = a;
@@ -187,11 +260,18 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     sab_ = s_.topRightCorner(na_, nb_);
     h_ = sbb_inv_ * s_.bottomLeftCorner(nb_, na_);
     shat_ = s_.topLeftCorner(na_, na_) - sab_ * h_;
-    // One product per step gives both: [bhat; y] = condensed_rhs_matrix_ [x; x'; x''].
-    condensed_rhs_matrix_.resize(n_, 3 * n_);
-    auto y_rows = condensed_rhs_matrix_.bottomRows(nb_);
-    y_rows.noalias() = sbb_inv_ * rhs_matrix_.bottomRows(nb_);
-    condensed_rhs_matrix_.topRows(na_) = rhs_matrix_.topRows(na_) - sab_ * y_rows;
+    multiply_small_ = MultiplySmall;
+#ifdef PODID_NEWMARK_AVX2
+    if (options.cpu_dispatch && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+      multiply_small_ = MultiplySmallAvx2;
+#endif
+    // One product per step gives both: [bhat; y] = T [M, C] [u1; u2].
+    Eigen::MatrixXd mc(n_, 2 * n_);
+    mc << mass_, damping_;
+    condensed_mc_.resize(n_, 2 * n_);
+    auto y_rows = condensed_mc_.bottomRows(nb_);
+    y_rows.noalias() = sbb_inv_ * mc.bottomRows(nb_);
+    condensed_mc_.topRows(na_) = mc.topRows(na_) - sab_ * y_rows;
   }
 }
 
@@ -200,6 +280,8 @@ NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
   z.setZero(3 * n);
   for (Eigen::VectorXd* v : {&x_new, &rhs, &r, &dx}) v->setZero(n);
   load_y.setZero(integrator.nb_);
+  if (!integrator.sparse_ && integrator.options_.type == IntegratorType::kModifiedNewmark)
+    u.setZero(2 * n);
   if (integrator.sparse_) {
     u1.setZero(n);
     u2.setZero(n);
@@ -260,9 +342,9 @@ bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, double load, int load_
     if (na_ > 0) w.rhs.head(na_).noalias() -= sab_sparse_ * w.y;
   } else {
     // y = S_b^-1 rhs_b and bhat = rhs_a - S_ab y (the right side of eq. 29 at
-    // x_b = y), straight from the state with the precomputed maps.
-    // w.rhs = [bhat; y] in one product (the stacked [B; Y]).
-    w.rhs.noalias() = condensed_rhs_matrix_ * w.z;
+    // x_b = y): w.rhs = [bhat; y] = T [M, C] [u1; u2] (see the header).
+    // Run() keeps w.u = [u1; u2] of the current state (fused with the update).
+    multiply_small_(condensed_mc_.data(), n_, 2 * n_, w.u.data(), w.rhs.data());
     if (load != 0.0) w.rhs.tail(nb_) += load * w.load_y;
   }
   *iterations = 0;
@@ -461,6 +543,11 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
   summary.rows_recorded = 1;
 
   const double dt = options_.step_s, g = options_.gamma;
+  const bool dense_condensed = options_.type == IntegratorType::kModifiedNewmark && !sparse_;
+  if (dense_condensed) {
+    w.u.head(n_) = a0_ * x + a2_ * v + a3_ * acc;
+    w.u.tail(n_) = a1_ * x + a4_ * v + a5_ * acc;
+  }
   summary.termination = SimulationTermination::kCompleted;
   SetMallocAllowed(false);
   for (int step = 1; step <= steps; ++step) {
@@ -482,13 +569,12 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
       summary.failure_residual = residual;
       break;
     }
-    if (!w.x_new.allFinite()) {
-      summary.termination = SimulationTermination::kNonFinite;
-      summary.failure_time_s = step * dt;
-      break;
-    }
-    if (w.x_new.lpNorm<Eigen::Infinity>() > options_.max_displacement) {
-      summary.termination = SimulationTermination::kDiverged;
+    // One pass catches both: NaN and inf fail |x| <= max_displacement.
+    bool bounded = true;
+    for (int i = 0; i < n_; ++i) bounded &= std::abs(w.x_new[i]) <= options_.max_displacement;
+    if (!bounded) {
+      summary.termination = w.x_new.allFinite() ? SimulationTermination::kDiverged
+                                                : SimulationTermination::kNonFinite;
       summary.failure_time_s = step * dt;
       break;
     }
@@ -500,11 +586,25 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
       double* const zv = zx + n_;
       double* const za = zx + 2 * n_;
       const double* const xn = w.x_new.data();
-      for (int i = 0; i < n_; ++i) {
-        const double an = a0_ * (xn[i] - zx[i]) - a2_ * zv[i] - a3_ * za[i];
-        zv[i] += dt * ((1.0 - g) * za[i] + g * an);
-        za[i] = an;
-        zx[i] = xn[i];
+      if (dense_condensed) {
+        // ... and the next step's u = [u1; u2] (see StepModified) in the same pass.
+        double* const u = w.u.data();
+        for (int i = 0; i < n_; ++i) {
+          const double an = a0_ * (xn[i] - zx[i]) - a2_ * zv[i] - a3_ * za[i];
+          const double vn = zv[i] + dt * ((1.0 - g) * za[i] + g * an);
+          u[i] = a0_ * xn[i] + a2_ * vn + a3_ * an;
+          u[n_ + i] = a1_ * xn[i] + a4_ * vn + a5_ * an;
+          zv[i] = vn;
+          za[i] = an;
+          zx[i] = xn[i];
+        }
+      } else {
+        for (int i = 0; i < n_; ++i) {
+          const double an = a0_ * (xn[i] - zx[i]) - a2_ * zv[i] - a3_ * za[i];
+          zv[i] += dt * ((1.0 - g) * za[i] + g * an);
+          za[i] = an;
+          zx[i] = xn[i];
+        }
       }
     }
     summary.steps_completed = step;

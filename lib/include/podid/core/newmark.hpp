@@ -60,6 +60,10 @@ struct NewmarkOptions {
   /// Largest number of dofs the modified method integrates with dense
   /// matrices; above it the sparse path (tests compare the two). >= 0.
   int dense_dof_limit = kDenseDofLimit;
+  /// The dense condensed step's product uses AVX2 + FMA when the CPU has them
+  /// (checked at run time; the build targets baseline x86-64). false forces the
+  /// portable SSE2 kernel (tests compare the two: round-off apart).
+  bool cpu_dispatch = true;
   /// Run() records every record_stride-th step (sub-stepping: step_s is the
   /// sampling step / record_stride): rows 0..steps / record_stride. >= 1 and
   /// divides steps.
@@ -140,6 +144,7 @@ class NewmarkWorkspace {
   Eigen::VectorXd x_new, rhs, r, dx, load_y;
   Eigen::VectorXd xa, xa_n, va, fa, ra, dxa, xa_trial, load_bhat;
   Eigen::VectorXd u1, u2, y;  ///< sparse path: M and C operands (dim n), S_bb^-1 rhs_b (dim n_b)
+  Eigen::VectorXd u;          ///< dense condensed path: [u1; u2] (dim 2 n)
   Eigen::MatrixXd ka, ca;  ///< tangents of the nonlinear forces (n_a x n_a)
   Eigen::MatrixXd jac, jac_a;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu, lu_a;
@@ -182,6 +187,7 @@ class NewmarkIntegrator {
   NewmarkOptions options_;
   int n_ = 0, na_ = 0, nb_ = 0;
   double a0_ = 0, a1_ = 0, a2_ = 0, a3_ = 0;
+  double a4_ = 0, a5_ = 0;  ///< C's coefficients of x' and x'' in rhs: g/b - 1, dt (g/(2b) - 1)
   // All matrices are in the permuted order (a dofs first, then b dofs).
   std::vector<int> perm_;      ///< perm_[k] = original dof of permuted index k
   std::vector<int> inv_perm_;  ///< inverse of perm_
@@ -191,9 +197,13 @@ class NewmarkIntegrator {
   Eigen::MatrixXd rhs_matrix_;
   // Condensation (modified method): S_b^-1, S_ab, H = S_b^-1 S_ba,
   // Shat = S_a - S_ab S_b^-1 S_ba, and the state-to-(y, bhat) maps
-  // y = S_b^-1 rhs_b = Y [x; x'; x''], bhat = rhs_a - S_ab y = B [x; x'; x''];
-  // condensed_rhs_matrix_ is the stacked [B; Y] (n x 3n): one product per step.
-  Eigen::MatrixXd sbb_inv_, sab_, h_, shat_, condensed_rhs_matrix_;
+  // y = S_b^-1 rhs_b and bhat = rhs_a - S_ab y. With T = [I, -S_ab S_b^-1; 0, S_b^-1]
+  // and rhs = M u1 + C u2 (u1 = a0 x + a2 x' + a3 x'', u2 = a1 x + a4 x' + a5 x''),
+  // [bhat; y] = T rhs = condensed_mc_ [u1; u2] with condensed_mc_ = T [M, C]
+  // (n x 2n, column-major): one product of 2 n^2 multiply-adds per step.
+  Eigen::MatrixXd sbb_inv_, sab_, h_, shat_, condensed_mc_;
+  /// out = A u for condensed_mc_ (column-major rows x cols): SSE2 or AVX2 + FMA kernel.
+  void (*multiply_small_)(const double* a, int rows, int cols, const double* u, double* out) = nullptr;
   Eigen::MatrixXd mass_inverse_;  ///< dense path only
   // Sparse path (modified method, n > kDenseDofLimit).
   bool sparse_ = false;
