@@ -17,6 +17,9 @@ void ObjectiveArguments::AddTo(CLI::App& command) {
   measured_reading.AddTo(command);
   command.add_option("--modes", modes, "Number of leading POMs in the objective (K)")->capture_default_str()
       ->check(IntegerIn(1, kMaxObjectiveModes));
+  command.add_flag("--noise-sigma", noise_sigma,
+                   "Compare with the measured singular values less the white-noise energy "
+                   "(estimated per sensor from second differences)");
   command.add_flag("--raw-sigma", raw_sigma,
                    "Compare raw singular values (eq. 19) instead of relative ones");
   command.add_option("--fmin", fmin_Hz, "Lowest ridge frequency of the wavelet term (Hz)")->capture_default_str();
@@ -80,6 +83,7 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
   options.weightings = std::move(weightings);
   options.modes = modes;
   options.relative_sigma = !raw_sigma;
+  options.noise_corrected_sigma = noise_sigma;
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin_Hz;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax_Hz;
   options.ridge.ridge.penalty_s = penalty_s;

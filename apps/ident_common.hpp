@@ -19,6 +19,7 @@ struct ObjectiveArguments {
   DataArguments measured_reading;  ///< --variable, --channels, --rate, --step, conditioning of -m
   int modes = 1;
   bool raw_sigma = false;
+  bool noise_sigma = false;
   double fmin_Hz = 10.0;
   double fmax_Hz = 120.0;
   double penalty_s = 0.05;

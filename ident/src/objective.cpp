@@ -9,6 +9,7 @@
 
 #include "podid/core/error.hpp"
 #include "podid/core/recording.hpp"
+#include "podid/pod/noise.hpp"
 
 namespace podid::ident {
 namespace {
@@ -218,6 +219,18 @@ ObjectiveFunction::ObjectiveFunction(const CaseDocument& case_document, const Ti
   measured_pod_ = ComputePod(measured_, MeasuredPodOptions());
   if (measured_pod_.IsDegenerate()) {
     ThrowInvalid("measured data", "a record with a nonzero POD", measured_pod_.message);
+  }
+  if (options_.noise_corrected_sigma && measured_.samples() >= 8) {
+    const Eigen::VectorXd noise_variance = DifferenceNoiseVariance(measured_.SnapshotMatrix());
+    const Eigen::VectorXd corrected = NoiseCorrectedSingularValues(measured_pod_, noise_variance);
+    notes_.push_back("measured sigma_1 corrected for white noise (std " +
+                     ToText(std::sqrt(noise_variance.maxCoeff())) + " on the noisiest sensor): " +
+                     ToText(measured_pod_.singular_values[0]) + " -> " + ToText(corrected[0]) + " (" +
+                     ToText(100 * (corrected[0] / measured_pod_.singular_values[0] - 1)) + " %)");
+    // Only the compared modes: a mode whose corrected sigma is 0 is noise.
+    for (int k = 0; k < options_.modes; ++k) {
+      if (corrected[k] > 0) measured_pod_.singular_values[k] = corrected[k];
+    }
   }
 
   // Each mode's ridge options (one estimator per mode in the workspace).

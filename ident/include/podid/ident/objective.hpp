@@ -71,6 +71,11 @@ struct ObjectiveOptions {
   std::vector<NamedObjective> weightings{{"full", ObjectiveWeights::Preset("full")}};
   int modes = 1;                 ///< K, the leading POMs compared (>= 1, <= sensors)
   bool relative_sigma = true;    ///< dS relative to the measured sigmas (false: raw, eq. 19)
+  /// Compare with the measured sigmas less the energy of white measurement
+  /// noise, sqrt(sigma_k^2 - N u_k^T diag(v) u_k), v per sensor from second
+  /// differences (podid/pod/noise.hpp): a noisy sigma against a clean
+  /// simulated one biases dS (see notes() for the correction made).
+  bool noise_corrected_sigma = false;
   double failure_value = kDefaultFailureValue;  ///< see kDefaultFailureValue, > 0
   /// The IF extraction (used when a weighting needs it): 10-120 Hz, 32 voices,
   /// band-limited Morlet CWT, penalised ridge.
