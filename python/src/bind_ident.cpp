@@ -199,6 +199,21 @@ void BindIdent(py::module_& m) {
         out["evaluations"] = summary.evaluations;
         out["failed_evaluations"] = summary.failed_evaluations;
         out["wall_time_s"] = summary.wall_time_s;
+        // The 95 % intervals (objective_uncertainty.hpp), by parameter name.
+        py::dict intervals, standard_errors;
+        if (summary.uncertainty.usable) {
+          for (int i = 0; i < f->parameter_count(); ++i) {
+            const py::str name(f->parameters()[i].name);
+            intervals[name] = py::make_tuple(summary.uncertainty.lower[i], summary.uncertainty.upper[i]);
+            standard_errors[name] = summary.uncertainty.standard_error[i];
+          }
+          out["correlation"] = summary.uncertainty.correlation;
+        } else {
+          out["correlation"] = py::none();
+        }
+        out["intervals"] = intervals;
+        out["standard_errors"] = standard_errors;
+        out["uncertainty"] = summary.uncertainty.message;
         out["summary"] = summary.FullReport();
         out["brief"] = summary.BriefReport();
         return out;

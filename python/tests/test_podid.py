@@ -124,6 +124,9 @@ def test_identify_finds_the_true_knl():
                        progress=lambda done, total: calls.append(done))
     assert r["usable"], r["message"]
     assert abs(r.parameters["knl"] / 50.0 - 1) < KNL_TOLERANCE
+    lo, hi = r.intervals["knl"]
+    assert lo < r.parameters["knl"] < hi and r.standard_errors["knl"] > 0
+    assert r.correlation.shape == (1, 1)
     assert calls == list(range(1, r["evaluations"] + 1))
     assert "Identification summary" in r["summary"]
 
