@@ -32,20 +32,6 @@ TimeSeries ReadMeasured(const Measured& measured) {
   return std::get<TimeSeries>(measured);
 }
 
-CaseDocument LoadDocument(const std::string& case_, const std::vector<std::string>& set) {
-  CaseDocument document = case_.find('\n') == std::string::npos
-                              ? CaseDocument::Load(case_)
-                              : CaseDocument::Parse(case_, "<case text>");
-  for (const std::string& assignment : set) {
-    const std::size_t eq = assignment.find('=');
-    if (eq == std::string::npos || eq == 0) {
-      throw std::invalid_argument("set: expected key=value, got \"" + assignment + "\"");
-    }
-    document.Set(assignment.substr(0, eq), assignment.substr(eq + 1));
-  }
-  return document;
-}
-
 // "wavelet" (a preset) or "U,S,IF" or "U,S,IF:1,1,0.5" (terms and weights).
 ident::NamedObjective ParseWeighting(const std::string& text) {
   if (text == "full" || text == "time-free" || text == "wavelet") {
@@ -69,7 +55,7 @@ std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case
   options.relative_sigma = !raw_sigma;
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax;
-  const CaseDocument document = LoadDocument(case_, set);
+  const CaseDocument document = LoadCase(case_, set);
   const TimeSeries data = ReadMeasured(measured);
   py::gil_scoped_release release;
   return std::make_shared<ident::ObjectiveFunction>(document, data, options);

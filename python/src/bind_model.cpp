@@ -16,24 +16,6 @@
 namespace py = pybind11;
 
 namespace podid::python {
-namespace {
-
-// `case_` is a path to a case file, or TOML text when it holds a newline.
-CaseDocument LoadCase(const std::string& case_, const std::vector<std::string>& set) {
-  CaseDocument document = case_.find('\n') == std::string::npos
-                              ? CaseDocument::Load(case_)
-                              : CaseDocument::Parse(case_, "<case text>");
-  for (const std::string& assignment : set) {
-    const std::size_t eq = assignment.find('=');
-    if (eq == std::string::npos || eq == 0) {
-      throw std::invalid_argument("set: expected key=value, got \"" + assignment + "\"");
-    }
-    document.Set(assignment.substr(0, eq), assignment.substr(eq + 1));
-  }
-  return document;
-}
-
-}  // namespace
 
 void BindModel(py::module_& m) {
   py::class_<TimeSeries>(m, "TimeSeries", "Uniformly sampled named channels (samples x channels).")

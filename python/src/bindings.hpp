@@ -2,11 +2,20 @@
 // The pieces of the `podid._podid` extension, one file per podid module.
 #include <pybind11/pybind11.h>
 
+#include <string>
+#include <vector>
+
+#include "podid/core/case_file.hpp"
+
 namespace podid::python {
 
 void BindPod(pybind11::module_& m);
 void BindWavelet(pybind11::module_& m);
 void BindModel(pybind11::module_& m);
 void BindIdent(pybind11::module_& m);
+
+/// A case-file path, or TOML text when `case_` holds a newline, with
+/// `--set`-style "key=value" overrides (module.cpp).
+CaseDocument LoadCase(const std::string& case_, const std::vector<std::string>& set);
 
 }  // namespace podid::python
