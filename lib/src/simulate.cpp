@@ -108,6 +108,16 @@ std::vector<int> SensorDofs(const CaseSpec& spec) {
   return dofs;
 }
 
+void FillSensors(const CaseSpec& spec, const Recording& recording, int rows, TimeSeries* sensors) {
+  const Eigen::MatrixXd& recorded =
+      spec.sensors.quantity == SensorQuantity::kVelocity       ? recording.velocity
+      : spec.sensors.quantity == SensorQuantity::kAcceleration ? recording.acceleration
+                                                               : recording.displacement;
+  sensors->values = recorded.topRows(rows);
+  sensors->time_s.resize(rows);
+  for (int i = 0; i < rows; ++i) sensors->time_s[i] = spec.time.start_s + i * spec.time.step_s;
+}
+
 SimulationResult Simulate(const CaseSpec& spec, const SimulateOptions& options) {
   SimulationResult result;
   const BeamModel model = BeamModel::Build(spec);
@@ -128,14 +138,7 @@ SimulationResult Simulate(const CaseSpec& spec, const SimulateOptions& options) 
     return result;
   }
   result.summary = integrator.Run(initial, BuildLoad(spec), &recording);
-  const int rows = result.summary.rows_recorded;
-  const Eigen::MatrixXd& recorded =
-      spec.sensors.quantity == SensorQuantity::kVelocity       ? recording.velocity
-      : spec.sensors.quantity == SensorQuantity::kAcceleration ? recording.acceleration
-                                                               : recording.displacement;
-  result.sensors.values = recorded.topRows(rows);
-  result.sensors.time_s.resize(rows);
-  for (int i = 0; i < rows; ++i) result.sensors.time_s[i] = spec.time.start_s + i * spec.time.step_s;
+  FillSensors(spec, recording, result.summary.rows_recorded, &result.sensors);
   if (options.add_noise && spec.noise.relative > 0.0) {
     AddNoise(result.sensors, spec.noise.relative, spec.noise.seed);
   }

@@ -80,14 +80,7 @@ SimulationResult Simulator::Run() {
     return result;
   }
   result.summary = integrator_->Run(initial_, load_, &recording_, workspace_.get());
-  const int rows = result.summary.rows_recorded;
-  const Eigen::MatrixXd& recorded =
-      spec_.sensors.quantity == SensorQuantity::kVelocity       ? recording_.velocity
-      : spec_.sensors.quantity == SensorQuantity::kAcceleration ? recording_.acceleration
-                                                                : recording_.displacement;
-  result.sensors.values = recorded.topRows(rows);
-  result.sensors.time_s.resize(rows);
-  for (int i = 0; i < rows; ++i) result.sensors.time_s[i] = spec_.time.start_s + i * spec_.time.step_s;
+  FillSensors(spec_, recording_, result.summary.rows_recorded, &result.sensors);
   return result;
 }
 

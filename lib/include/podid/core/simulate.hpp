@@ -27,6 +27,11 @@ State InitialState(const CaseSpec& spec, const BeamModel& model,
 /// fine grid.
 ExternalLoad BuildLoad(const CaseSpec& spec);
 
+/// The first `rows` recorded samples of the case's sensor quantity
+/// (displacement, velocity or acceleration) into `sensors`, stamped
+/// time.start + n time.step: what Simulate() and Simulator::Run() return.
+void FillSensors(const CaseSpec& spec, const Recording& recording, int rows, TimeSeries* sensors);
+
 /// Free-dof indices of the case's sensors, in channel order.
 std::vector<int> SensorDofs(const CaseSpec& spec);
 
