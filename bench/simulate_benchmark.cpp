@@ -4,10 +4,10 @@
 //    Newton per step, and the cost's growth with the number of steps.
 #include <benchmark/benchmark.h>
 
-#include <fstream>
 #include <string>
 #include <vector>
 
+#include "chain_model.hpp"
 #include "podid/core/case_file.hpp"
 #include "podid/core/newmark.hpp"
 #include "podid/core/simulate.hpp"
@@ -105,47 +105,8 @@ BENCHMARK(BM_Beam1sElements)->Arg(30)->Arg(300)->Unit(benchmark::kMillisecond);
 // from a static end force, 1 s at 5 kHz. Each iteration pays everything but
 // the matrix assembly: static solve, integrator set-up (sparse LDL^T of S_b)
 // and the 5000 steps. Target: <= 2 s and <= 200 MB (peak_rss_MB counter).
-BeamModel Chain10k() {
-  constexpr int n = 10000;
-  constexpr double kMass_kg = 1e-3, kStiffness_N_per_m = 1e6;
-  std::vector<Eigen::Triplet<double>> m, k;
-  for (int i = 0; i < n; ++i) {
-    m.emplace_back(i, i, kMass_kg);
-    k.emplace_back(i, i, (i + 1 < n ? 2.0 : 1.0) * kStiffness_N_per_m);
-    if (i + 1 < n) {
-      k.emplace_back(i, i + 1, -kStiffness_N_per_m);
-      k.emplace_back(i + 1, i, -kStiffness_N_per_m);
-    }
-  }
-  Eigen::SparseMatrix<double> mass(n, n), stiffness(n, n);
-  mass.setFromTriplets(m.begin(), m.end());
-  stiffness.setFromTriplets(k.begin(), k.end());
-  const Eigen::SparseMatrix<double> damping = 1.0 * mass + 1e-7 * stiffness;
-  NonlinearitySpec a;
-  a.type = NonlinearType::kCubic;
-  a.node = n / 4 + 1;  // dof n / 2
-  a.k3_N_per_m3 = 1e12;
-  NonlinearitySpec b = a;
-  b.node = n / 2;  // dof n - 2
-  return BeamModel::FromMatrices(mass, stiffness, damping, {a, b});
-}
-
-long long PeakRssKb() {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmHWM:") {
-      long long kb = 0;
-      status >> kb;
-      return kb;
-    }
-    std::getline(status, key);
-  }
-  return -1;
-}
-
 void BM_Imported10kDofs(benchmark::State& state) {
-  const BeamModel model = Chain10k();
+  const BeamModel model = testing::Chain(10000, testing::TwoCubics(10000));
   NewmarkOptions options;
   options.step_s = 2e-4;
   options.steps = 5000;
@@ -165,7 +126,7 @@ void BM_Imported10kDofs(benchmark::State& state) {
   if (!summary.IsSolutionUsable()) state.SkipWithError(summary.message.c_str());
   state.counters["dofs"] = model.dofs();
   state.counters["newton_per_step"] = static_cast<double>(summary.newton_iterations) / options.steps;
-  state.counters["peak_rss_MB"] = static_cast<double>(PeakRssKb()) / 1024.0;
+  state.counters["peak_rss_MB"] = static_cast<double>(testing::PeakRssBytes()) / (1024.0 * 1024.0);
 }
 BENCHMARK(BM_Imported10kDofs)->Unit(benchmark::kMillisecond)->Iterations(3);
 

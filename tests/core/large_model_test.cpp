@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <numbers>
@@ -17,55 +16,15 @@
 #include "podid/core/newmark.hpp"
 #include "podid/core/simulate.hpp"
 #include "reference_case.hpp"
+#include "chain_model.hpp"
 #include "test_support.hpp"
 
 namespace podid {
 namespace {
 
-/// A chain of n masses m (kg) joined by springs k (N/m), dof 0 tied to the
-/// ground by k; Rayleigh C = alpha M + beta K. Banded (tridiagonal) K.
-BeamModel Chain(int n, const std::vector<NonlinearitySpec>& nonlinearities) {
-  constexpr double kMass_kg = 1e-3, kStiffness_N_per_m = 1e6, kAlpha_per_s = 1.0, kBeta_s = 1e-7;
-  std::vector<Eigen::Triplet<double>> m, k;
-  for (int i = 0; i < n; ++i) {
-    m.emplace_back(i, i, kMass_kg);
-    k.emplace_back(i, i, (i + 1 < n ? 2.0 : 1.0) * kStiffness_N_per_m);
-    if (i + 1 < n) {
-      k.emplace_back(i, i + 1, -kStiffness_N_per_m);
-      k.emplace_back(i + 1, i, -kStiffness_N_per_m);
-    }
-  }
-  Eigen::SparseMatrix<double> mass(n, n), stiffness(n, n);
-  mass.setFromTriplets(m.begin(), m.end());
-  stiffness.setFromTriplets(k.begin(), k.end());
-  const Eigen::SparseMatrix<double> damping = kAlpha_per_s * mass + kBeta_s * stiffness;
-  return BeamModel::FromMatrices(mass, stiffness, damping, nonlinearities);
-}
-
-std::vector<NonlinearitySpec> TwoCubics(int n) {
-  NonlinearitySpec a;
-  a.type = NonlinearType::kCubic;
-  a.node = n / 4 + 1;  // dof 2 (node - 1) = n / 2
-  a.k3_N_per_m3 = 1e12;
-  NonlinearitySpec b = a;
-  b.node = n / 2;  // dof n - 2
-  return {a, b};
-}
-
-/// Peak resident memory of this process (VmHWM), in bytes; -1 if unknown.
-long long PeakRssBytes() {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmHWM:") {
-      long long kb = 0;
-      status >> kb;
-      return kb * 1024;
-    }
-    std::getline(status, key);
-  }
-  return -1;
-}
+using testing::Chain;
+using testing::PeakRssBytes;
+using testing::TwoCubics;
 
 TEST(SparseNewmark, SparsePathMatchesDensePath) {
   // The same 80-dof beam (40 elements, two nonlinear dofs, a force on a linear
