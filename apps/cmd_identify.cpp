@@ -332,16 +332,9 @@ void AddIdentifyCommand(CLI::App& app) {
     options.share_index = mpi::Rank();
     options.share_count = mpi::Size();
     ident::IdentifySummary summary;
-    std::string rank_error;
-    try {
-      summary = ident::Identify(*objective, options);
-    } catch (const std::exception& e) {  // e.g. out of memory on one rank
-      if (!mpi::Active()) throw;
-      rank_error = e.what();
-    }
+    const std::string error = mpi::RunCollectively([&] { summary = ident::Identify(*objective, options); });
+    if (!error.empty()) throw CommandFailed("identify: " + error + "; no file written");
     if (mpi::Active()) {
-      const std::string error = mpi::CheckAll(rank_error);
-      if (!error.empty()) throw CommandFailed("identify: " + error + "; no file written");
       MergeStarts(&summary, objective->parameter_count());
       if (mpi::Rank() != 0) {  // rank 0 reports and writes; every rank exits alike
         if (!summary.IsSolutionUsable()) throw CommandFailed("identify: " + summary.message);

@@ -176,20 +176,12 @@ void AddLandscapeCommand(CLI::App& app) {
     options.cancel = &g_interrupted;
     const auto previous_handler = std::signal(SIGINT, OnInterrupt);
     ident::LandscapeResult result;
-    std::string rank_error;
-    try {
-      result = ident::ComputeLandscape(*objective, options);
-    } catch (const std::exception& e) {  // e.g. out of memory on one rank
-      if (!mpi::Active()) throw;
-      rank_error = e.what();
-    }
+    const std::string error =
+        mpi::RunCollectively([&] { result = ident::ComputeLandscape(*objective, options); });
     std::signal(SIGINT, previous_handler);  // podid's temporary-file cleanup
     if (show_progress) std::fprintf(stderr, "\n");
-    if (mpi::Active()) {
-      const std::string error = mpi::CheckAll(rank_error);
-      if (!error.empty()) throw CommandFailed("landscape: " + error + "; no file written");
-      MergeShares(objective->options().weightings, &result);
-    }
+    if (!error.empty()) throw CommandFailed("landscape: " + error + "; no file written");
+    if (mpi::Active()) MergeShares(objective->options().weightings, &result);
     if (result.termination == ident::LandscapeTermination::kInterrupted) {
       throw CommandFailed("landscape: " + result.message + "; no file written", 130);
     }

@@ -82,23 +82,29 @@ std::string CheckAll(const std::string& local_error) {
 #endif
 }
 
-void SumOnAll([[maybe_unused]] double* values, [[maybe_unused]] std::int64_t count) {
 #ifdef PODID_HAVE_MPI
+namespace {
+// MPI counts are int: large arrays go in chunks.
+template <typename T>
+void SumChunks(T* values, std::int64_t count, MPI_Datatype type) {
   if (!g_active) return;
   for (std::int64_t offset = 0; offset < count; offset += kChunk) {
     const int n = static_cast<int>(std::min(kChunk, count - offset));
-    MPI_Allreduce(MPI_IN_PLACE, values + offset, n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, values + offset, n, type, MPI_SUM, MPI_COMM_WORLD);
   }
+}
+}  // namespace
+#endif
+
+void SumOnAll([[maybe_unused]] double* values, [[maybe_unused]] std::int64_t count) {
+#ifdef PODID_HAVE_MPI
+  SumChunks(values, count, MPI_DOUBLE);
 #endif
 }
 
 void SumOnAll([[maybe_unused]] std::int64_t* values, [[maybe_unused]] std::int64_t count) {
 #ifdef PODID_HAVE_MPI
-  if (!g_active) return;
-  for (std::int64_t offset = 0; offset < count; offset += kChunk) {
-    const int n = static_cast<int>(std::min(kChunk, count - offset));
-    MPI_Allreduce(MPI_IN_PLACE, values + offset, n, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
-  }
+  SumChunks(values, count, MPI_INT64_T);
 #endif
 }
 

@@ -10,6 +10,7 @@
 // no rank waits forever on one that left; every rank then reports the failure.
 
 #include <cstdint>
+#include <exception>
 #include <string>
 
 namespace podid::cli::mpi {
@@ -42,6 +43,21 @@ int DefaultThreads();
 /// when every rank succeeded, else the lowest failed rank's message as
 /// "rank k of n: ..." (the same text on every rank).
 std::string CheckAll(const std::string& local_error);
+
+/// Collective: runs `work` on this rank; an exception it throws becomes this
+/// rank's message to CheckAll(). Returns CheckAll's result: "" when every
+/// rank succeeded. Without several ranks the exception propagates as usual.
+template <typename Work>
+std::string RunCollectively(Work&& work) {
+  std::string error;
+  try {
+    work();
+  } catch (const std::exception& e) {  // e.g. out of memory on one rank
+    if (!Active()) throw;
+    error = e.what();
+  }
+  return CheckAll(error);
+}
 
 /// Collective: element-wise sum over the ranks, the result on every rank.
 /// Used to merge disjoint shares: a rank leaves entries it does not own at
