@@ -1,0 +1,106 @@
+// SpectralPeak_Hz and WhiteNoiseMagnitude (podid/wavelet/spectrum.hpp).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "podid/wavelet/spectrum.hpp"
+
+namespace podid::wavelet {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+Eigen::VectorXd Tones(int n, double step_s, double f1, double a1, double f2, double a2) {
+  Eigen::VectorXd x(n);
+  for (int i = 0; i < n; ++i) {
+    const double t = i * step_s;
+    x[i] = a1 * std::cos(2 * kPi * f1 * t) + a2 * std::sin(2 * kPi * f2 * t);
+  }
+  return x;
+}
+
+TEST(SpectralPeakTest, FindsTheStrongerToneAndTheOtherWhenItIsExcluded) {
+  // 1 s at 2 kHz: 1 Hz bins; tones between bins. The parabolic refinement of
+  // the smoothed log power keeps a Hann-windowed tone within 0.3 Hz (found
+  // 0.1-0.2 Hz); 0.5 Hz is half a bin.
+  constexpr double kToleranceHz = 0.5;
+  const Eigen::VectorXd x = Tones(2000, 5e-4, 40.3, 1.0, 231.7, 0.3);
+  EXPECT_NEAR(SpectralPeak_Hz(x, 5e-4, 0.0, 1000.0), 40.3, kToleranceHz);
+  EXPECT_NEAR(SpectralPeak_Hz(x, 5e-4, 0.0, 1000.0, {40.0}), 231.7, kToleranceHz);
+  EXPECT_NEAR(SpectralPeak_Hz(x, 5e-4, 100.0, 1000.0), 231.7, kToleranceHz);
+  // Excluding both leaves noise-free leakage only: some bin, never a tone's.
+  const double rest = SpectralPeak_Hz(x, 5e-4, 0.0, 1000.0, {40.3, 231.7});
+  EXPECT_GT(std::abs(std::log2(rest / 40.3)), 0.25);
+  EXPECT_GT(std::abs(std::log2(rest / 231.7)), 0.25);
+}
+
+TEST(SpectralPeakTest, FindsADecayingLineUnderWhiteNoise) {
+  // A 207 Hz line decaying with 1 % damping (as the reference beam's second
+  // mode) under white noise of the same total energy: a bin of the noise is
+  // higher than some of the line's bins, the smoothed line is not.
+  const double step = 2e-4, zeta = 0.01, f = 207.0;
+  std::mt19937_64 engine(7);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::VectorXd x(5001);
+  for (int i = 0; i < x.size(); ++i) {
+    const double t = i * step;
+    x[i] = std::exp(-zeta * 2 * kPi * f * t) * std::cos(2 * kPi * f * t);
+  }
+  const double rms = std::sqrt(x.squaredNorm() / x.size());
+  for (int i = 0; i < x.size(); ++i) x[i] += rms * normal(engine);
+  // 1 %: the line is 2 zeta f = 4 Hz wide; its peak sits within a bin (0.2 Hz).
+  EXPECT_NEAR(SpectralPeak_Hz(x, step, 0.0, 2375.0) / f, 1.0, 0.01);
+}
+
+TEST(SpectralPeakTest, RefusesBadArguments) {
+  const Eigen::VectorXd x = Tones(100, 1e-3, 50.0, 1.0, 120.0, 1.0);
+  EXPECT_THROW(SpectralPeak_Hz(x.head(4), 1e-3, 0.0, 100.0), std::invalid_argument);
+  EXPECT_THROW(SpectralPeak_Hz(x, 0.0, 0.0, 100.0), std::invalid_argument);
+  EXPECT_THROW(SpectralPeak_Hz(x, 1e-3, 100.0, 50.0), std::invalid_argument);
+  EXPECT_THROW(SpectralPeak_Hz(x, 1e-3, 2.0, 3.0), std::invalid_argument);  // no 10 Hz bin in 2..3 Hz
+  Eigen::VectorXd bad = x;
+  bad[3] = std::nan("");
+  EXPECT_THROW(SpectralPeak_Hz(bad, 1e-3, 0.0, 100.0), std::invalid_argument);
+  EXPECT_TRUE(std::isnan(SpectralPeak_Hz(Eigen::VectorXd::Zero(64), 1e-3, 0.0, 400.0)));
+}
+
+TEST(WhiteNoiseMagnitudeTest, MatchesTheTransformOfWhiteNoise) {
+  // The impulse's filter energy against the mean |W|^2 of a long white-noise
+  // record (unit variance), inside the cone. The mean over M effectively
+  // independent coefficients has a relative standard error of 1/sqrt(M); at
+  // the lowest frequency, 20 Hz, the filter lasts about 2 sigma_t s = 0.07 s,
+  // so 40 s give M > 500 and an error below 5 %: 10 % is two of them.
+  constexpr double kRelativeTolerance = 0.10;
+  const double step = 1e-3;
+  CwtOptions options;
+  options.frequencies.min_frequency_Hz = 20.0;
+  options.frequencies.max_frequency_Hz = 400.0;
+  options.frequencies.voices_per_octave = 4;
+  const Eigen::Index n = 40000;
+  std::mt19937_64 engine(3);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::VectorXd noise(n);
+  for (Eigen::Index i = 0; i < n; ++i) noise[i] = normal(engine);
+  const Scalogram s = Cwt(noise, step, options);
+  const Eigen::VectorXd expected = WhiteNoiseMagnitude(options, n, step);
+  ASSERT_EQ(expected.size(), s.frequencies());
+  for (Eigen::Index k = 0; k < s.frequencies(); ++k) {
+    double sum = 0.0;
+    int count = 0;
+    for (Eigen::Index j = 0; j < s.times(); ++j) {
+      if (!s.InsideCoi(j, k)) continue;
+      sum += std::norm(s.coefficients(j, k) * s.coefficient_scale);
+      ++count;
+    }
+    ASSERT_GT(count, 0);
+    EXPECT_NEAR(std::sqrt(sum / count) / expected[k], 1.0, kRelativeTolerance) << s.frequencies_Hz[k] << " Hz";
+  }
+  // Band-limited output has the same W (and so the same noise level).
+  options.band_limited = true;
+  EXPECT_TRUE(WhiteNoiseMagnitude(options, n, step).isApprox(expected, 1e-9));
+}
+
+}  // namespace
+}  // namespace podid::wavelet

@@ -1,0 +1,104 @@
+#include "podid/wavelet/spectrum.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "fftw_plans.hpp"
+#include "podid/core/error.hpp"
+
+namespace podid::wavelet {
+
+double SpectralPeak_Hz(const Eigen::Ref<const Eigen::VectorXd>& signal, double step_s,
+                       double min_Hz, double max_Hz, const std::vector<double>& exclude_Hz,
+                       double exclude_octaves) {
+  const Eigen::Index n = signal.size();
+  if (n < 8) ThrowInvalid("SpectralPeak_Hz: signal", "at least 8 samples", ToText(n));
+  if (!(step_s > 0) || !std::isfinite(step_s)) ThrowInvalid("SpectralPeak_Hz: step_s", "> 0", ToText(step_s));
+  if (!(min_Hz >= 0 && min_Hz < max_Hz && std::isfinite(max_Hz))) {
+    ThrowInvalid("SpectralPeak_Hz: band", "0 <= min < max", ToText(min_Hz) + ".." + ToText(max_Hz));
+  }
+  if (!(exclude_octaves >= 0 && exclude_octaves <= 10)) {
+    ThrowInvalid("SpectralPeak_Hz: exclude_octaves", "0..10", ToText(exclude_octaves));
+  }
+  if (!signal.allFinite()) ThrowInvalid("SpectralPeak_Hz: signal", "finite values", "NaN or Inf");
+  if (n > (1 << 27)) ThrowInvalid("SpectralPeak_Hz: signal", "at most 2^27 samples", ToText(n));
+
+  const int length = static_cast<int>(n);
+  internal::RealBuffer x = internal::AllocateReal(static_cast<std::size_t>(length));
+  internal::ComplexBuffer spectrum = internal::AllocateComplex(static_cast<std::size_t>(length / 2 + 1));
+  const double mean = signal.mean();
+  for (int i = 0; i < length; ++i) {
+    const double hann = 0.5 - 0.5 * std::cos(2.0 * M_PI * i / (length - 1));
+    x[i] = hann * (signal[i] - mean);
+  }
+  fftw_execute_dft_r2c(internal::RealForwardPlan(length, false), x.get(), internal::AsFftw(spectrum.get()));
+
+  const double bin_Hz = 1.0 / (length * step_s);
+  const int first = std::max(1, static_cast<int>(std::ceil(min_Hz / bin_Hz)));
+  const int last = std::min(length / 2, static_cast<int>(std::floor(max_Hz / bin_Hz)));
+  if (first > last) {
+    ThrowInvalid("SpectralPeak_Hz: band", "a range holding a periodogram bin (resolution " +
+                                              ToText(bin_Hz) + " Hz)",
+                 ToText(min_Hz) + ".." + ToText(max_Hz) + " Hz");
+  }
+  // Power, its prefix sums for the +-1 % average, and the excluded bins.
+  const int bins = length / 2 + 1;
+  std::vector<double> prefix(bins + 1, 0.0);
+  for (int k = 0; k < bins; ++k) prefix[k + 1] = prefix[k] + std::norm(spectrum[k]);
+  auto smoothed = [&](int k) {
+    const int half = std::max(1, k / 100);
+    const int lo = std::max(1, k - half), hi = std::min(bins - 1, k + half);
+    return (prefix[hi + 1] - prefix[lo]) / (hi - lo + 1);
+  };
+  auto excluded = [&](int k) {
+    const double f = k * bin_Hz;
+    for (double x : exclude_Hz) {
+      if (x > 0 && std::abs(std::log2(f / x)) < exclude_octaves) return true;
+    }
+    return false;
+  };
+  int best = -1;
+  double best_power = 0.0;
+  for (int k = first; k <= last; ++k) {
+    if (excluded(k)) continue;
+    const double power = smoothed(k);
+    if (best < 0 || power > best_power) {
+      best = k;
+      best_power = power;
+    }
+  }
+  if (best < 0 || !(best_power > 0)) return std::numeric_limits<double>::quiet_NaN();
+  const double peak = smoothed(best);
+  double offset = 0.0;
+  if (best > 1 && best < length / 2) {
+    const double a = std::log(smoothed(best - 1) + peak * 1e-300);
+    const double b = std::log(peak);
+    const double c = std::log(smoothed(best + 1) + peak * 1e-300);
+    const double curvature = a - 2.0 * b + c;
+    if (curvature < 0) offset = std::clamp(0.5 * (a - c) / curvature, -0.5, 0.5);
+  }
+  return (best + offset) * bin_Hz;
+}
+
+Eigen::VectorXd WhiteNoiseMagnitude(const CwtOptions& options, Eigen::Index samples, double step_s) {
+  // The impulse response at output time n is conj(psi_f[n0 - n]) up to the
+  // normalisation, so sum_n |W(n, f)|^2 is the filter's energy: E|W|^2 of
+  // unit white noise. Full-rate output (all n), zero padding (no mirrored
+  // copies of the impulse), no mean removal (the impulse's mean 1/N would
+  // add a small constant the filters reject anyway).
+  CwtOptions impulse_options = options;
+  impulse_options.band_limited = false;
+  impulse_options.padding = Padding::kZero;
+  impulse_options.remove_mean = false;
+  impulse_options.output = CwtOutput::kComplex;
+  impulse_options.threads = 1;
+  Eigen::VectorXd impulse = Eigen::VectorXd::Zero(samples);
+  if (samples >= 1) impulse[samples / 2] = 1.0;
+  Scalogram scalogram;
+  CwtTransform(impulse_options).Compute(impulse, step_s, &scalogram);
+  return scalogram.coefficients.colwise().norm().transpose() * scalogram.coefficient_scale;
+}
+
+}  // namespace podid::wavelet
