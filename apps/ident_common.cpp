@@ -1,5 +1,6 @@
 #include "ident_common.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <utility>
 
@@ -17,9 +18,24 @@ void ObjectiveArguments::AddTo(CLI::App& command) {
   measured_reading.AddTo(command);
   command.add_option("--modes", modes, "Number of leading POMs in the objective (K)")->capture_default_str()
       ->check(IntegerIn(1, kMaxObjectiveModes));
-  command.add_flag("--noise-sigma", noise_sigma,
+  auto* corrected = command.add_flag("--noise-sigma", noise_sigma,
                    "Compare with the measured singular values less the white-noise energy "
-                   "(estimated per sensor from second differences)");
+                   "(estimated per sensor from second differences; the default when --modes > 1)");
+  command.add_flag("--no-noise-sigma", no_noise_sigma,
+                   "Compare with the measured singular values as they are, also when --modes > 1")
+      ->excludes(corrected);
+  command.add_option("--mode-band", mode_bands,
+                     "Ridge band of mode K >= 2 (repeatable; default: the --fmin..--fmax width in octaves "
+                     "centred on the mode's spectral peak)")
+      ->type_name("K=LOW:HIGH");
+  command.add_option("--ridge-snr", ridge_snr,
+                     "Measured ridge samples below this multiple of the noise's rms |W| are not compared "
+                     "(0: compare all)")
+      ->capture_default_str()->check(CLI::Range(0.0, 1000.0));
+  command.add_option("--min-signal", min_signal,
+                     "Modes 2..K whose measured energy is less than this fraction signal (the rest white noise) "
+                     "are not compared, nor the modes after them (0: compare all K)")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.999));
   command.add_flag("--raw-sigma", raw_sigma,
                    "Compare raw singular values (eq. 19) instead of relative ones");
   command.add_option("--fmin", fmin_Hz, "Lowest ridge frequency of the wavelet term (Hz)")->capture_default_str();
@@ -83,7 +99,26 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
   options.weightings = std::move(weightings);
   options.modes = modes;
   options.relative_sigma = !raw_sigma;
-  options.noise_corrected_sigma = noise_sigma;
+  options.noise_corrected_sigma = noise_sigma      ? ident::ObjectiveOptions::SigmaNoise::kCorrected
+                                  : no_noise_sigma ? ident::ObjectiveOptions::SigmaNoise::kRaw
+                                                   : ident::ObjectiveOptions::SigmaNoise::kAuto;
+  options.ridge_min_snr = ridge_snr;
+  options.min_signal_fraction = min_signal;
+  for (const std::string& band : mode_bands) {
+    const std::string expected =
+        "K=LOW:HIGH with 2 <= K <= --modes (" + ToText(modes) + ") and 0 < LOW < HIGH Hz, e.g. 2=100:400";
+    const std::size_t eq = band.find('='), colon = band.find(':', eq == std::string::npos ? 0 : eq);
+    if (eq == std::string::npos || colon == std::string::npos) ThrowInvalid("--mode-band", expected, Excerpt(band));
+    const double mode = ParseNumber(band.substr(0, eq), "--mode-band", expected);
+    const double low = ParseNumber(band.substr(eq + 1, colon - eq - 1), "--mode-band", expected);
+    const double high = ParseNumber(band.substr(colon + 1), "--mode-band", expected);
+    if (mode != std::floor(mode) || mode < 2 || mode > modes || !(low > 0 && low < high)) {
+      ThrowInvalid("--mode-band", expected, Excerpt(band));
+    }
+    const auto k = static_cast<std::size_t>(mode);
+    if (options.mode_bands.size() < k) options.mode_bands.resize(k);
+    options.mode_bands[k - 1] = {low, high};
+  }
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin_Hz;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax_Hz;
   options.ridge.ridge.penalty_s = penalty_s;

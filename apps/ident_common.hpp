@@ -20,6 +20,10 @@ struct ObjectiveArguments {
   int modes = 1;
   bool raw_sigma = false;
   bool noise_sigma = false;
+  bool no_noise_sigma = false;
+  std::vector<std::string> mode_bands;  ///< K=LOW:HIGH
+  double ridge_snr = 3.0;
+  double min_signal = 0.1;
   double fmin_Hz = 10.0;
   double fmax_Hz = 120.0;
   double penalty_s = 0.05;

@@ -10,6 +10,7 @@
 #include "podid/core/error.hpp"
 #include "podid/core/recording.hpp"
 #include "podid/pod/noise.hpp"
+#include "mode_ridges.hpp"
 
 namespace podid::ident {
 namespace {
@@ -121,6 +122,27 @@ bool ObjectiveOptions::IsValid(std::string* why) const {
     return fail("failure_value: expected a finite value > 0, got " + ToText(failure_value));
   std::string ridge_why;
   if (!ridge.IsValid(&ridge_why)) return fail("ridge: " + ridge_why);
+  if (mode_bands.size() > static_cast<std::size_t>(modes)) {
+    return fail("mode_bands: expected at most modes = " + ToText(modes) + " bands, got " +
+                ToText(mode_bands.size()));
+  }
+  for (std::size_t k = 1; k < mode_bands.size(); ++k) {
+    const FrequencyBand& b = mode_bands[k];
+    if (!b.follow() && !(b.min_Hz > 0 && b.min_Hz < b.max_Hz && std::isfinite(b.max_Hz))) {
+      return fail("mode_bands[" + ToText(k) + "] (mode " + ToText(k + 1) + "): expected 0 < min < max Hz, got " +
+                  ToText(b.min_Hz) + ".." + ToText(b.max_Hz));
+    }
+  }
+  if (!mode_bands.empty() && !mode_bands[0].follow()) {
+    return fail("mode_bands[0]: mode 1's band is ridge's (fmin/fmax); expected it empty, got " +
+                ToText(mode_bands[0].min_Hz) + ".." + ToText(mode_bands[0].max_Hz));
+  }
+  if (!(min_signal_fraction >= 0 && min_signal_fraction < 1)) {
+    return fail("min_signal_fraction: expected 0 <= fraction < 1, got " + ToText(min_signal_fraction));
+  }
+  if (!(ridge_min_snr >= 0 && ridge_min_snr <= 1e3)) {
+    return fail("ridge_min_snr: expected 0..1000, got " + ToText(ridge_min_snr));
+  }
   return true;
 }
 
@@ -220,43 +242,57 @@ ObjectiveFunction::ObjectiveFunction(const CaseDocument& case_document, const Ti
   if (measured_pod_.IsDegenerate()) {
     ThrowInvalid("measured data", "a record with a nonzero POD", measured_pod_.message);
   }
-  if (options_.noise_corrected_sigma && measured_.samples() >= 8) {
-    const Eigen::VectorXd noise_variance = DifferenceNoiseVariance(measured_.SnapshotMatrix());
-    const Eigen::VectorXd corrected = NoiseCorrectedSingularValues(measured_pod_, noise_variance);
+  // White measurement noise per sensor: for the sigma correction and the
+  // screening of the measured ridges (mode_ridges.hpp).
+  Eigen::VectorXd noise_variance;
+  if (measured_.samples() >= 8 && (options_.CorrectsSigma() || (needed_.f != 0 && options_.ridge_min_snr > 0) ||
+                                    (options_.modes > 1 && options_.min_signal_fraction > 0))) {
+    noise_variance = DifferenceNoiseVariance(measured_.SnapshotMatrix());
+  }
+  const PodResult raw_measured_pod = measured_pod_;
+  compared_modes_ = options_.modes;
+  const bool noise_known = noise_variance.size() > 0;
+  const Eigen::VectorXd corrected =
+      noise_known ? NoiseCorrectedSingularValues(measured_pod_, noise_variance) : Eigen::VectorXd();
+  if (noise_known && options_.min_signal_fraction > 0) {
+    for (int k = 1; k < options_.modes; ++k) {
+      const double fraction = std::pow(corrected[k] / measured_pod_.singular_values[k], 2);
+      if (!(fraction >= options_.min_signal_fraction)) {
+        const std::string dropped = k + 1 == options_.modes ? "mode " + ToText(k + 1) + " is"
+                                                            : "modes " + ToText(k + 1) + ".." + ToText(options_.modes) + " are";
+        notes_.push_back(dropped + " not compared: mode " + ToText(k + 1) + "'s measured energy is " +
+                         ToText(100 * fraction) + " % signal (sigma_" + ToText(k + 1) + " " +
+                         ToText(measured_pod_.singular_values[k]) + ", " + ToText(corrected[k]) +
+                         " without the white noise), below the " + ToText(100 * options_.min_signal_fraction) +
+                         " % needed (min_signal_fraction, --min-signal)");
+        compared_modes_ = k;
+        break;
+      }
+    }
+  }
+  if (options_.CorrectsSigma() && noise_known) {
     notes_.push_back("measured sigma_1 corrected for white noise (std " +
                      ToText(std::sqrt(noise_variance.maxCoeff())) + " on the noisiest sensor): " +
                      ToText(measured_pod_.singular_values[0]) + " -> " + ToText(corrected[0]) + " (" +
                      ToText(100 * (corrected[0] / measured_pod_.singular_values[0] - 1)) + " %)");
+    for (int k = 1; k < compared_modes_; ++k) {
+      notes_.push_back("measured sigma_" + ToText(k + 1) + " corrected for white noise: " +
+                       ToText(measured_pod_.singular_values[k]) + " -> " + ToText(corrected[k]));
+    }
     // Only the compared modes: a mode whose corrected sigma is 0 is noise.
-    for (int k = 0; k < options_.modes; ++k) {
+    for (int k = 0; k < compared_modes_; ++k) {
       if (corrected[k] > 0) measured_pod_.singular_values[k] = corrected[k];
     }
   }
 
-  // Each mode's ridge options (one estimator per mode in the workspace).
-  mode_ridge_options_.assign(options_.modes, options_.ridge);
-
+  // Each mode's ridge band and measured ridge (one estimator per mode in the workspace).
+  mode_ridge_options_.assign(compared_modes_, options_.ridge);
   if (needed_.f != 0) {
-    for (int k = 0; k < options_.modes; ++k) {
-      // The record must hold the cone of influence at the lowest frequency:
-      // 2 * coi_factor * sqrt(2) s(f_min).
-      const auto& cwt = mode_ridge_options_[k].cwt;
-      const double s_min = cwt.wavelet.FrequencyToScale_s(cwt.frequencies.min_frequency_Hz);
-      const double needed = 2.0 * cwt.coi_factor * wavelet::MorletWavelet::ConeOfInfluence_s(s_min);
-      if (duration <= needed) {
-        ThrowInvalid("measured data", "a record longer than " + ToText(needed) +
-                         " s for the wavelet objective's lowest frequency " +
-                         ToText(cwt.frequencies.min_frequency_Hz) +
-                         " Hz (its cone of influence; raise --fmin or give a longer record)",
-                     ToText(duration) + " s");
-      }
-      wavelet::RidgeFrequencyEstimator estimator(mode_ridge_options_[k]);
-      measured_ridges_.push_back(estimator.Estimate(measured_pod_.time_modes.col(k), step));
-      if (measured_ridges_.back().InsideCoiCount() == 0) {
-        ThrowInvalid("measured data", "a ridge of mode " + ToText(k + 1) +
-                         " inside the cone of influence", "none (record too short for the band)");
-      }
-    }
+    internal::ModeRidges ridges =
+        internal::PrepareModeRidges(raw_measured_pod, noise_variance, step, compared_modes_, options_);
+    mode_ridge_options_ = std::move(ridges.options);
+    measured_ridges_ = std::move(ridges.measured);
+    for (std::string& note : ridges.notes) notes_.push_back(std::move(note));
   }
 }
 
@@ -265,6 +301,7 @@ ObjectiveFunction::ObjectiveFunction(const ObjectiveFunction& other)
       measured_(other.measured_), options_(other.options_), needed_(other.needed_),
       parameters_(other.parameters_), bindings_(other.bindings_),
       has_document_parameters_(other.has_document_parameters_), measured_pod_(other.measured_pod_),
+      compared_modes_(other.compared_modes_),
       mode_ridge_options_(other.mode_ridge_options_), measured_ridges_(other.measured_ridges_),
       notes_(other.notes_) {}
 
@@ -283,6 +320,10 @@ CaseSpec ObjectiveFunction::DocumentSpecAt(const Eigen::VectorXd& values) const 
     if (!bindings_[i].typed()) document.SetNumber(parameters_[i].key, parameters_[i].scale * values[i]);
   }
   return document.ToSpec();
+}
+
+TimeSeries ObjectiveFunction::Conditioned(const TimeSeries& simulated) const {
+  return ConditionSimulated(base_spec_, simulated);
 }
 
 CaseSpec ObjectiveFunction::SpecAt(const Eigen::VectorXd& values) const {
@@ -402,7 +443,7 @@ void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, Evaluatio
     // Gram method's accuracy, and requiring them accurate sent every
     // evaluation to the SVD.
     PodOptions options = MeasuredPodOptions();
-    options.accurate_modes = options_.modes;
+    options.accurate_modes = compared_modes_;
     w.pod = std::make_unique<PodSolver>(options);
   }
   // The measured record's conditioning ([data] detrend, filter), applied alike
@@ -414,7 +455,7 @@ void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, Evaluatio
   if (pod.IsDegenerate()) return fail("simulated response: " + pod.message);  // e.g. no excitation
   AlignToReference(measured_pod_, &pod);
 
-  const int k = options_.modes;
+  const int k = compared_modes_;
   const PodResult& m = measured_pod_;
   if (needed_.u != 0) terms.u = (pod.poms.leftCols(k) - m.poms.leftCols(k)).squaredNorm();
   if (needed_.s != 0) {

@@ -22,10 +22,12 @@ class FeatureMap {
     pod_ = std::make_unique<PodSolver>(options);
   }
 
-  bool Compute(const TimeSeries& response, Eigen::VectorXd* out, std::string* why) {
+  // `response`: simulated sensors; conditioned here as Evaluate does.
+  bool Compute(const TimeSeries& simulated, Eigen::VectorXd* out, std::string* why) {
     const ObjectiveOptions& o = objective_.options();
     const PodResult& m = objective_.measured_pod();
-    const int k = o.modes;
+    const int k = objective_.compared_modes();
+    const TimeSeries response = objective_.Conditioned(simulated);
     PodResult pod = pod_->Compute(response);
     if (pod.IsDegenerate()) {
       *why = "a degenerate response: " + pod.message;

@@ -30,7 +30,7 @@ TEST(NoiseCorrectedSigmaTest, MeasuredSigmaMovesToTheCleanRecordsOne) {
   options.weightings = {{"time-free", ObjectiveWeights::Preset("time-free")}};
   const ObjectiveFunction reference(document, clean, options);
   const ObjectiveFunction raw(document, noisy, options);
-  options.noise_corrected_sigma = true;
+  options.noise_corrected_sigma = ObjectiveOptions::SigmaNoise::kCorrected;
   const ObjectiveFunction corrected(document, noisy, options);
   const double s_clean = reference.measured_pod().singular_values[0];
   const double bias_raw = raw.measured_pod().singular_values[0] / s_clean - 1;
