@@ -61,13 +61,7 @@ ident::LandscapeAxis ParseRange(const std::string& option, const std::string& ra
 
 void SetParameter(const ident::ObjectiveFunction& f, const std::string& option, const std::string& name,
                   ident::LandscapeAxis* axis) {
-  axis->parameter = -1;
-  std::string names;
-  for (int i = 0; i < f.parameter_count(); ++i) {
-    if (f.parameters()[i].name == name) axis->parameter = i;
-    names += (i ? ", " : "") + f.parameters()[i].name;
-  }
-  if (axis->parameter < 0) ThrowInvalid(option, "a parameter of the case (" + names + ")", "\"" + name + "\"");
+  axis->parameter = f.ParameterIndex(name, option);
 }
 
 std::vector<ident::NamedObjective> ParseObjectives(const std::string& list) {

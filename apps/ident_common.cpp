@@ -133,13 +133,7 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
 Eigen::VectorXd ObjectiveArguments::Start(const ident::ObjectiveFunction& objective) const {
   Eigen::VectorXd start = objective.StartValues();
   for (const auto& [name, value_text] : ParseSetArguments(starts)) {
-    int index = -1;
-    std::string names;
-    for (int i = 0; i < objective.parameter_count(); ++i) {
-      if (objective.parameters()[i].name == name) index = i;
-      names += (i ? ", " : "") + objective.parameters()[i].name;
-    }
-    if (index < 0) ThrowInvalid("--start " + name, "a parameter name (" + names + ")", "\"" + name + "\"");
+    const int index = objective.ParameterIndex(name, "--start " + name);
     const double value = ParseNumber(value_text, "--start " + name);
     const ParameterSpec& p = objective.parameters()[index];
     if (!(value >= p.lower && value <= p.upper)) {

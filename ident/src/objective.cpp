@@ -322,6 +322,15 @@ CaseSpec ObjectiveFunction::DocumentSpecAt(const Eigen::VectorXd& values) const 
   return document.ToSpec();
 }
 
+int ObjectiveFunction::ParameterIndex(std::string_view name, std::string_view where) const {
+  std::string names;
+  for (int i = 0; i < parameter_count(); ++i) {
+    if (parameters_[i].name == name) return i;
+    names += (i ? ", " : "") + parameters_[i].name;
+  }
+  ThrowInvalid(where, "a parameter name (" + names + ")", "\"" + std::string(name) + "\"");
+}
+
 TimeSeries ObjectiveFunction::Conditioned(const TimeSeries& simulated) const {
   return ConditionSimulated(base_spec_, simulated);
 }

@@ -65,14 +65,7 @@ std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case
 Eigen::VectorXd ValuesFrom(const ident::ObjectiveFunction& f, const std::map<std::string, double>& given) {
   Eigen::VectorXd values = f.StartValues();
   for (const auto& [name, value] : given) {
-    int index = -1;
-    std::string names;
-    for (int i = 0; i < f.parameter_count(); ++i) {
-      if (f.parameters()[i].name == name) index = i;
-      names += (i ? ", " : "") + f.parameters()[i].name;
-    }
-    if (index < 0) throw std::invalid_argument("parameter \"" + name + "\": expected one of " + names);
-    values[index] = value;
+    values[f.ParameterIndex(name, "parameter")] = value;
   }
   return values;
 }
@@ -221,11 +214,7 @@ void BindIdent(py::module_& m) {
          int modes, double fmin, double fmax, const std::vector<std::string>& set) {
         const auto f = BuildObjective(case_, measured, objectives, modes, fmin, fmax, false, set);
         ident::LandscapeOptions options;
-        options.x.parameter = -1;
-        for (int i = 0; i < f->parameter_count(); ++i) {
-          if (f->parameters()[i].name == param) options.x.parameter = i;
-        }
-        if (options.x.parameter < 0) throw std::invalid_argument("param: \"" + param + "\" is not a parameter of the case");
+        options.x.parameter = f->ParameterIndex(param, "param");
         options.x.lower = lower;
         options.x.upper = upper;
         options.x.points = points;

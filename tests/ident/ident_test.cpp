@@ -77,6 +77,18 @@ TEST(IdentifyReferenceTest, WaveletObjectiveFromEveryStartOnLongRecord) {
   }
 }
 
+TEST(ObjectiveTest, ParameterIndexFindsANameOrNamesTheChoices) {
+  const ObjectiveFunction objective(ReferenceDocument(), ReadCsv(DataPath("measured_knl50_T0.1.csv")),
+                                    Presets({"full"}));
+  EXPECT_EQ(objective.ParameterIndex("knl", "--start"), 0);
+  try {
+    objective.ParameterIndex("k3", "--start k3");
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "--start k3: expected a parameter name (knl), got \"k3\"");
+  }
+}
+
 TEST(ObjectiveTest, VanishesAtTheTruthOnNoiseFreeSimulatedData) {
   // Data simulated by podid itself at knl = 50 without noise: every term is
   // zero at knl = 50 up to the POD's round-off.

@@ -184,6 +184,9 @@ class ObjectiveFunction {
 
   int parameter_count() const { return static_cast<int>(parameters_.size()); }
   const std::vector<ParameterSpec>& parameters() const { return parameters_; }
+  /// The index of the parameter named `name`. Throws std::invalid_argument
+  /// "<where>: expected a parameter name (a, b), got "name"" otherwise.
+  int ParameterIndex(std::string_view name, std::string_view where) const;
   /// The parameters' typed bindings (same order as parameters()).
   const std::vector<ModelParameter>& bindings() const { return bindings_; }
   /// The parameters' start values (dim parameter_count()).
