@@ -322,6 +322,14 @@ CaseSpec ObjectiveFunction::DocumentSpecAt(const Eigen::VectorXd& values) const 
   return document.ToSpec();
 }
 
+PodOptions ObjectiveFunction::ResponsePodOptions() const {
+  // The trailing modes of noise-free simulated data are below the Gram
+  // method's accuracy; requiring them accurate sent every evaluation to the SVD.
+  PodOptions options = MeasuredPodOptions();
+  options.accurate_modes = compared_modes_;
+  return options;
+}
+
 int ObjectiveFunction::ParameterIndex(std::string_view name, std::string_view where) const {
   std::string names;
   for (int i = 0; i < parameter_count(); ++i) {
@@ -447,13 +455,7 @@ void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, Evaluatio
   const SimulationResult sim = w.simulator->Run();
   if (!sim.summary.IsSolutionUsable()) return fail(sim.summary.message);
   if (!w.pod) {
-    // All modes for the MAC matching of swapped modes, the K compared ones
-    // accurate: the trailing modes of noise-free simulated data are below the
-    // Gram method's accuracy, and requiring them accurate sent every
-    // evaluation to the SVD.
-    PodOptions options = MeasuredPodOptions();
-    options.accurate_modes = compared_modes_;
-    w.pod = std::make_unique<PodSolver>(options);
+    w.pod = std::make_unique<PodSolver>(ResponsePodOptions());
   }
   // The measured record's conditioning ([data] detrend, filter), applied alike
   // to the simulated one (recording.hpp); nothing to do without it.

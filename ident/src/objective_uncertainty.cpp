@@ -15,12 +15,8 @@ namespace {
 class FeatureMap {
  public:
   FeatureMap(const ObjectiveFunction& objective, int weighting)
-      : objective_(objective), weights_(objective.options().weightings.at(weighting).weights) {
-    PodOptions options;  // as the objective's: all modes for the MAC matching
-    options.remove_mean = true;
-    options.compute_time_modes = true;
-    pod_ = std::make_unique<PodSolver>(options);
-  }
+      : objective_(objective), weights_(objective.options().weightings.at(weighting).weights),
+        pod_(std::make_unique<PodSolver>(objective.ResponsePodOptions())) {}
 
   // `response`: simulated sensors; conditioned here as Evaluate does.
   bool Compute(const TimeSeries& simulated, Eigen::VectorXd* out, std::string* why) {

@@ -221,6 +221,10 @@ class ObjectiveFunction {
   CaseSpec SpecAt(const Eigen::VectorXd& values) const;
   /// The noise-free simulation at `values`.
   SimulationResult SimulateAt(const Eigen::VectorXd& values) const;
+  /// The POD of a simulated response as Evaluate computes it: mean removed,
+  /// time modes, all modes (for the MAC matching of swapped modes), the
+  /// compared ones accurate.
+  PodOptions ResponsePodOptions() const;
   /// Simulated sensors as Evaluate compares them: with the measured record's
   /// [data] conditioning (detrend, filter) applied (ConditionSimulated).
   TimeSeries Conditioned(const TimeSeries& simulated) const;
