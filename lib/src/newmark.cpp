@@ -10,10 +10,8 @@
 #include <cmath>
 #include <cstddef>
 #include <sstream>
-#if defined(__GNUC__) && defined(__x86_64__)
-#include <immintrin.h>
-#endif
 
+#include "newmark_kernels.hpp"
 #include "podid/core/error.hpp"
 
 namespace podid {
@@ -24,73 +22,6 @@ void SetMallocAllowed([[maybe_unused]] bool allowed) {
   Eigen::internal::set_is_malloc_allowed(allowed);
 #endif
 }
-
-// out = A u for a small column-major A (rows x cols, rows <= kDenseDofLimit):
-// blocks of 8, 4, 2, 1 rows, each accumulated in registers over all columns
-// (fixed-size Eigen vectors, so SIMD without relying on the auto-vectoriser).
-// Eigen's general GEMV pays more in set-up and blocking than it saves here.
-template <int R>
-void MultiplyRows(const double* a, int lda, int cols, const double* u, double* out) {
-  using Block = Eigen::Matrix<double, R, 1>;
-  Block acc = Eigen::Map<const Block>(a) * u[0];
-  for (int j = 1; j < cols; ++j) acc.noalias() += Eigen::Map<const Block>(a + j * lda) * u[j];
-  Eigen::Map<Block> result(out);
-  result = acc;
-}
-
-void MultiplySmall(const double* a, int rows, int cols, const double* u, double* out) {
-  int i = 0;
-  for (; i + 8 <= rows; i += 8) MultiplyRows<8>(a + i, rows, cols, u, out + i);
-  if (i + 4 <= rows) {
-    MultiplyRows<4>(a + i, rows, cols, u, out + i);
-    i += 4;
-  }
-  if (i + 2 <= rows) {
-    MultiplyRows<2>(a + i, rows, cols, u, out + i);
-    i += 2;
-  }
-  if (i < rows) MultiplyRows<1>(a + i, rows, cols, u, out + i);
-}
-
-#if defined(__GNUC__) && defined(__x86_64__)
-#define PODID_NEWMARK_AVX2 1
-// The same product with AVX2 + FMA (4 doubles a register, fused multiply-add),
-// compiled for that target only and called only when the CPU reports both
-// (the binary stays x86-64 baseline). Columns in the same order as
-// MultiplySmall; FMA rounds once where SSE2 rounds twice: round-off only.
-// K registers of 4 rows each (rows i .. i + 4K - 1), accumulated over all columns.
-template <int K>
-__attribute__((target("avx2,fma"))) void MultiplyRowsAvx2(const double* a, int rows, int cols,
-                                                          const double* u, double* out) {
-  __m256d s[K];
-  const __m256d b0 = _mm256_broadcast_sd(u);
-#pragma GCC unroll 4
-  for (int k = 0; k < K; ++k) s[k] = _mm256_mul_pd(_mm256_loadu_pd(a + 4 * k), b0);
-  for (int j = 1; j < cols; ++j) {
-    const double* col = a + static_cast<std::ptrdiff_t>(j) * rows;
-    const __m256d b = _mm256_broadcast_sd(u + j);
-#pragma GCC unroll 4
-    for (int k = 0; k < K; ++k) s[k] = _mm256_fmadd_pd(_mm256_loadu_pd(col + 4 * k), b, s[k]);
-  }
-#pragma GCC unroll 4
-  for (int k = 0; k < K; ++k) _mm256_storeu_pd(out + 4 * k, s[k]);
-}
-
-__attribute__((target("avx2,fma"))) void MultiplySmallAvx2(const double* a, int rows, int cols,
-                                                           const double* u, double* out) {
-  int i = 0;
-  for (; i + 16 <= rows; i += 16) MultiplyRowsAvx2<4>(a + i, rows, cols, u, out + i);
-  const int left = (rows - i) / 4;  // 0..3 registers, one pass for all of them
-  if (left == 3) MultiplyRowsAvx2<3>(a + i, rows, cols, u, out + i);
-  if (left == 2) MultiplyRowsAvx2<2>(a + i, rows, cols, u, out + i);
-  if (left == 1) MultiplyRowsAvx2<1>(a + i, rows, cols, u, out + i);
-  for (i += 4 * left; i < rows; ++i) {
-    double s = a[i] * u[0];
-    for (int j = 1; j < cols; ++j) s = std::fma(a[static_cast<std::ptrdiff_t>(j) * rows + i], u[j], s);
-    out[i] = s;
-  }
-}
-#endif
 
 }  // namespace
 
@@ -260,11 +191,8 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     sab_ = s_.topRightCorner(na_, nb_);
     h_ = sbb_inv_ * s_.bottomLeftCorner(nb_, na_);
     shat_ = s_.topLeftCorner(na_, na_) - sab_ * h_;
-    multiply_small_ = MultiplySmall;
-#ifdef PODID_NEWMARK_AVX2
-    if (options.cpu_dispatch && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
-      multiply_small_ = MultiplySmallAvx2;
-#endif
+    multiply_small_ = internal::SelectMultiplyKernel(options.cpu_dispatch);
+    update_ = internal::SelectUpdateKernel(options.cpu_dispatch);
     // One product per step gives both: [bhat; y] = T [M, C] [u1; u2].
     Eigen::MatrixXd mc(n_, 2 * n_);
     mc << mass_, damping_;
@@ -272,7 +200,15 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     auto y_rows = condensed_mc_.bottomRows(nb_);
     y_rows.noalias() = sbb_inv_ * mc.bottomRows(nb_);
     condensed_mc_.topRows(na_) = mc.topRows(na_) - sab_ * y_rows;
+    if (na_ == 1) {
+      h_padded_.setZero(n_);
+      h_padded_.tail(nb_) = h_.col(0);
+      shat_scalar_ = shat_(0, 0);
+    }
   }
+  coefficients_ = {a0_, a1_, a2_, a3_, a4_, a5_, dt, g, options.max_displacement};
+  v0_velocity_ = 1.0 - g / b;
+  v0_acceleration_ = dt * (1.0 - g / (2.0 * b));
 }
 
 NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
@@ -417,6 +353,49 @@ bool NewmarkIntegrator::SolveScalar(NewmarkWorkspace& w, int* iterations, double
   return false;
 }
 
+bool NewmarkIntegrator::StepDenseScalar(NewmarkWorkspace& w, double load, int* iterations,
+                                        double* residual, bool* bounded) const {
+  // As StepModified + SolveScalar + Run's update for this case, the same
+  // operations in the same order, with scalars and raw pointers.
+  double* const rhs = w.rhs.data();
+  multiply_small_(condensed_mc_.data(), n_, 2 * n_, w.u.data(), rhs);
+  double bhat = rhs[0];
+  if (load != 0.0) {
+    w.rhs.tail(nb_) += load * w.load_y;
+    bhat += load * w.load_bhat[0];
+  }
+  const double* const z = w.z.data();
+  const double x_n = z[0], v_n = z[n_], a_n = z[2 * n_];
+  const double shat = shat_scalar_, a1 = a1_, dt = options_.step_s, tolerance = options_.tolerance;
+  const int max_iterations = options_.max_iterations;
+  // eq. 29 in x_a: R(x) = shat x - bhat - f(x, v(x)), v(x) = a1 (x - x_n) + v0
+  // (Newmark relations), from the Taylor predictor x_n + dt x'_n + dt^2 x''_n / 2.
+  const double v0 = v0_velocity_ * v_n + v0_acceleration_ * a_n;
+  double x = x_n + dt * (v_n + 0.5 * dt * a_n);
+  int it = 0;
+  for (;; ++it) {
+    double f = 0.0, k = 0.0, c = 0.0;
+    nonlinear_.EvaluateScalar(x, a1 * (x - x_n) + v0, &f, &k, &c);
+    const double sx = shat * x;
+    const double scale = std::max({std::abs(sx), std::abs(bhat), std::abs(f), 1e-300});
+    const double r = sx - bhat - f;
+    // |r| <= tol scale: the relative residual test without a division on
+    // the critical path; a non-finite r fails it and ends the step.
+    if (std::abs(r) <= tolerance * scale) break;
+    if (!std::isfinite(r) || it == max_iterations) {
+      *iterations = it;
+      *residual = std::abs(r) / scale;
+      return false;
+    }
+    x -= r / (shat + k + a1 * c);
+  }
+  *iterations = it;
+  *residual = 0.0;
+  rhs[0] = x;  // y[0] = x_a: x_new = y - h x_a for every dof (h[0] = 0)
+  *bounded = update_(coefficients_, n_, rhs, h_padded_.data(), x, w.x_new.data(), w.z.data(), w.u.data());
+  return true;
+}
+
 bool NewmarkIntegrator::StepFull(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
                                  double* residual) const {
   w.rhs.noalias() = rhs_matrix_ * w.z;
@@ -532,29 +511,42 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
   summary.dofs = n_;
   summary.nonlinear_dofs = na_;
   summary.steps_requested = steps;
+  // Raw column pointers: the recording's stores then cannot alias the
+  // matrices' sizes, which would be reloaded at every sample.
+  double* const rec_x = recording->displacement.data();
+  double* const rec_v = recording->record_velocity ? recording->velocity.data() : nullptr;
+  double* const rec_a = recording->record_acceleration ? recording->acceleration.data() : nullptr;
+  const int* const rec_dofs = rec.data();
+  const double* const zx = w.z.data();
   auto record = [&](int row) {
-    for (int k = 0; k < n_rec; ++k) recording->displacement(row, k) = x[rec[k]];
-    if (recording->record_velocity)
-      for (int k = 0; k < n_rec; ++k) recording->velocity(row, k) = v[rec[k]];
-    if (recording->record_acceleration)
-      for (int k = 0; k < n_rec; ++k) recording->acceleration(row, k) = acc[rec[k]];
+    for (int k = 0; k < n_rec; ++k) rec_x[static_cast<std::ptrdiff_t>(k) * rows + row] = zx[rec_dofs[k]];
+    if (rec_v)
+      for (int k = 0; k < n_rec; ++k) rec_v[static_cast<std::ptrdiff_t>(k) * rows + row] = zx[n_ + rec_dofs[k]];
+    if (rec_a)
+      for (int k = 0; k < n_rec; ++k)
+        rec_a[static_cast<std::ptrdiff_t>(k) * rows + row] = zx[2 * n_ + rec_dofs[k]];
   };
   record(0);
   summary.rows_recorded = 1;
 
   const double dt = options_.step_s, g = options_.gamma;
   const bool dense_condensed = options_.type == IntegratorType::kModifiedNewmark && !sparse_;
+  // One nonlinear dof on the dense path: the fused step (StepDenseScalar).
+  const bool dense_scalar = dense_condensed && na_ == 1;
   if (dense_condensed) {
     w.u.head(n_) = a0_ * x + a2_ * v + a3_ * acc;
     w.u.tail(n_) = a1_ * x + a4_ * v + a5_ * acc;
   }
   summary.termination = SimulationTermination::kCompleted;
+  int since_record = 0;
   SetMallocAllowed(false);
   for (int step = 1; step <= steps; ++step) {
     int iterations = 0;
     double residual = 0.0;
+    bool bounded = true;
     const double load_value = has_load ? load.values_N[step] : 0.0;
-    const bool ok = options_.type == IntegratorType::kModifiedNewmark
+    const bool ok = dense_scalar ? StepDenseScalar(w, load_value, &iterations, &residual, &bounded)
+                    : options_.type == IntegratorType::kModifiedNewmark
                         ? StepModified(w, load_value, load_dof, &iterations, &residual)
                         : StepFull(w, load_value, load_dof, &iterations, &residual);
     summary.newton_iterations += iterations;
@@ -569,46 +561,36 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
       summary.failure_residual = residual;
       break;
     }
-    // One pass catches both: NaN and inf fail |x| <= max_displacement.
-    bool bounded = true;
-    for (int i = 0; i < n_; ++i) bounded &= std::abs(w.x_new[i]) <= options_.max_displacement;
+    if (dense_condensed && !dense_scalar) {
+      // The bounds check, the Newmark update and the next step's u in one kernel.
+      bounded = update_(coefficients_, n_, nullptr, nullptr, 0.0, w.x_new.data(), w.z.data(), w.u.data());
+    } else if (!dense_condensed) {
+      // One pass catches both: NaN and inf fail |x| <= max_displacement.
+      for (int i = 0; i < n_; ++i) bounded &= std::abs(w.x_new[i]) <= options_.max_displacement;
+      if (bounded) {
+        // Newmark updates of acceleration and velocity, fused in one pass:
+        // acc_new = a0 (x_new - x) - a2 v - a3 acc; v += dt ((1 - g) acc + g acc_new).
+        double* const zv = w.z.data() + n_;
+        double* const za = w.z.data() + 2 * n_;
+        double* const zxm = w.z.data();
+        const double* const xn = w.x_new.data();
+        for (int i = 0; i < n_; ++i) {
+          const double an = a0_ * (xn[i] - zxm[i]) - a2_ * zv[i] - a3_ * za[i];
+          zv[i] += dt * ((1.0 - g) * za[i] + g * an);
+          za[i] = an;
+          zxm[i] = xn[i];
+        }
+      }
+    }
     if (!bounded) {
       summary.termination = w.x_new.allFinite() ? SimulationTermination::kDiverged
                                                 : SimulationTermination::kNonFinite;
       summary.failure_time_s = step * dt;
       break;
     }
-    // Newmark updates of acceleration and velocity, fused in one pass over
-    // the dofs (the same operations, in the same order, as the vector form
-    // acc_new = a0 (x_new - x) - a2 v - a3 acc; v += dt ((1 - g) acc + g acc_new)).
-    {
-      double* const zx = w.z.data();
-      double* const zv = zx + n_;
-      double* const za = zx + 2 * n_;
-      const double* const xn = w.x_new.data();
-      if (dense_condensed) {
-        // ... and the next step's u = [u1; u2] (see StepModified) in the same pass.
-        double* const u = w.u.data();
-        for (int i = 0; i < n_; ++i) {
-          const double an = a0_ * (xn[i] - zx[i]) - a2_ * zv[i] - a3_ * za[i];
-          const double vn = zv[i] + dt * ((1.0 - g) * za[i] + g * an);
-          u[i] = a0_ * xn[i] + a2_ * vn + a3_ * an;
-          u[n_ + i] = a1_ * xn[i] + a4_ * vn + a5_ * an;
-          zv[i] = vn;
-          za[i] = an;
-          zx[i] = xn[i];
-        }
-      } else {
-        for (int i = 0; i < n_; ++i) {
-          const double an = a0_ * (xn[i] - zx[i]) - a2_ * zv[i] - a3_ * za[i];
-          zv[i] += dt * ((1.0 - g) * za[i] + g * an);
-          za[i] = an;
-          zx[i] = xn[i];
-        }
-      }
-    }
     summary.steps_completed = step;
-    if (step % stride == 0) {
+    if (++since_record == stride) {  // step % stride == 0, without a division per step
+      since_record = 0;
       record(step / stride);
       summary.rows_recorded = step / stride + 1;
     }

@@ -84,46 +84,6 @@ NonlinearForces::NonlinearForces(const std::vector<NonlinearitySpec>& specs,
   }
 }
 
-namespace {
-
-// Adds one element's force and tangents at (w, v).
-inline void AddElement(const NonlinearitySpec& s, double w, double v, double* f, double* k, double* c) {
-  switch (s.type) {
-    case NonlinearType::kCubic:
-      *f -= s.k3_N_per_m3 * w * w * w;
-      *k += 3.0 * s.k3_N_per_m3 * w * w;
-      break;
-    case NonlinearType::kPolynomial:
-      *f -= (s.k1_N_per_m + (s.k2_N_per_m2 + s.k3_N_per_m3 * w) * w) * w;
-      *k += s.k1_N_per_m + (2.0 * s.k2_N_per_m2 + 3.0 * s.k3_N_per_m3 * w) * w;
-      break;
-    case NonlinearType::kGap:
-      if (w > s.gap_m) {
-        *f -= s.contact_stiffness_N_per_m * (w - s.gap_m);
-        *k += s.contact_stiffness_N_per_m;
-      } else if (w < -s.gap_m) {
-        *f -= s.contact_stiffness_N_per_m * (w + s.gap_m);
-        *k += s.contact_stiffness_N_per_m;
-      }
-      break;
-    case NonlinearType::kFriction: {
-      const double slip = s.friction_coefficient * s.normal_force_N;
-      const double th = std::tanh(v / s.regularisation_velocity_m_per_s);
-      *f -= slip * th;
-      *c += slip * (1.0 - th * th) / s.regularisation_velocity_m_per_s;
-      break;
-    }
-  }
-}
-
-}  // namespace
-
-void NonlinearForces::EvaluateScalar(double w, double v, double* f, double* stiffness,
-                                     double* damping) const {
-  *f = *stiffness = *damping = 0.0;
-  for (const NonlinearElement& e : elements_) AddElement(e.spec, w, v, f, stiffness, damping);
-}
-
 void NonlinearForces::Evaluate(const Eigen::Ref<const Eigen::VectorXd>& x_a,
                                const Eigen::Ref<const Eigen::VectorXd>& v_a,
                                Eigen::Ref<Eigen::VectorXd> f_a,
@@ -135,12 +95,12 @@ void NonlinearForces::Evaluate(const Eigen::Ref<const Eigen::VectorXd>& x_a,
   for (const NonlinearElement& e : elements_) {
     const int i = e.local, j = e.local2;
     if (j < 0) {
-      AddElement(e.spec, x_a[i], v_a[i], &f_a[i], &stiffness_a(i, i), &damping_a(i, i));
+      internal::AddElement(e.spec, x_a[i], v_a[i], &f_a[i], &stiffness_a(i, i), &damping_a(i, i));
       continue;
     }
     // Joint: w = x_i - x_j; f on i, -f on j; K_t = k [1 -1; -1 1] (same for C_t).
     double f = 0.0, k = 0.0, c = 0.0;
-    AddElement(e.spec, x_a[i] - x_a[j], v_a[i] - v_a[j], &f, &k, &c);
+    internal::AddElement(e.spec, x_a[i] - x_a[j], v_a[i] - v_a[j], &f, &k, &c);
     f_a[i] += f;
     f_a[j] -= f;
     stiffness_a(i, i) += k;

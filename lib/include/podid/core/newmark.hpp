@@ -133,6 +133,16 @@ struct Recording {
 
 class NewmarkIntegrator;
 
+namespace internal {
+/// The Newmark relations' coefficients (above) and the divergence bound, as
+/// the dense condensed path's update kernel takes them (newmark_kernels.hpp).
+struct NewmarkCoefficients {
+  double a0 = 0, a1 = 0, a2 = 0, a3 = 0, a4 = 0, a5 = 0;
+  double step_s = 0, gamma = 0;
+  double max_displacement = 0;  ///< NewmarkOptions::max_displacement
+};
+}  // namespace internal
+
 /// Every buffer the time loop needs, allocated once for an integrator.
 class NewmarkWorkspace {
  public:
@@ -180,6 +190,11 @@ class NewmarkIntegrator {
   bool StepModified(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
                     double* residual) const;
   bool SolveScalar(NewmarkWorkspace& w, int* iterations, double* residual) const;
+  /// The dense condensed step with one nonlinear dof, product, Newton (eq. 29),
+  /// eq. 28 and the Newmark update fused; *bounded = false (state untouched)
+  /// when x_new exceeds max_displacement or is not finite.
+  bool StepDenseScalar(NewmarkWorkspace& w, double load, int* iterations, double* residual,
+                       bool* bounded) const;
   bool StepFull(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
                 double* residual) const;
   void NonlinearVelocity(NewmarkWorkspace& w) const;
@@ -204,6 +219,17 @@ class NewmarkIntegrator {
   Eigen::MatrixXd sbb_inv_, sab_, h_, shat_, condensed_mc_;
   /// out = A u for condensed_mc_ (column-major rows x cols): SSE2 or AVX2 + FMA kernel.
   void (*multiply_small_)(const double* a, int rows, int cols, const double* u, double* out) = nullptr;
+  /// The Newmark update of the dense condensed path (newmark_kernels.hpp):
+  /// portable or AVX2, the same bits.
+  bool (*update_)(const internal::NewmarkCoefficients& c, int n, const double* y, const double* h,
+                  double x_a, double* x_new, double* z, double* u) = nullptr;
+  internal::NewmarkCoefficients coefficients_;
+  /// One nonlinear dof: H's column with a 0 for the `a` dof (dim n), so that
+  /// x_new = y - h x_a holds for every dof once y[0] = x_a.
+  Eigen::VectorXd h_padded_;
+  double shat_scalar_ = 0.0;      ///< Shat (1 x 1)
+  double v0_velocity_ = 0.0;      ///< 1 - g/b: x'_n's coefficient in the implied velocity
+  double v0_acceleration_ = 0.0;  ///< dt (1 - g/(2b)): x''_n's coefficient
   Eigen::MatrixXd mass_inverse_;  ///< dense path only
   // Sparse path (modified method, n > kDenseDofLimit).
   bool sparse_ = false;

@@ -11,11 +11,47 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "podid/core/case_spec.hpp"
 
 namespace podid {
+
+namespace internal {
+
+// Adds one element's force and tangents at (w, v). Inline: the condensed
+// integrator calls it twice a step through EvaluateScalar.
+inline void AddElement(const NonlinearitySpec& s, double w, double v, double* f, double* k, double* c) {
+  switch (s.type) {
+    case NonlinearType::kCubic:
+      *f -= s.k3_N_per_m3 * w * w * w;
+      *k += 3.0 * s.k3_N_per_m3 * w * w;
+      break;
+    case NonlinearType::kPolynomial:
+      *f -= (s.k1_N_per_m + (s.k2_N_per_m2 + s.k3_N_per_m3 * w) * w) * w;
+      *k += s.k1_N_per_m + (2.0 * s.k2_N_per_m2 + 3.0 * s.k3_N_per_m3 * w) * w;
+      break;
+    case NonlinearType::kGap:
+      if (w > s.gap_m) {
+        *f -= s.contact_stiffness_N_per_m * (w - s.gap_m);
+        *k += s.contact_stiffness_N_per_m;
+      } else if (w < -s.gap_m) {
+        *f -= s.contact_stiffness_N_per_m * (w + s.gap_m);
+        *k += s.contact_stiffness_N_per_m;
+      }
+      break;
+    case NonlinearType::kFriction: {
+      const double slip = s.friction_coefficient * s.normal_force_N;
+      const double th = std::tanh(v / s.regularisation_velocity_m_per_s);
+      *f -= slip * th;
+      *c += slip * (1.0 - th * th) / s.regularisation_velocity_m_per_s;
+      break;
+    }
+  }
+}
+
+}  // namespace internal
 
 struct NonlinearElement {
   NonlinearitySpec spec;
@@ -62,7 +98,13 @@ class NonlinearForces {
 
   /// The same for a single `a` dof (n_a = 1, no joint): the hot path of the
   /// condensed integrator, without vector overhead.
-  void EvaluateScalar(double w, double v, double* f, double* stiffness, double* damping) const;
+  void EvaluateScalar(double w, double v, double* f, double* stiffness, double* damping) const {
+    double fs = 0.0, ks = 0.0, cs = 0.0;  // locals: no reload through the pointers per element
+    for (const NonlinearElement& e : elements_) internal::AddElement(e.spec, w, v, &fs, &ks, &cs);
+    *f = fs;
+    *stiffness = ks;
+    *damping = cs;
+  }
 
  private:
   std::vector<NonlinearElement> elements_;
