@@ -452,19 +452,31 @@ void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, Evaluatio
     std::string why;
     if (!w.simulator->Set(bindings_[i], parameters_[i].scale * values[i], &why)) return fail(why);
   }
-  const SimulationResult sim = w.simulator->Run();
-  if (!sim.summary.IsSolutionUsable()) return fail(sim.summary.message);
+  // The measured record's conditioning ([data] detrend, filter), applied alike
+  // to the simulated one (recording.hpp). Without it the POD reads the
+  // simulator's recording in place (RunInPlace: no copy of the record).
+  const bool condition = !base_spec_.data.conditioning.IsIdentity();
+  SimulationResult conditioned;
+  if (condition) {
+    conditioned = w.simulator->Run();
+    if (!conditioned.summary.IsSolutionUsable()) return fail(conditioned.summary.message);
+    conditioned.sensors = ConditionSimulated(base_spec_, conditioned.sensors);
+  } else {
+    const SimulationSummary& summary = w.simulator->RunInPlace();
+    if (!summary.IsSolutionUsable()) return fail(summary.message);
+  }
   if (!w.pod) {
     w.pod = std::make_unique<PodSolver>(ResponsePodOptions());
   }
-  // The measured record's conditioning ([data] detrend, filter), applied alike
-  // to the simulated one (recording.hpp); nothing to do without it.
-  const bool condition = !base_spec_.data.conditioning.IsIdentity();
-  const TimeSeries conditioned = condition ? ConditionSimulated(base_spec_, sim.sensors) : TimeSeries{};
-  PodResult pod = w.pod->Compute(condition ? conditioned : sim.sensors);
+  if (condition) {
+    w.pod_result = w.pod->Compute(conditioned.sensors);
+  } else {
+    w.pod_result = w.pod->ComputeFromSamples(w.simulator->sensor_values());
+  }
+  PodResult& pod = w.pod_result;  // copy-assigned: its buffers are reused
   result->pod_method = pod.method;
   if (pod.IsDegenerate()) return fail("simulated response: " + pod.message);  // e.g. no excitation
-  AlignToReference(measured_pod_, &pod);
+  AlignToReference(measured_pod_, &pod, &w.alignment);
 
   const int k = compared_modes_;
   const PodResult& m = measured_pod_;

@@ -1,5 +1,6 @@
 #include "podid/core/simulator.hpp"
 
+#include <algorithm>
 #include <utility>
 
 #include "podid/core/error.hpp"
@@ -65,22 +66,40 @@ void Simulator::Rebuild() {
   }
 }
 
-SimulationResult Simulator::Run() {
+const SimulationSummary& Simulator::RunInPlace() {
   Rebuild();
+  if (spec_.initial.type == InitialType::kStaticForce && !static_solve_.converged) {
+    summary_ = SimulationSummary{};
+    summary_.termination = SimulationTermination::kStaticSolveFailed;
+    summary_.message = static_solve_.message;
+    summary_.steps_requested = options_.steps;
+    return summary_;
+  }
+  summary_ = integrator_->Run(initial_, load_, &recording_, workspace_.get());
+  return summary_;
+}
+
+Eigen::Block<const Eigen::MatrixXd> Simulator::sensor_values() const {
+  const Eigen::MatrixXd& recorded =
+      spec_.sensors.quantity == SensorQuantity::kVelocity       ? recording_.velocity
+      : spec_.sensors.quantity == SensorQuantity::kAcceleration ? recording_.acceleration
+                                                                : recording_.displacement;
+  return recorded.topRows(std::min<Eigen::Index>(summary_.rows_recorded, recorded.rows()));
+}
+
+SimulationResult Simulator::Run() {
   // As Simulate() (simulate.cpp), with the cached parts.
+  const SimulationSummary& summary = RunInPlace();
   SimulationResult result;
   result.static_solve = static_solve_;
+  result.summary = summary;
   result.sensors.channel_names = channel_names_;
-  if (spec_.initial.type == InitialType::kStaticForce && !static_solve_.converged) {
-    result.summary.termination = SimulationTermination::kStaticSolveFailed;
-    result.summary.message = static_solve_.message;
-    result.summary.steps_requested = options_.steps;
+  if (summary.termination == SimulationTermination::kStaticSolveFailed) {
     result.sensors.time_s.resize(0);
     result.sensors.values.resize(0, static_cast<Eigen::Index>(recording_.dofs.size()));
     return result;
   }
-  result.summary = integrator_->Run(initial_, load_, &recording_, workspace_.get());
-  FillSensors(spec_, recording_, result.summary.rows_recorded, &result.sensors);
+  FillSensors(spec_, recording_, summary.rows_recorded, &result.sensors);
   return result;
 }
 

@@ -154,6 +154,10 @@ const PodResult& PodSolver::Compute(const Eigen::Ref<const Eigen::MatrixXd>& x) 
 
 const PodResult& PodSolver::Compute(const TimeSeries& series) { return ComputeImpl(series.values); }
 
+const PodResult& PodSolver::ComputeFromSamples(const Eigen::Ref<const Eigen::MatrixXd>& values) {
+  return ComputeImpl(values);
+}
+
 template <typename Derived>
 const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
   using Eigen::Index;
@@ -421,26 +425,44 @@ PodResult ComputePod(const TimeSeries& series, const PodOptions& options) {
   return solver.Compute(series);
 }
 
-Eigen::MatrixXd ModalAssuranceCriterion(const Eigen::Ref<const Eigen::MatrixXd>& a,
-                                        const Eigen::Ref<const Eigen::MatrixXd>& b) {
+namespace {
+
+// MAC into a caller's matrix (no allocation once it has the size).
+void MacInto(const Eigen::Ref<const Eigen::MatrixXd>& a, const Eigen::Ref<const Eigen::MatrixXd>& b,
+             Eigen::MatrixXd* mac) {
   if (a.rows() != b.rows()) {
     ThrowInvalid("ModalAssuranceCriterion", "mode shapes of the same length (rows)",
                  Shape(a.rows(), a.cols()) + " and " + Shape(b.rows(), b.cols()));
   }
-  Eigen::MatrixXd mac = (a.transpose() * b).array().square().matrix();
-  const Eigen::VectorXd na = a.colwise().squaredNorm().transpose();
-  const Eigen::VectorXd nb = b.colwise().squaredNorm().transpose();
-  for (Eigen::Index j = 0; j < mac.cols(); ++j) {
-    for (Eigen::Index i = 0; i < mac.rows(); ++i) {
-      const double d = na(i) * nb(j);
-      mac(i, j) = d > 0.0 ? std::min(mac(i, j) / d, 1.0) : 0.0;
+  mac->resize(a.cols(), b.cols());
+  mac->noalias() = a.transpose() * b;
+  for (Eigen::Index j = 0; j < mac->cols(); ++j) {
+    const double nb = b.col(j).squaredNorm();
+    for (Eigen::Index i = 0; i < mac->rows(); ++i) {
+      const double d = a.col(i).squaredNorm() * nb;
+      const double dot = (*mac)(i, j);
+      (*mac)(i, j) = d > 0.0 ? std::min(dot * dot / d, 1.0) : 0.0;
     }
   }
+}
+
+}  // namespace
+
+Eigen::MatrixXd ModalAssuranceCriterion(const Eigen::Ref<const Eigen::MatrixXd>& a,
+                                        const Eigen::Ref<const Eigen::MatrixXd>& b) {
+  Eigen::MatrixXd mac;
+  MacInto(a, b, &mac);
   return mac;
 }
 
 PodAlignment AlignToReference(const PodResult& reference, PodResult* result) {
-  PODID_CHECK(result != nullptr);
+  PodAlignment alignment;
+  AlignToReference(reference, result, &alignment);
+  return alignment;
+}
+
+void AlignToReference(const PodResult& reference, PodResult* result, PodAlignment* alignment) {
+  PODID_CHECK(result != nullptr && alignment != nullptr);
   using Eigen::Index;
   const Index kr = reference.modes();
   const Index k = result->modes();
@@ -453,45 +475,66 @@ PodAlignment AlignToReference(const PodResult& reference, PodResult* result) {
                  "at least as many modes as the reference (" + std::to_string(kr) + ")",
                  std::to_string(k));
   }
-  PodAlignment alignment;
-  alignment.mac = ModalAssuranceCriterion(reference.poms, result->poms);
+  MacInto(reference.poms, result->poms, &alignment->mac);
+  const Eigen::MatrixXd& mac = alignment->mac;
 
-  // Greedy matching: the largest remaining MAC first.
-  std::vector<int> match(static_cast<std::size_t>(kr), -1);
-  std::vector<bool> used(static_cast<std::size_t>(k), false);
+  // Greedy matching: the largest remaining MAC first. order[i] = the mode
+  // matched to reference mode i; sign doubles as the "used" flags here.
+  std::vector<int>& order = alignment->order;
+  std::vector<int>& used = alignment->sign;
+  order.assign(static_cast<std::size_t>(kr), -1);
+  used.assign(static_cast<std::size_t>(k), 0);
   for (Index step = 0; step < kr; ++step) {
     double best = -1.0;
     Index bi = 0, bj = 0;
     for (Index i = 0; i < kr; ++i) {
-      if (match[static_cast<std::size_t>(i)] >= 0) continue;
+      if (order[static_cast<std::size_t>(i)] >= 0) continue;
       for (Index j = 0; j < k; ++j) {
         if (used[static_cast<std::size_t>(j)]) continue;
         // Ties (e.g. zero modes, MAC 0) go to the lowest indices.
-        if (alignment.mac(i, j) > best) {
-          best = alignment.mac(i, j);
+        if (mac(i, j) > best) {
+          best = mac(i, j);
           bi = i;
           bj = j;
         }
       }
     }
-    match[static_cast<std::size_t>(bi)] = static_cast<int>(bj);
-    used[static_cast<std::size_t>(bj)] = true;
+    order[static_cast<std::size_t>(bi)] = static_cast<int>(bj);
+    used[static_cast<std::size_t>(bj)] = 1;
   }
-  alignment.order = match;
   for (Index j = 0; j < k; ++j) {
-    if (!used[static_cast<std::size_t>(j)]) alignment.order.push_back(static_cast<int>(j));
+    if (!used[static_cast<std::size_t>(j)]) order.push_back(static_cast<int>(j));
   }
 
   PodResult& r = *result;
-  const PodResult original = r;
   const bool has_v = r.time_modes.cols() == k;
-  alignment.sign.assign(static_cast<std::size_t>(k), 1);
+  bool identity = true;
+  for (Index i = 0; i < k; ++i) identity = identity && order[static_cast<std::size_t>(i)] == i;
+  alignment->sign.assign(static_cast<std::size_t>(k), 1);
+  if (identity) {
+    // The usual case: modes already in the reference's order, only signs
+    // (in place, no copy of V).
+    for (Index i = 0; i < kr; ++i) {
+      if (reference.poms.col(i).dot(r.poms.col(i)) < 0.0) {
+        alignment->sign[static_cast<std::size_t>(i)] = -1;
+        r.poms.col(i) *= -1.0;
+        if (has_v) r.time_modes.col(i) *= -1.0;
+      }
+    }
+    double cumulative = 0.0;
+    for (Index i = 0; i < k; ++i) {
+      cumulative += r.energy_fraction(i);
+      r.cumulative_energy(i) = cumulative;
+    }
+    return;
+  }
+  const PodResult original = r;
   double cumulative = 0.0;
   for (Index i = 0; i < k; ++i) {
-    const Index j = alignment.order[static_cast<std::size_t>(i)];
+    const Index j = order[static_cast<std::size_t>(i)];
     double s = 1.0;
     if (i < kr && reference.poms.col(i).dot(original.poms.col(j)) < 0.0) s = -1.0;
-    alignment.sign[static_cast<std::size_t>(i)] = static_cast<int>(s);
+    alignment->sign[static_cast<std::size_t>(i)] = static_cast<int>(s);
     r.poms.col(i) = s * original.poms.col(j);
     if (has_v) r.time_modes.col(i) = s * original.time_modes.col(j);
     r.singular_values(i) = original.singular_values(j);
@@ -500,7 +543,6 @@ PodAlignment AlignToReference(const PodResult& reference, PodResult* result) {
     cumulative += r.energy_fraction(i);
     r.cumulative_energy(i) = cumulative;
   }
-  return alignment;
 }
 
 Eigen::MatrixXd Reconstruct(const PodResult& result, int modes) {

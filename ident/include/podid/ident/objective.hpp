@@ -162,6 +162,8 @@ class EvaluationWorkspace {
   std::unique_ptr<Simulator> simulator;
   Eigen::VectorXd document_values;  ///< the kDocument parameters' values simulated
   std::unique_ptr<PodSolver> pod;
+  PodResult pod_result;    ///< the simulated POD, aligned to the measured one
+  PodAlignment alignment;  ///< AlignToReference's buffers
   std::unique_ptr<wavelet::RidgeFrequencyEstimator> ridge;
   std::vector<std::unique_ptr<wavelet::RidgeFrequencyEstimator>> mode_ridges;
 };

@@ -60,9 +60,9 @@ struct NewmarkOptions {
   /// Largest number of dofs the modified method integrates with dense
   /// matrices; above it the sparse path (tests compare the two). >= 0.
   int dense_dof_limit = kDenseDofLimit;
-  /// The dense condensed step's product uses AVX2 + FMA when the CPU has them
-  /// (checked at run time; the build targets baseline x86-64). false forces the
-  /// portable SSE2 kernel (tests compare the two: round-off apart).
+  /// The dense condensed step's product (AVX2 + FMA) and update (AVX2) use the CPU's SIMD
+  /// when it has them (run-time check; the build targets baseline x86-64). false forces the
+  /// portable kernels (tests compare: products round-off apart, updates bit for bit).
   bool cpu_dispatch = true;
   /// Run() records every record_stride-th step (sub-stepping: step_s is the
   /// sampling step / record_stride): rows 0..steps / record_stride. >= 1 and

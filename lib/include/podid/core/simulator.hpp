@@ -48,6 +48,12 @@ class Simulator {
   /// (e.g. a modal-ratio damping whose modes coincide) throws
   /// std::invalid_argument, as Simulate does.
   SimulationResult Run();
+  /// Run() without copying the record out (an objective's evaluations): the
+  /// summary, and the sensors' samples in sensor_values() until the next run.
+  const SimulationSummary& RunInPlace();
+  /// The sensors' samples of the last RunInPlace() (summary().rows_recorded x
+  /// sensors, the layout of TimeSeries::values, the case's sensor quantity).
+  Eigen::Block<const Eigen::MatrixXd> sensor_values() const;
 
  private:
   void Rebuild();
@@ -62,6 +68,7 @@ class Simulator {
   StaticSolveSummary static_solve_;
   ExternalLoad load_;
   Recording recording_;
+  SimulationSummary summary_;
   std::vector<std::string> channel_names_;
 };
 

@@ -145,6 +145,10 @@ class PodSolver {
   const PodResult& Compute(const Eigen::Ref<const Eigen::MatrixXd>& x);
   /// POD of a time series: X = series.values^T (channels x samples), no copy.
   const PodResult& Compute(const TimeSeries& series);
+  /// POD of X = values^T for `values` in TimeSeries::values' layout (N
+  /// samples x M sensors, any outer stride, e.g. the top rows of a
+  /// recording), no copy. The same result as Compute(values.transpose()).
+  const PodResult& ComputeFromSamples(const Eigen::Ref<const Eigen::MatrixXd>& values);
 
   const PodResult& result() const { return result_; }
   const PodOptions& options() const { return options_; }
@@ -186,6 +190,10 @@ struct PodAlignment {
 /// u_ref^T u >= 0. sigma, lambda, energy fractions follow their modes;
 /// cumulative_energy is recomputed in the new order.
 PodAlignment AlignToReference(const PodResult& reference, PodResult* result);
+/// The same into `alignment`, whose buffers are reused: no allocation once
+/// they have the sizes (an objective's evaluations). Modes already in the
+/// reference's order are only flipped in place; a permutation copies.
+void AlignToReference(const PodResult& reference, PodResult* result, PodAlignment* alignment);
 
 /// mean 1^T + U_k Sigma_k V_k^T (M x N) from the first `modes` modes (the
 /// paper's fig. 2). Needs time modes; 0 <= modes <= result.modes().
