@@ -11,6 +11,7 @@
 #include "podid/core/case_file.hpp"
 #include "podid/core/model_parameter.hpp"
 #include "podid/core/simulate.hpp"
+#include "reference_case.hpp"
 #include "test_support.hpp"
 
 namespace podid {
@@ -145,6 +146,23 @@ TEST(SimulatorTest, UniformBeamRayleighPolynomialAndSweepKeysMatchTheDocumentPat
       {"force.start_frequency", 25.0},  {"force.end_frequency", 80.0},
   };
   ExpectChangesMatchTheDocumentPath(kUniformCase, "simulator_test_uniform", changes);
+}
+
+TEST(SimulatorTest, RunInPlaceGivesRunsSensorsWithoutTheCopy) {
+  // What the objective reads (the recording's top rows) is what Run() copies
+  // out: the same simulation, so the same bits; and after a change of k3.
+  Simulator simulator(testing::ReferenceCase({"sensors.quantity=\"acceleration\""}));
+  const ModelParameter k3 = ModelParameter::Resolve(simulator.spec(), "nonlinearity.0.k3");
+  for (const double value : {5e9, 4e9}) {
+    std::string why;
+    ASSERT_TRUE(simulator.Set(k3, value, &why)) << why;
+    const SimulationResult copied = simulator.Run();
+    ASSERT_TRUE(copied.summary.IsSolutionUsable()) << copied.summary.message;
+    const SimulationSummary& summary = simulator.RunInPlace();
+    ASSERT_TRUE(summary.IsSolutionUsable()) << summary.message;
+    EXPECT_EQ(summary.rows_recorded, copied.summary.rows_recorded);
+    EXPECT_TRUE(Eigen::MatrixXd(simulator.sensor_values()) == copied.sensors.values);
+  }
 }
 
 TEST(ModelParameterTest, ResolvesEachKeyOnceWithWhatItInvalidates) {

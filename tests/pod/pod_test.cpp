@@ -195,6 +195,23 @@ TEST(Pod, MethodsAgreeOnMeasuredData) {
                      {PodMethod::kDirect});
 }
 
+TEST(Pod, ComputeFromSamplesReadsABlockInPlaceWithTheSameBits) {
+  // The objective decomposes the top rows of a taller recording (outer
+  // stride > rows) without copying them: the same computation as on the
+  // TimeSeries itself, so the same bits.
+  const TimeSeries series = ReadCsv(DataPath("measured_knl50_T1.0.csv"));
+  Eigen::MatrixXd taller = Eigen::MatrixXd::Constant(series.samples() + 7, series.channels(), 1e30);
+  taller.topRows(series.samples()) = series.values;
+  PodSolver a, b;
+  const PodResult& from_series = a.Compute(series);
+  const PodResult& from_block = b.ComputeFromSamples(taller.topRows(series.samples()));
+  EXPECT_EQ(from_block.method, from_series.method);
+  EXPECT_TRUE(from_block.singular_values == from_series.singular_values);
+  EXPECT_TRUE(from_block.poms == from_series.poms);
+  EXPECT_TRUE(from_block.time_modes == from_series.time_modes);
+  EXPECT_TRUE(from_block.mean == from_series.mean);
+}
+
 TEST(Pod, MethodsAgreeOnRandomShapes) {
   // Gaussian matrices are well conditioned (sigma_max / sigma_min < 10 here),
   // so all methods reach ~1e-13.
