@@ -79,6 +79,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace podid::wavelet {
@@ -265,11 +266,13 @@ struct Scalogram {
   }
 };
 
-/// FFT lengths of a transform: the real forward length P and the complex
-/// inverse length(s) (see podid/wavelet/plans.hpp).
+/// FFT lengths of a transform: the real forward length P, the complex
+/// inverse length(s) and, at full rate, the (M, D) pairs of the pruned
+/// inverse: D interleaved inverses of length M = P / D (see podid/wavelet/plans.hpp).
 struct FftLengths {
   std::vector<int> real_forward;
   std::vector<int> complex_backward;
+  std::vector<std::pair<int, int>> interleaved_backward;
 };
 
 /// Reusable transform state: plans, the padded signal's spectrum, the filters
