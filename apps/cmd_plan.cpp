@@ -6,6 +6,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "commands.hpp"
@@ -54,6 +55,7 @@ void Run(const PlanArguments& a) {
   // The lengths of the full-rate transform (podid cwt) and of the
   // band-limited one (identification, cwt --band-limited).
   std::set<int> forward, backward;
+  std::set<std::pair<int, int>> interleaved;
   for (const auto& [n, step] : records) {
     std::vector<std::string> paddings = {a.padding};
     if (a.padding.empty()) paddings = {"zero", "reflect"};
@@ -71,16 +73,22 @@ void Run(const PlanArguments& a) {
         const wavelet::FftLengths lengths = wavelet::CwtFftLengths(options, n, step);
         forward.insert(lengths.real_forward.begin(), lengths.real_forward.end());
         backward.insert(lengths.complex_backward.begin(), lengths.complex_backward.end());
+        interleaved.insert(lengths.interleaved_backward.begin(),
+                           lengths.interleaved_backward.end());
       }
     }
   }
   wavelet::FftLengths lengths;
   lengths.real_forward.assign(forward.begin(), forward.end());
   lengths.complex_backward.assign(backward.begin(), backward.end());
+  lengths.interleaved_backward.assign(interleaved.begin(), interleaved.end());
   const wavelet::PlanSummary summary = wavelet::MeasureFftPlans(lengths);
   std::string list;
   for (int n : lengths.real_forward) list += (list.empty() ? "" : ", ") + ToText(n) + " real";
   for (int n : lengths.complex_backward) list += ", " + ToText(n) + " complex";
+  for (const auto& [m, d] : lengths.interleaved_backward) {
+    list += ", " + ToText(d) + " x " + ToText(m) + " complex";
+  }
   std::printf("podid plan: FFT lengths %s\n", list.c_str());
   std::printf("measured %d plan(s) in %.3g s, %d already measured\n", summary.measured,
               summary.seconds, summary.known);

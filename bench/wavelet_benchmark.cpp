@@ -131,6 +131,21 @@ void BM_CwtPywtCase(benchmark::State& state) {
 }
 BENCHMARK(BM_CwtPywtCase)->Unit(benchmark::kMillisecond);
 
+// The same as a one-shot call: transform object, plans (estimated unless the
+// wisdom cache has them), filters, twiddles and a new output.
+void BM_CwtPywtCaseFirstCall(benchmark::State& state) {
+  const Eigen::VectorXd x = ReferenceW6();
+  CwtOptions o;
+  o.padding = Padding::kZero;
+  o.frequencies.spacing = FrequencySpacing::kLinear;
+  o.frequencies.bins = 64;
+  for (auto _ : state) {
+    Scalogram out = Cwt(x, kStep, o);
+    benchmark::DoNotOptimize(out.coefficients.data());
+  }
+}
+BENCHMARK(BM_CwtPywtCaseFirstCall)->Unit(benchmark::kMillisecond);
+
 // fCWT's own benchmark setup (bench/compare_fcwt.sh): fs 64 Hz, 300
 // log-spaced frequencies 1-31.6 Hz (60 voices per octave), a 1-8 Hz chirp;
 // full-rate complex double output. Args: samples, threads, planning (0

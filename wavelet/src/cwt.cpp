@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fftw_plans.hpp"
+#include "full_rate.hpp"
 #include "podid/core/error.hpp"
 #include "podid/wavelet/plans.hpp"
 
@@ -98,13 +99,24 @@ struct CwtTransform::Impl {
   internal::RealBuffer padded;
   internal::ComplexBuffer spectrum;                   // P / 2 + 1 bins of the last signal
   mutable std::vector<internal::ComplexBuffer> work;  // M each, one per thread
+  internal::FullRateCwt full_rate;                    // the full-rate path's plans and buffers
   Eigen::VectorXd coi_frequency_Hz;
   double output_scale = 1.0;  // multiplies the scaled transform into Scalogram units
 
   Sizes Plan(Eigen::Index samples, double step) const;
+  // Scale k's band at padded length p: bins [*a, *b] (signed; empty if *b < *a).
+  void Band(Eigen::Index k, Eigen::Index p, double step, Eigen::Index* a, Eigen::Index* b) const;
   void Layout(Eigen::Index samples, double step);
   void Synthesise(Eigen::Index k, bool derivative, Complex* w) const;
 };
+
+void CwtTransform::Impl::Band(Eigen::Index k, Eigen::Index p, double step, Eigen::Index* a,
+                              Eigen::Index* b) const {
+  const double bin_rad_per_s = 2.0 * kPi / (static_cast<double>(p) * step);
+  const double to_bin = 1.0 / (scales_s(k) * bin_rad_per_s);
+  *a = std::max(-((p - 1) / 2), static_cast<Eigen::Index>(std::ceil(band_low * to_bin)));
+  *b = std::min(p / 2, static_cast<Eigen::Index>(std::floor(band_high * to_bin)));
+}
 
 // Every length and count of a layout, from closed forms (nothing allocated).
 Sizes CwtTransform::Impl::Plan(Eigen::Index samples, double step) const {
@@ -126,15 +138,10 @@ Sizes CwtTransform::Impl::Plan(Eigen::Index samples, double step) const {
       z.p = samples;
       break;
   }
-  const double bin = 2.0 * kPi / (static_cast<double>(z.p) * step);
-  const Eigen::Index lowest = -((z.p - 1) / 2), highest = z.p / 2;
   Eigen::Index widest = 1;
   for (Eigen::Index k = 0; k < scales_s.size(); ++k) {
-    const double to_bin = 1.0 / (scales_s(k) * bin);
-    const Eigen::Index a =
-        std::max(lowest, static_cast<Eigen::Index>(std::ceil(band_low * to_bin)));
-    const Eigen::Index b =
-        std::min(highest, static_cast<Eigen::Index>(std::floor(band_high * to_bin)));
+    Eigen::Index a = 0, b = 0;
+    Band(k, z.p, step, &a, &b);
     z.filter_bins += std::max<Eigen::Index>(0, b - a + 1);
     widest = std::max<Eigen::Index>(widest, b - a + 1);
   }
@@ -159,7 +166,8 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   const double bytes =
       per_coefficient * static_cast<double>(z.times) * static_cast<double>(scales_s.size()) +
       8.0 * static_cast<double>(z.filter_bins) + 8.0 * static_cast<double>(z.p) +
-      16.0 * static_cast<double>(z.p / 2 + 1) + 16.0 * static_cast<double>(z.m) * options.threads;
+      16.0 * static_cast<double>(z.p / 2 + 1) + 16.0 * static_cast<double>(z.m) * options.threads +
+      (options.band_limited ? 0.0 : internal::FullRateCwt::Bytes(z.p, options.threads));
   if (bytes > options.memory_budget_bytes) {
     ThrowInvalid("Cwt: memory",
                  "at most " + ToText(options.memory_budget_bytes) +
@@ -178,18 +186,14 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   times = z.times;
   r = (p - n + 1) / 2;
   bin_rad_per_s = 2.0 * kPi / (static_cast<double>(p) * step_s);
-  const Eigen::Index lowest = -((p - 1) / 2), highest = p / 2;
   const bool energy = options.wavelet.normalisation == Normalisation::kEnergy;
   const Eigen::Index scales = scales_s.size();
   band_first.assign(static_cast<std::size_t>(scales), 0);
   filters.assign(static_cast<std::size_t>(scales), {});
   for (Eigen::Index k = 0; k < scales; ++k) {
     const double s = scales_s(k);
-    const double to_bin = 1.0 / (s * bin_rad_per_s);
-    const Eigen::Index a =
-        std::max(lowest, static_cast<Eigen::Index>(std::ceil(band_low * to_bin)));
-    const Eigen::Index b =
-        std::min(highest, static_cast<Eigen::Index>(std::floor(band_high * to_bin)));
+    Eigen::Index a = 0, b = 0;
+    Band(k, p, step_s, &a, &b);
     const double norm = (energy ? std::sqrt(s) : 1.0) / static_cast<double>(p);
     auto& filter = filters[static_cast<std::size_t>(k)];
     filter.clear();
@@ -207,6 +211,7 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   for (int t = 0; t < options.threads; ++t) {
     work.push_back(internal::AllocateComplex(static_cast<std::size_t>(m)));
   }
+  if (!options.band_limited) full_rate.Layout(p, band_first, filters, options.threads, measure);
   coi_frequency_Hz.resize(times);
   for (Eigen::Index j = 0; j < times; ++j) {
     const Eigen::Index sample = j * d;
@@ -330,6 +335,12 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
     out->magnitude.resize(0, 0);
     out->coefficients.resize(s.times, scales);
   }
+  if (!s.options.band_limited) {
+    s.full_rate.Compute(s.spectrum.get(), s.times, s.output_scale,
+                        magnitude ? nullptr : out->coefficients.data(),
+                        magnitude ? out->magnitude.data() : nullptr);
+    return;
+  }
   const auto run = [&](int thread) {
     Complex* w = s.work[static_cast<std::size_t>(thread)].get();
     for (Eigen::Index k = thread; k < scales; k += s.options.threads) {
@@ -386,7 +397,20 @@ FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
   }
   const Sizes z = impl_->Plan(samples, step_s);
   if (z.p > (1 << 27)) ThrowInvalid("FFT lengths", "at most 2^27 points", ToText(z.p));
-  return {{static_cast<int>(z.p)}, {static_cast<int>(z.m)}};
+  FftLengths lengths{{static_cast<int>(z.p)}, {static_cast<int>(z.m)}, {}};
+  if (!impl_->options.band_limited) {
+    // The full-rate path's pruned inverses, one plan per distinct D.
+    for (Eigen::Index k = 0; k < impl_->scales_s.size(); ++k) {
+      Eigen::Index a = 0, b = 0;
+      impl_->Band(k, z.p, step_s, &a, &b);
+      const Eigen::Index d =
+          internal::PrunedInverse::Decimation(z.p, std::max<Eigen::Index>(b - a + 1, 1));
+      const std::pair<int, int> pair(static_cast<int>(z.p / d), static_cast<int>(d));
+      auto& list = lengths.interleaved_backward;
+      if (std::find(list.begin(), list.end(), pair) == list.end()) list.push_back(pair);
+    }
+  }
+  return lengths;
 }
 
 FftLengths CwtFftLengths(const CwtOptions& options, Eigen::Index samples, double step_s) {

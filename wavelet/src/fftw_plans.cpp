@@ -16,6 +16,7 @@
 #include <new>
 #include <set>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -26,7 +27,7 @@ namespace podid::wavelet {
 namespace internal {
 namespace {
 
-enum class Kind { kRealForward, kComplexBackward };
+enum class Kind { kRealForward, kComplexBackward, kBatchedBackward };
 constexpr int kMaxPlanLength = 1 << 27;  // 2 GiB of complex doubles
 
 struct Entry {
@@ -39,7 +40,7 @@ struct Entry {
 // transform may still hold it).
 struct State {
   std::mutex mutex;
-  std::map<std::pair<Kind, int>, Entry> plans;
+  std::map<std::tuple<Kind, int, int>, Entry> plans;  // (kind, length, howmany)
   std::vector<fftw_plan> retired;
   std::set<std::string> loaded;  // cache files already imported
   ~State() {
@@ -93,8 +94,16 @@ std::string SaveWisdomLocked() {
   return "";
 }
 
-fftw_plan MakePlan(Kind kind, int n, unsigned flags) {
+fftw_plan MakePlan(Kind kind, int n, int howmany, unsigned flags) {
   // Planning with FFTW_MEASURE overwrites the arrays: plan on scratch arrays.
+  if (kind == Kind::kBatchedBackward) {
+    const auto size = static_cast<std::size_t>(n) * static_cast<std::size_t>(howmany);
+    ComplexBuffer in = AllocateComplex(size);
+    ComplexBuffer out = AllocateComplex(size);
+    return fftw_plan_many_dft(1, &n, howmany, AsFftw(in.get()), nullptr, 1, n,
+                              AsFftw(out.get()), nullptr, 1, n, FFTW_BACKWARD,
+                              flags | FFTW_DESTROY_INPUT);
+  }
   if (kind == Kind::kRealForward) {
     RealBuffer in = AllocateReal(static_cast<std::size_t>(n));
     ComplexBuffer out = AllocateComplex(static_cast<std::size_t>(n / 2 + 1));
@@ -106,20 +115,21 @@ fftw_plan MakePlan(Kind kind, int n, unsigned flags) {
 
 // Returns the plan, measuring it when `measure` and it is not measured yet.
 // *measured_now says whether this call measured it.
-fftw_plan GetPlanLocked(State& state, Kind kind, int n, bool measure, bool* measured_now) {
-  PODID_CHECK(n >= 1 && n <= kMaxPlanLength);
+fftw_plan GetPlanLocked(State& state, Kind kind, int n, int howmany, bool measure,
+                        bool* measured_now) {
+  PODID_CHECK(n >= 1 && howmany >= 1 && static_cast<long long>(n) * howmany <= kMaxPlanLength);
   *measured_now = false;
   LoadWisdomLocked(state);
-  Entry& entry = state.plans[{kind, n}];
+  Entry& entry = state.plans[{kind, n, howmany}];
   if (entry.plan != nullptr && (entry.measured || !measure)) return entry.plan;
-  fftw_plan plan = MakePlan(kind, n, FFTW_MEASURE | FFTW_WISDOM_ONLY);
+  fftw_plan plan = MakePlan(kind, n, howmany, FFTW_MEASURE | FFTW_WISDOM_ONLY);
   bool measured = plan != nullptr;
   if (plan == nullptr && measure) {
-    plan = MakePlan(kind, n, FFTW_MEASURE);
+    plan = MakePlan(kind, n, howmany, FFTW_MEASURE);
     measured = *measured_now = true;
   } else if (plan == nullptr) {
     if (entry.plan != nullptr) return entry.plan;  // already estimated
-    plan = MakePlan(kind, n, FFTW_ESTIMATE);
+    plan = MakePlan(kind, n, howmany, FFTW_ESTIMATE);
   }
   PODID_CHECK_MSG(plan != nullptr, "FFTW could not make a plan");
   if (entry.plan != nullptr) state.retired.push_back(entry.plan);
@@ -128,11 +138,11 @@ fftw_plan GetPlanLocked(State& state, Kind kind, int n, bool measure, bool* meas
   return plan;
 }
 
-fftw_plan GetPlan(Kind kind, int n, bool measure) {
+fftw_plan GetPlan(Kind kind, int n, int howmany, bool measure) {
   State& state = GlobalState();
   std::lock_guard<std::mutex> lock(state.mutex);
   bool measured_now = false;
-  fftw_plan plan = GetPlanLocked(state, kind, n, measure, &measured_now);
+  fftw_plan plan = GetPlanLocked(state, kind, n, howmany, measure, &measured_now);
   if (measured_now) SaveWisdomLocked();  // best effort: an unwritable cache only costs time
   return plan;
 }
@@ -152,9 +162,14 @@ ComplexBuffer AllocateComplex(std::size_t n) {
   return ComplexBuffer(p);
 }
 
-fftw_plan RealForwardPlan(int n, bool measure) { return GetPlan(Kind::kRealForward, n, measure); }
+fftw_plan RealForwardPlan(int n, bool measure) {
+  return GetPlan(Kind::kRealForward, n, 1, measure);
+}
 fftw_plan ComplexBackwardPlan(int n, bool measure) {
-  return GetPlan(Kind::kComplexBackward, n, measure);
+  return GetPlan(Kind::kComplexBackward, n, 1, measure);
+}
+fftw_plan BatchedBackwardPlan(int m, int d, bool measure) {
+  return GetPlan(Kind::kBatchedBackward, m, d, measure);
 }
 
 double FftCostModel(long long n) {
@@ -216,18 +231,28 @@ PlanSummary MeasureFftPlans(const FftLengths& lengths) {
       }
     }
   }
+  for (const auto& [m, d] : lengths.interleaved_backward) {
+    if (m < 1 || d < 1 || static_cast<long long>(m) * d > internal::kMaxPlanLength) {
+      ThrowInvalid("FFT length x decimation",
+                   "m, d >= 1 with m d <= " + ToText(internal::kMaxPlanLength),
+                   ToText(m) + " x " + ToText(d));
+    }
+  }
   PlanSummary summary;
   summary.wisdom_path = FftWisdomPath();
   const auto start = std::chrono::steady_clock::now();
   internal::State& state = internal::GlobalState();
   std::lock_guard<std::mutex> lock(state.mutex);
-  const auto plan = [&](internal::Kind kind, int n) {
+  const auto plan = [&](internal::Kind kind, int n, int howmany) {
     bool measured_now = false;
-    internal::GetPlanLocked(state, kind, n, true, &measured_now);
+    internal::GetPlanLocked(state, kind, n, howmany, true, &measured_now);
     (measured_now ? summary.measured : summary.known) += 1;
   };
-  for (int n : lengths.real_forward) plan(internal::Kind::kRealForward, n);
-  for (int n : lengths.complex_backward) plan(internal::Kind::kComplexBackward, n);
+  for (int n : lengths.real_forward) plan(internal::Kind::kRealForward, n, 1);
+  for (int n : lengths.complex_backward) plan(internal::Kind::kComplexBackward, n, 1);
+  for (const auto& [m, d] : lengths.interleaved_backward) {
+    plan(internal::Kind::kBatchedBackward, m, d);
+  }
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (summary.measured > 0) {
     summary.message = internal::SaveWisdomLocked();

@@ -62,6 +62,11 @@
 //             least min(support, (P - N) / 2) samples from the data);
 //   kZero     (default) x_0 .. x_{N-1} followed by zeros, minimum P = N + min(N, support);
 //   kPeriodic x_0 .. x_{N-1}, P = N (no choice of length).
+// Full rate (the default): scale k's band of K_k bins is inverted by a pruned
+// inverse FFT (wavelet/src/pruned_inverse.hpp): with D_k the largest power of
+// 2 (<= 64) dividing P with P / D_k >= K_k, the P outputs are D_k interleaved
+// inverse FFTs of length P / D_k of the band twiddled by exp(2 pi i b r / P)
+// (exact, no approximation), so low frequencies cost P log(P / D_k).
 // Band-limited mode: each scale's product is nonzero only in a band of B_k
 // bins, so its inverse FFT can have length M >= max_k B_k with M dividing P;
 // that gives W exactly (to band_tolerance) at every D-th sample, D = P / M.
@@ -79,6 +84,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace podid::wavelet {
@@ -220,7 +226,8 @@ struct CwtOptions {
   /// Filter values below band_tolerance times the filter's peak are dropped
   /// (both modes), in (0, 1e-3]. 1e-12 keeps W to about 1e-12 relative.
   double band_tolerance = 1e-12;
-  /// Threads over scales in Compute(), 1..256 (each with its own work buffer).
+  /// Threads over scales in Compute(), 1..256 (each with its own work buffers;
+  /// at full rate each thread takes a contiguous run of scales of about equal cost).
   int threads = 1;
   FftPlanning planning = FftPlanning::kEstimate;
   CwtOutput output = CwtOutput::kComplex;
@@ -265,11 +272,13 @@ struct Scalogram {
   }
 };
 
-/// FFT lengths of a transform: the real forward length P and the complex
-/// inverse length(s) (see podid/wavelet/plans.hpp).
+/// FFT lengths of a transform: the real forward length P, the complex
+/// inverse length(s) and, at full rate, the (M, D) pairs of the pruned
+/// inverse: D interleaved inverses of length M = P / D (see podid/wavelet/plans.hpp).
 struct FftLengths {
   std::vector<int> real_forward;
   std::vector<int> complex_backward;
+  std::vector<std::pair<int, int>> interleaved_backward;
 };
 
 /// Reusable transform state: plans, the padded signal's spectrum, the filters

@@ -1,0 +1,187 @@
+// The full-rate CWT's pruned inverse FFT (wavelet/src/pruned_inverse.hpp)
+// against a direct inverse DFT in long double, and the full-rate transform
+// at large decimations against a direct frequency-domain evaluation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <vector>
+
+#include "../../wavelet/src/pruned_inverse.hpp"
+#include "podid/wavelet/cwt.hpp"
+
+namespace podid::wavelet {
+namespace {
+
+using Complex = std::complex<double>;
+using internal::PrunedInverse;
+
+// exp(2 pi i t / P), t = 0 .. P - 1, in long double.
+std::vector<std::complex<long double>> RootsOfUnity(Eigen::Index p) {
+  std::vector<std::complex<long double>> w(static_cast<std::size_t>(p));
+  const long double step = 2.0L * std::numbers::pi_v<long double> / static_cast<long double>(p);
+  for (Eigen::Index t = 0; t < p; ++t) {
+    w[static_cast<std::size_t>(t)] = {std::cos(step * t), std::sin(step * t)};
+  }
+  return w;
+}
+
+// y_j = sum_b Y_b exp(2 pi i b j / P), summed in long double with the angle
+// reduced exactly (b j mod P in integers): an independent, slow reference.
+std::vector<Complex> DirectInverse(const std::vector<Complex>& band, Eigen::Index first_bin,
+                                   Eigen::Index p) {
+  std::vector<Complex> y(static_cast<std::size_t>(p));
+  const std::vector<std::complex<long double>> w = RootsOfUnity(p);
+  for (Eigen::Index j = 0; j < p; ++j) {
+    long double re = 0.0L, im = 0.0L;
+    for (std::size_t i = 0; i < band.size(); ++i) {
+      const Eigen::Index b = first_bin + static_cast<Eigen::Index>(i);
+      const auto& e = w[static_cast<std::size_t>((((b % p) + p) % p) * j % p)];
+      re += band[i].real() * e.real() - band[i].imag() * e.imag();
+      im += band[i].real() * e.imag() + band[i].imag() * e.real();
+    }
+    y[static_cast<std::size_t>(j)] = Complex(static_cast<double>(re), static_cast<double>(im));
+  }
+  return y;
+}
+
+TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
+  // FFTW's error is O(eps log2 P) of the band's L1 norm, the twiddles two
+  // table roundings: 1e-13 of sum |Y_b| leaves a factor ~10 of margin at
+  // P = 5040 (13 levels).
+  constexpr double kRelativeTolerance = 1e-13;
+  const Eigen::Index p = 5040;  // 2^4 3^2 5 7: divisors 2..63 of every kind
+  PrunedInverse inverse;
+  inverse.Reset(p, false);
+  // Spectrum X_0 .. X_(P/2) of a real signal: deterministic, no symmetry.
+  std::vector<Complex> spectrum(static_cast<std::size_t>(p / 2 + 1));
+  for (std::size_t b = 0; b < spectrum.size(); ++b) {
+    spectrum[b] = Complex(std::cos(0.37 * b * b + 1.0), std::sin(1.3 * b) + 0.1);
+  }
+  spectrum[0] = Complex(spectrum[0].real(), 0.0);
+  // Bands: negative bins, one reaching Nyquist, narrow and wide, and starts
+  // that make the band wrap around the end of a block.
+  const std::vector<std::pair<Eigen::Index, Eigen::Index>> bands = {
+      {-40, 100}, {7, 60}, {2400, 121}, {-2519, 80}, {300, 1200}, {-1000, 2500}, {1, 1}};
+  std::vector<Complex> work(static_cast<std::size_t>(p)), out(static_cast<std::size_t>(p)),
+      column(static_cast<std::size_t>(p));
+  std::vector<float> magnitude(static_cast<std::size_t>(p));
+  for (const auto& [first, bins] : bands) {
+    std::vector<double> filter(static_cast<std::size_t>(bins));
+    std::vector<Complex> band(static_cast<std::size_t>(bins));
+    double l1 = 0.0;
+    for (Eigen::Index i = 0; i < bins; ++i) {
+      const Eigen::Index b = first + i;
+      filter[static_cast<std::size_t>(i)] = 0.5 + 0.4 * std::sin(0.1 * static_cast<double>(i));
+      const Complex x = b >= 0 ? spectrum[static_cast<std::size_t>(b)]
+                               : std::conj(spectrum[static_cast<std::size_t>(-b)]);
+      band[static_cast<std::size_t>(i)] = x * filter[static_cast<std::size_t>(i)];
+      l1 += std::abs(band[static_cast<std::size_t>(i)]);
+    }
+    const std::vector<Complex> direct = DirectInverse(band, first, p);
+    int tried = 0;
+    for (Eigen::Index d = 1; d <= PrunedInverse::kMaxDecimation; ++d) {
+      if (p % d != 0 || p / d < bins) continue;
+      ++tried;
+      inverse.Execute(spectrum.data(), filter.data(), first, bins, d, inverse.Plan(d),
+                      work.data(), out.data());
+      // times = P - 3: a last row of blocks only partly used.
+      const Eigen::Index times = p - 3;
+      inverse.Gather(out.data(), d, times, 1.0, column.data());
+      inverse.GatherMagnitude(out.data(), d, times, 1.0, magnitude.data());
+      double worst = 0.0, worst_magnitude = 0.0;
+      for (Eigen::Index j = 0; j < times; ++j) {
+        const auto u = static_cast<std::size_t>(j);
+        worst = std::max(worst, std::abs(column[u] - direct[u]));
+        worst_magnitude = std::max(
+            worst_magnitude, std::abs(static_cast<double>(magnitude[u]) - std::abs(direct[u])));
+      }
+      EXPECT_LE(worst, kRelativeTolerance * l1) << "band " << first << "+" << bins << " D " << d;
+      // float rounding: 2^-24 of |y| <= sum |Y_b|.
+      EXPECT_LE(worst_magnitude, 6e-8 * l1) << "band " << first << "+" << bins << " D " << d;
+    }
+    EXPECT_GE(tried, 1);
+    const Eigen::Index chosen = PrunedInverse::Decimation(p, bins);
+    EXPECT_EQ(p % chosen, 0);
+    EXPECT_GE(p / chosen, bins);
+  }
+  // The choice: the largest power of 2 (<= 64) dividing P that leaves room
+  // for the band.
+  EXPECT_EQ(PrunedInverse::Decimation(p, 80), 16);
+  EXPECT_EQ(PrunedInverse::Decimation(p, 400), 8);
+  EXPECT_EQ(PrunedInverse::Decimation(1 << 20, 3), 64);
+  EXPECT_EQ(PrunedInverse::Decimation(p, 2521), 1);
+  EXPECT_EQ(PrunedInverse::Decimation(p, 2520), 2);
+}
+
+TEST(PrunedInverse, FullRateCwtAtLargeDecimationsEqualsTheDirectSum) {
+  // A long record of low frequencies (every scale decimated by up to 64),
+  // complex and float-magnitude output, one and three threads, against
+  // W_k(t_j) = sum_b X_b n(s) psi^(s w_b) exp(2 pi i b j / P) / P summed
+  // directly over the same kept bins (X by a direct DFT). Rounding of FFTs of
+  // a few thousand points: 1e-12 of max |W|.
+  constexpr double kRelativeTolerance = 1e-12;
+  const double step = 1e-3;
+  const Eigen::Index n = 3000;
+  Eigen::VectorXd x(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) * step;
+    x(i) = std::cos(2 * std::numbers::pi * (5.0 * t + 2.0 * t * t)) + 0.3 * std::sin(1.7 * i);
+  }
+  CwtOptions o;
+  o.remove_mean = false;
+  o.frequencies.min_frequency_Hz = 2.0;
+  o.frequencies.max_frequency_Hz = 40.0;
+  o.frequencies.voices_per_octave = 2;
+  CwtTransform transform(o);
+  Scalogram sg;
+  transform.Compute(x, step, &sg);
+  const Eigen::Index p = transform.padded_length();
+  // Direct spectrum of the zero-padded record.
+  std::vector<Complex> spectrum(static_cast<std::size_t>(p / 2 + 1));
+  const std::vector<std::complex<long double>> w = RootsOfUnity(p);
+  for (Eigen::Index b = 0; b <= p / 2; ++b) {
+    long double re = 0.0L, im = 0.0L;
+    for (Eigen::Index m = 0; m < n; ++m) {
+      const auto& e = w[static_cast<std::size_t>((p - b * m % p) % p)];  // exp(-2 pi i b m / P)
+      re += x(m) * e.real();
+      im += x(m) * e.imag();
+    }
+    spectrum[static_cast<std::size_t>(b)] = Complex(static_cast<double>(re), static_cast<double>(im));
+  }
+  double lo = 0.0, hi = 0.0;
+  o.wavelet.Band(o.band_tolerance, &lo, &hi);
+  const double bin_rad_per_s = 2.0 * std::numbers::pi / (static_cast<double>(p) * step);
+  Eigen::MatrixXcd direct(n, sg.frequencies());
+  for (Eigen::Index k = 0; k < sg.frequencies(); ++k) {
+    const double s = sg.scales_s(k);
+    const auto a = static_cast<Eigen::Index>(std::ceil(lo / (s * bin_rad_per_s)));
+    const auto b = static_cast<Eigen::Index>(std::floor(hi / (s * bin_rad_per_s)));
+    std::vector<Complex> band;
+    for (Eigen::Index bin = a; bin <= b; ++bin) {
+      const Complex value = bin >= 0 ? spectrum[static_cast<std::size_t>(bin)]
+                                     : std::conj(spectrum[static_cast<std::size_t>(-bin)]);
+      band.push_back(value * o.wavelet.FourierTransform(s * bin * bin_rad_per_s) /
+                     static_cast<double>(p));
+    }
+    // The lowest scales must be decimated by far more than 2 for this test to bite.
+    if (k == 0) {
+      EXPECT_GE(PrunedInverse::Decimation(p, b - a + 1), 16);
+    }
+    const std::vector<Complex> y = DirectInverse(band, a, p);
+    for (Eigen::Index j = 0; j < n; ++j) direct(j, k) = y[static_cast<std::size_t>(j)];
+  }
+  const double tolerance = kRelativeTolerance * direct.cwiseAbs().maxCoeff();
+  EXPECT_LE((sg.coefficients - direct).cwiseAbs().maxCoeff(), tolerance);
+  o.threads = 3;
+  const Scalogram threaded = Cwt(x, step, o);
+  EXPECT_TRUE(threaded.coefficients == sg.coefficients);
+  o.output = CwtOutput::kMagnitudeFloat;
+  const Scalogram magnitude = Cwt(x, step, o);
+  const Eigen::MatrixXf rounded = sg.coefficients.cwiseAbs().cast<float>();
+  EXPECT_TRUE(magnitude.magnitude == rounded);
+}
+
+}  // namespace
+}  // namespace podid::wavelet

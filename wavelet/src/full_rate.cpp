@@ -1,0 +1,123 @@
+#include "full_rate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+#include "podid/core/error.hpp"
+
+namespace podid::wavelet::internal {
+
+double FullRateCwt::Bytes(Eigen::Index p, int threads) {
+  return 16.0 * static_cast<double>(p) * (1.0 + 2.0 * static_cast<double>(threads));
+}
+
+void FullRateCwt::Layout(Eigen::Index p,
+                         const std::vector<Eigen::Index>& band_first,
+                         const std::vector<std::vector<double>>& filters,
+                         int threads,
+                         bool measure) {
+  PODID_CHECK(band_first.size() == filters.size() && threads >= 1);
+  inverse_.Reset(p, measure);
+  band_first_ = &band_first;
+  filters_ = &filters;
+  const std::size_t scales = filters.size();
+  decimation_.resize(scales);
+  plans_.resize(scales);
+  std::vector<double> cost(scales);
+  for (std::size_t k = 0; k < scales; ++k) {
+    const auto bins = static_cast<Eigen::Index>(filters[k].size());
+    const Eigen::Index d = PrunedInverse::Decimation(p, std::max<Eigen::Index>(bins, 1));
+    decimation_[k] = d;
+    plans_[k] = inverse_.Plan(d);
+    // FFT flops plus the twiddle pass, in units of complex products.
+    cost[k] = static_cast<double>(p) * std::log2(static_cast<double>(p / d) + 1.0) +
+              2.0 * static_cast<double>(d * bins);
+  }
+  // Contiguous runs of about equal cost (each thread writes its columns in
+  // order, so a column may spill into the next ones of the same run).
+  chunk_begin_.assign(static_cast<std::size_t>(threads) + 1, static_cast<Eigen::Index>(scales));
+  chunk_begin_[0] = 0;
+  double total = 0.0;
+  for (double c : cost) total += c;
+  double sum = 0.0;
+  int next = 1;
+  for (std::size_t k = 0; k < scales && next < threads; ++k) {
+    sum += cost[k];
+    while (next < threads && sum >= total * next / threads) {
+      chunk_begin_[static_cast<std::size_t>(next++)] = static_cast<Eigen::Index>(k) + 1;
+    }
+  }
+  input_.clear();
+  output_.clear();
+  for (int t = 0; t < threads; ++t) {
+    input_.push_back(AllocateComplex(static_cast<std::size_t>(p)));
+    output_.push_back(AllocateComplex(static_cast<std::size_t>(p)));
+  }
+  plan_alignment_ = fftw_alignment_of(reinterpret_cast<double*>(output_.front().get()));
+}
+
+void FullRateCwt::Compute(const Complex* spectrum,
+                          Eigen::Index times,
+                          double output_scale,
+                          Complex* coefficients,
+                          float* magnitude) const {
+  PODID_CHECK(times >= 1 && times <= inverse_.length());
+  const int threads = static_cast<int>(chunk_begin_.size()) - 1;
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) {
+    if (chunk_begin_[static_cast<std::size_t>(t)] == chunk_begin_[static_cast<std::size_t>(t) + 1]) {
+      continue;
+    }
+    pool.emplace_back(
+        [=, this] { RunScales(t, spectrum, times, output_scale, coefficients, magnitude); });
+  }
+  RunScales(0, spectrum, times, output_scale, coefficients, magnitude);
+  for (auto& thread : pool) thread.join();
+}
+
+// Nothing here throws: PODID_CHECK aborts, and the buffers exist already.
+void FullRateCwt::RunScales(int thread,
+                            const Complex* spectrum,
+                            Eigen::Index times,
+                            double output_scale,
+                            Complex* coefficients,
+                            float* magnitude) const {
+  const auto t = static_cast<std::size_t>(thread);
+  const Eigen::Index p = inverse_.length();
+  const Eigen::Index end = chunk_begin_[t + 1];
+  Complex* input = input_[t].get();
+  Complex* own_output = output_[t].get();
+  for (Eigen::Index k = chunk_begin_[t]; k < end; ++k) {
+    const auto& filter = (*filters_)[static_cast<std::size_t>(k)];
+    const Eigen::Index a = (*band_first_)[static_cast<std::size_t>(k)];
+    const auto bins = static_cast<Eigen::Index>(filter.size());
+    if (bins == 0) {  // the whole band beyond Nyquist: W = 0
+      if (magnitude != nullptr) {
+        std::fill(magnitude + k * times, magnitude + (k + 1) * times, 0.0f);
+      } else {
+        std::fill(coefficients + k * times, coefficients + (k + 1) * times, Complex(0.0, 0.0));
+      }
+      continue;
+    }
+    // At D = 1 the column itself takes all P outputs when P values from its
+    // start stay inside this thread's later columns (overwritten when their
+    // turn comes): no copy.
+    const Eigen::Index d = decimation_[static_cast<std::size_t>(k)];
+    Complex* column = coefficients == nullptr ? nullptr : coefficients + k * times;
+    const bool direct = d == 1 && column != nullptr && (end - k) * times >= p &&
+                        fftw_alignment_of(reinterpret_cast<double*>(column)) == plan_alignment_;
+    Complex* out = direct ? column : own_output;
+    inverse_.Execute(spectrum, filter.data(), a, bins, d, plans_[static_cast<std::size_t>(k)], input,
+                     out);
+    if (magnitude != nullptr) {
+      inverse_.GatherMagnitude(out, d, times, output_scale, magnitude + k * times);
+    } else if (!direct) {
+      inverse_.Gather(out, d, times, output_scale, column);
+    } else if (output_scale != 1.0) {
+      for (Eigen::Index j = 0; j < times; ++j) column[j] *= output_scale;
+    }
+  }
+}
+
+}  // namespace podid::wavelet::internal

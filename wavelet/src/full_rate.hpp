@@ -1,0 +1,63 @@
+#pragma once
+// The full-rate CWT's scale loop (CwtTransform::Compute without band_limited):
+// per scale, the filtered band of the spectrum and its pruned inverse
+// (pruned_inverse.hpp) at the scale's own decimation D, written straight into
+// the output column where the column has room for P values.
+
+#include <Eigen/Core>
+#include <complex>
+#include <vector>
+
+#include "fftw_plans.hpp"
+#include "pruned_inverse.hpp"
+
+namespace podid::wavelet::internal {
+
+class FullRateCwt {
+ public:
+  using Complex = std::complex<double>;
+
+  /// Bytes Layout() allocates: the twiddle table and, per thread, the pruned
+  /// inverse's input and output (P each).
+  static double Bytes(Eigen::Index p, int threads);
+
+  /// Plans (one per distinct D) and buffers for padded length p and the
+  /// scales' bands: band_first[k] the signed first bin, filters[k] the filter
+  /// over the band (its length is the band's). Scales are split into
+  /// `threads` contiguous runs of about equal cost.
+  void Layout(Eigen::Index p,
+              const std::vector<Eigen::Index>& band_first,
+              const std::vector<std::vector<double>>& filters,
+              int threads,
+              bool measure);
+
+  /// Every scale of `spectrum` (P / 2 + 1 bins of the padded real signal):
+  /// column k of coefficients (times x scales, column-major) gets
+  /// output_scale * W_k(0 .. times - 1); with magnitude != nullptr instead
+  /// its |W| as float, and coefficients is unused. times <= P.
+  void Compute(const Complex* spectrum,
+               Eigen::Index times,
+               double output_scale,
+               Complex* coefficients,
+               float* magnitude) const;
+
+ private:
+  void RunScales(int thread,
+                 const Complex* spectrum,
+                 Eigen::Index times,
+                 double output_scale,
+                 Complex* coefficients,
+                 float* magnitude) const;
+
+  PrunedInverse inverse_;
+  const std::vector<Eigen::Index>* band_first_ = nullptr;
+  const std::vector<std::vector<double>>* filters_ = nullptr;
+  std::vector<Eigen::Index> decimation_;   // per scale
+  std::vector<fftw_plan> plans_;           // per scale
+  std::vector<Eigen::Index> chunk_begin_;  // threads + 1: thread t runs [begin_t, begin_t+1)
+  int plan_alignment_ = 0;                 // fftw_alignment_of the planned arrays
+  // Per thread.
+  mutable std::vector<ComplexBuffer> input_, output_;
+};
+
+}  // namespace podid::wavelet::internal

@@ -1,0 +1,74 @@
+#pragma once
+// Full-rate inverse DFT of a band-limited spectrum (a "pruned" inverse FFT),
+// the kernel of the full-rate CWT (podid/wavelet/cwt.hpp).
+//
+// A scale's filtered spectrum Y_b is non-zero only on K consecutive bins
+// b = a .. a + K - 1 (a signed), and all P outputs
+//   y_j = sum_b Y_b w^(b j),  w = exp(2 pi i / P),  j = 0 .. P - 1,
+// are wanted. For any D dividing P with M = P / D >= K, write j = q D + r
+// (q < M, r < D): w^(b (q D + r)) = exp(2 pi i b q / M) w^(b r), so
+//   y_(q D + r) = sum_b [Y_b w^(b r)] exp(2 pi i b q / M),
+// D inverse DFTs of length M, the r-th of the band twiddled by w^(b r) and
+// laid at slots b mod M (K <= M: no two bins share a slot). One FFTW plan
+// does all D into contiguous blocks (block r holds y_r, y_(D+r), ..), and a
+// gather pass interleaves them into the output. Cost: D M log M + D K
+// complex products + one pass over P values instead of P log P, with
+// transforms of length M that stay in cache. Exact: no approximation beyond
+// rounding (each twiddle is a product of two table values, about 2 ulp).
+
+#include <Eigen/Core>
+#include <complex>
+#include <vector>
+
+#include "fftw_plans.hpp"
+
+namespace podid::wavelet::internal {
+
+class PrunedInverse {
+ public:
+  using Complex = std::complex<double>;
+  /// Largest decimation tried; beyond it the per-transform overhead of
+  /// inverse DFTs shorter than P / 64 outweighs the shorter log factor.
+  static constexpr Eigen::Index kMaxDecimation = 64;
+
+  /// For length p >= 1 (<= 2^27): fills the twiddle table, plans nothing.
+  void Reset(Eigen::Index p, bool measure);
+  Eigen::Index length() const { return p_; }
+
+  /// D for a band of `bins` bins at length p: the largest power of 2 dividing
+  /// p, at most kMaxDecimation, with p / D >= bins (1 when bins > p / 2).
+  /// Powers of 2 only: at most 7 plans per length (other divisors would add a
+  /// plan for nearly every scale, each measured by `podid plan`).
+  static Eigen::Index Decimation(Eigen::Index p, Eigen::Index bins);
+  /// The plan of D inverses of length P / D (cached process-wide).
+  fftw_plan Plan(Eigen::Index d) const;
+
+  /// y_0 .. y_(P-1) of the band Y_(a+i) = X_(a+i) filter[i], i < bins, into
+  /// out (P entries) as D blocks of M: y_(q D + r) at out[r M + q] (for D = 1
+  /// simply y in order). spectrum: X_0 .. X_(P/2) of a real signal (X_-b =
+  /// conj X_b), a >= -(P - 1) / 2, a + bins - 1 <= P / 2. work: P entries of
+  /// scratch (overwritten). `plan` is Plan(d); out and work must have
+  /// fftw_malloc's alignment modulo 16 (any std::complex<double> array has it).
+  void Execute(const Complex* spectrum,
+               const double* filter,
+               Eigen::Index first_bin,
+               Eigen::Index bins,
+               Eigen::Index d,
+               fftw_plan plan,
+               Complex* work,
+               Complex* out) const;
+
+  /// column[j] = scale * y_j, j < times (<= P), from Execute's blocks at decimation d.
+  void Gather(const Complex* blocks, Eigen::Index d, Eigen::Index times, double scale,
+              Complex* column) const;
+  /// magnitude[j] = float(scale |y_j|), j < times, from Execute's blocks.
+  void GatherMagnitude(const Complex* blocks, Eigen::Index d, Eigen::Index times, double scale,
+                       float* magnitude) const;
+
+ private:
+  Eigen::Index p_ = 0;
+  bool measure_ = false;
+  std::vector<Complex> twiddle_;  // w^t, t = 0 .. P - 1
+};
+
+}  // namespace podid::wavelet::internal
