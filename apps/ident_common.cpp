@@ -38,6 +38,9 @@ void ObjectiveArguments::AddTo(CLI::App& command) {
       ->capture_default_str()->check(CLI::Range(0.0, 0.999));
   command.add_flag("--raw-sigma", raw_sigma,
                    "Compare raw singular values (eq. 19) instead of relative ones");
+  command.add_flag("--keep-mean", keep_mean,
+                   "Do not subtract the channels' means before the POD (an offset is compared; "
+                   "one channel: dS + dV is then the output error)");
   command.add_option("--fmin", fmin_Hz, "Lowest ridge frequency of the wavelet term (Hz)")->capture_default_str();
   command.add_option("--fmax", fmax_Hz, "Highest ridge frequency of the wavelet term (Hz)")->capture_default_str();
   command.add_option("--penalty", penalty_s, "Ridge penalty of the wavelet term (s)")->capture_default_str();
@@ -99,6 +102,7 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
   options.weightings = std::move(weightings);
   options.modes = modes;
   options.relative_sigma = !raw_sigma;
+  options.remove_mean = !keep_mean;
   options.noise_corrected_sigma = noise_sigma      ? ident::ObjectiveOptions::SigmaNoise::kCorrected
                                   : no_noise_sigma ? ident::ObjectiveOptions::SigmaNoise::kRaw
                                                    : ident::ObjectiveOptions::SigmaNoise::kAuto;

@@ -19,6 +19,7 @@ struct ObjectiveArguments {
   DataArguments measured_reading;  ///< --variable, --channels, --rate, --step, conditioning of -m
   int modes = 1;
   bool raw_sigma = false;
+  bool keep_mean = false;
   bool noise_sigma = false;
   bool no_noise_sigma = false;
   std::vector<std::string> mode_bands;  ///< K=LOW:HIGH

@@ -15,9 +15,9 @@
 namespace podid::ident {
 namespace {
 
-PodOptions MeasuredPodOptions() {
+PodOptions MeasuredPodOptions(bool remove_mean) {
   PodOptions options;  // all modes, so that swapped modes can be matched by MAC
-  options.remove_mean = true;
+  options.remove_mean = remove_mean;
   options.compute_time_modes = true;
   return options;
 }
@@ -238,7 +238,7 @@ ObjectiveFunction::ObjectiveFunction(const CaseDocument& case_document, const Ti
     throw std::invalid_argument(std::string("identification parameters: ") + e.what());
   }
 
-  measured_pod_ = ComputePod(measured_, MeasuredPodOptions());
+  measured_pod_ = ComputePod(measured_, MeasuredPodOptions(options_.remove_mean));
   if (measured_pod_.IsDegenerate()) {
     ThrowInvalid("measured data", "a record with a nonzero POD", measured_pod_.message);
   }
@@ -325,7 +325,7 @@ CaseSpec ObjectiveFunction::DocumentSpecAt(const Eigen::VectorXd& values) const 
 PodOptions ObjectiveFunction::ResponsePodOptions() const {
   // The trailing modes of noise-free simulated data are below the Gram
   // method's accuracy; requiring them accurate sent every evaluation to the SVD.
-  PodOptions options = MeasuredPodOptions();
+  PodOptions options = MeasuredPodOptions(options_.remove_mean);
   options.accurate_modes = compared_modes_;
   return options;
 }

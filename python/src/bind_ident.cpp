@@ -47,12 +47,14 @@ ident::NamedObjective ParseWeighting(const std::string& text) {
 std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case_, const Measured& measured,
                                                          const std::vector<std::string>& weightings, int modes,
                                                          double fmin, double fmax, bool raw_sigma,
+                                                         bool keep_mean,
                                                          const std::vector<std::string>& set) {
   ident::ObjectiveOptions options;
   options.weightings.clear();
   for (const std::string& w : weightings) options.weightings.push_back(ParseWeighting(w));
   options.modes = modes;
   options.relative_sigma = !raw_sigma;
+  options.remove_mean = !keep_mean;
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax;
   const CaseDocument document = LoadCase(case_, set);
@@ -100,6 +102,7 @@ void BindIdent(py::module_& m) {
       .def(py::init(&BuildObjective), py::arg("case"), py::arg("measured"),
            py::arg("weightings") = std::vector<std::string>{"full"}, py::arg("modes") = 1,
            py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("raw_sigma") = false,
+           py::arg("keep_mean") = false,
            py::arg("set") = std::vector<std::string>{},
            "case: a case-file path or TOML text; measured: a file path or a TimeSeries;\n"
            "weightings: presets (full, time-free, wavelet) or terms like \"U,S,IF:1,1,0.5\".")
@@ -147,7 +150,7 @@ void BindIdent(py::module_& m) {
          const std::map<std::string, double>& start, int multistart, const std::string& algorithm,
          int max_evaluations, double xtol, std::uint64_t seed, int modes, double fmin, double fmax,
          int threads, const py::object& progress, const std::vector<std::string>& set) {
-        const auto f = BuildObjective(case_, measured, {objective}, modes, fmin, fmax, false, set);
+        const auto f = BuildObjective(case_, measured, {objective}, modes, fmin, fmax, false, false, set);
         ident::IdentifyOptions options;
         options.algorithm = ident::ParseAlgorithm(algorithm);
         options.start = ValuesFrom(*f, start);
@@ -212,7 +215,7 @@ void BindIdent(py::module_& m) {
          double upper, int points, const std::vector<std::string>& objectives,
          const std::map<std::string, double>& base, int threads, const py::object& progress,
          int modes, double fmin, double fmax, const std::vector<std::string>& set) {
-        const auto f = BuildObjective(case_, measured, objectives, modes, fmin, fmax, false, set);
+        const auto f = BuildObjective(case_, measured, objectives, modes, fmin, fmax, false, false, set);
         ident::LandscapeOptions options;
         options.x.parameter = f->ParameterIndex(param, "param");
         options.x.lower = lower;

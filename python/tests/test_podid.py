@@ -142,6 +142,22 @@ def test_one_objective_serves_several_weightings():
     assert e["values"]["U,S:1,2"] == pytest.approx(t["U"] + 2 * t["S"], rel=1e-15)
 
 
+def test_keep_mean_compares_an_offset_the_default_pod_removes(tmp_path):
+    # The record shifted by a constant: with the means removed (eq. 1) the
+    # terms are those of the record itself, to the round-off of subtracting
+    # a mean (1e-10 relative to the terms); with keep_mean the shift counts.
+    data = np.loadtxt(MEASURED_01S, delimiter=",", skiprows=1)
+    header = open(MEASURED_01S).readline().strip()
+    data[:, 1:] += 1e-3
+    shifted = tmp_path / "shifted.csv"
+    np.savetxt(shifted, data, delimiter=",", header=header, comments="", fmt="%.15e")
+    plain = podid.Objective(CASE, MEASURED_01S, weightings=["S,V"]).evaluate({"knl": 40.0})
+    removed = podid.Objective(CASE, str(shifted), weightings=["S,V"]).evaluate({"knl": 40.0})
+    kept = podid.Objective(CASE, str(shifted), weightings=["S,V"], keep_mean=True).evaluate({"knl": 40.0})
+    assert removed["values"]["S,V"] == pytest.approx(plain["values"]["S,V"], rel=1e-10)
+    assert kept["values"]["S,V"] > 10 * plain["values"]["S,V"]
+
+
 def test_failures_are_values_and_errors_are_exceptions():
     o = podid.Objective(CASE, MEASURED_01S, set=["initial.static_tip_force=0"])
     e = o.evaluate()

@@ -78,6 +78,12 @@ struct ObjectiveOptions {
   std::vector<NamedObjective> weightings{{"full", ObjectiveWeights::Preset("full")}};
   int modes = 1;                 ///< K, the leading POMs compared (>= 1, <= sensors)
   bool relative_sigma = true;    ///< dS relative to the measured sigmas (false: raw, eq. 19)
+  /// Subtract each channel's time mean before the POD of both records (eq. 1,
+  /// the paper's choice). false keeps the means, so that a constant offset
+  /// of the response is compared: with one channel dS + r dV is then the
+  /// output error ||x_sim - x_meas||^2 / ||x_meas||^2, r = ||x_sim|| / ||x_meas||
+  /// (relative sigma; docs/method.md).
+  bool remove_mean = true;
   /// Compare with the measured sigmas less the energy of white measurement
   /// noise, sqrt(sigma_k^2 - N u_k^T diag(v) u_k), v per sensor from second
   /// differences (podid/pod/noise.hpp): a noisy sigma against a clean
