@@ -113,6 +113,7 @@ constexpr SchemaEntry kSchema[] = {
     {"force.column", Kind::kString},
     {"force.channel", Kind::kString},
     {"force.gain", Kind::kReal},
+    {"force.offset", Kind::kReal},
     {"time", Kind::kTable},
     {"time.duration", Kind::kReal},
     {"time.step", Kind::kReal},
@@ -360,11 +361,12 @@ ForceSpec ReadForce(const CaseDocument::Impl& doc, const CaseSpec& spec) {
     force.start_frequency_Hz = s.Real("start_frequency", Positive("Hz"));
     force.end_frequency_Hz = s.Real("end_frequency", Positive("Hz"));
   } else if (type == "file") {
-    s.OnlyKeys({"type", "node", "dof", "file", "column", "gain"}, why);
+    s.OnlyKeys({"type", "node", "dof", "file", "column", "gain", "offset"}, why);
     force.type = ForceType::kFile;
     force.file = s.String("file");
     force.column = s.String("column");
     force.gain = s.Real("gain", AnyReal("N per unit of the column"), 1.0);
+    force.offset_N = s.Real("offset", AnyReal("N"), 0.0);
     const std::string path = ResolvePath(doc, force.file);
     const auto series = CachedSeries(doc, path, s.Full("file"), [&] { return ReadCsv(path); });
     const int column = series->ChannelIndex(force.column);
@@ -373,12 +375,13 @@ ForceSpec ReadForce(const CaseDocument::Impl& doc, const CaseSpec& spec) {
              "\"" + force.column + "\"");
     }
     force.file_time_s = series->time_s;
-    force.file_force_N = force.gain * series->values.col(column);
+    force.file_values = series->values.col(column);
   } else {
-    s.OnlyKeys({"type", "node", "dof", "channel", "gain"}, why);
+    s.OnlyKeys({"type", "node", "dof", "channel", "gain", "offset"}, why);
     force.type = ForceType::kChannel;
     force.channel = s.String("channel");
     force.gain = s.Real("gain", AnyReal("N per unit of the channel"), 1.0);
+    force.offset_N = s.Real("offset", AnyReal("N"), 0.0);
     const DataSpec& data = spec.data;
     if (data.file.empty()) {
       s.Fail("channel", "a [data] file to read it from (data.file, or the measured file given "
@@ -398,7 +401,7 @@ ForceSpec ReadForce(const CaseDocument::Impl& doc, const CaseSpec& spec) {
              Excerpt(force.channel));
     }
     force.file_time_s = series->time_s;
-    force.file_force_N = force.gain * series->values.col(column);
+    force.file_values = series->values.col(column);
   }
   return force;
 }

@@ -13,7 +13,7 @@ namespace {
 constexpr const char* kTypedForms =
     "a real-valued case-file key, e.g. nonlinearity.N.k3, damping.modal_ratios.N, "
     "damping.alpha, beam.youngs_modulus, beam.segment.N.youngs_modulus, mass.N.mass, "
-    "spring.N.stiffness, force.amplitude, initial.static_tip_force";
+    "spring.N.stiffness, force.amplitude, force.gain, initial.static_tip_force";
 
 std::vector<std::string_view> Split(std::string_view key) {
   std::vector<std::string_view> parts;
@@ -152,7 +152,11 @@ ModelParameter ModelParameter::Resolve(const CaseSpec& spec, std::string_view ke
       return set(ParameterEffect::kLoad, Field::kForceStartFrequency, Range::kPositive);
     if (f == "end_frequency" && t == ForceType::kSweep)
       return set(ParameterEffect::kLoad, Field::kForceEndFrequency, Range::kPositive);
-    if (f == "amplitude" || f == "frequency" || f == "start_frequency" || f == "end_frequency")
+    const bool sampled = t == ForceType::kFile || t == ForceType::kChannel;
+    if (f == "gain" && sampled) return set(ParameterEffect::kLoad, Field::kForceGain, Range::kAny);
+    if (f == "offset" && sampled) return set(ParameterEffect::kLoad, Field::kForceOffset, Range::kAny);
+    if (f == "amplitude" || f == "frequency" || f == "start_frequency" || f == "end_frequency" ||
+        f == "gain" || f == "offset")
       unused("a value the case's force.type does not have");
   }
   if (head == "initial" && parts.size() == 2 &&
@@ -190,6 +194,8 @@ double* ModelParameter::FieldOf(CaseSpec* spec) const {
     case Field::kForceFrequency: return &spec->force.frequency_Hz;
     case Field::kForceStartFrequency: return &spec->force.start_frequency_Hz;
     case Field::kForceEndFrequency: return &spec->force.end_frequency_Hz;
+    case Field::kForceGain: return &spec->force.gain;
+    case Field::kForceOffset: return &spec->force.offset_N;
     case Field::kStaticForce: return &spec->initial.static_force_N;
     case Field::kNone: break;
   }

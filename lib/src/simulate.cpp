@@ -71,7 +71,7 @@ ExternalLoad BuildLoad(const CaseSpec& spec) {
       case ForceType::kFile:
       case ForceType::kChannel: {
         const Eigen::VectorXd& ft = f.file_time_s;
-        const Eigen::VectorXd& fv = f.file_force_N;
+        const Eigen::VectorXd& fv = f.file_values;
         PODID_CHECK(ft.size() == fv.size());
         if (ft.size() >= 2 && t_abs >= ft[0] && t_abs <= ft[ft.size() - 1]) {
           // Linear interpolation on the (uniform, increasing) file time grid.
@@ -79,7 +79,7 @@ ExternalLoad BuildLoad(const CaseSpec& spec) {
           Eigen::Index k =
               std::min<Eigen::Index>(static_cast<Eigen::Index>((t_abs - ft[0]) / h), ft.size() - 2);
           const double s = (t_abs - ft[k]) / (ft[k + 1] - ft[k]);
-          value = (1 - s) * fv[k] + s * fv[k + 1];
+          value = f.gain * ((1 - s) * fv[k] + s * fv[k + 1]) + f.offset_N;
         }
         break;
       }

@@ -231,7 +231,7 @@ TEST(CaseFile, ForceFromCsvRelativeToTheCaseFile) {
   EXPECT_EQ(spec.force.node, 3);
   EXPECT_EQ(spec.force.file, "data/force.csv");
   EXPECT_EQ(spec.force.file_time_s, Eigen::Vector3d(0, 0.5, 1));
-  EXPECT_EQ(spec.force.file_force_N, Eigen::Vector3d(0, 1, 4));
+  EXPECT_EQ(spec.force.file_values, Eigen::Vector3d(0, 1, 4));
 
   // A column that the file lacks, and a file that does not exist.
   CaseDocument doc = CaseDocument::Load(path);

@@ -8,9 +8,14 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "podid/core/io.hpp"
+#include "podid/core/model_parameter.hpp"
 #include "podid/core/simulate.hpp"
+#include "podid/core/simulator.hpp"
 #include "reference_case.hpp"
 #include "temp_dir.hpp"
 #include "test_support.hpp"
@@ -168,6 +173,94 @@ TEST(RecordingTest, DataTableErrorsNameTheKey) {
   EXPECT_EQ(Message({"data.file=\"" + file + "\"", "force.type=channel", "force.channel=zz"}),
             "--set force.channel=zz: force.channel: expected a channel of " + file +
                 " (f, volts, a), got \"zz\"");
+}
+
+TEST(RecordingTest, ForceGainAndOffsetAreLoadParametersMatchingTheDocumentPath) {
+  TempDir dir;
+  const std::string file = WriteForce(dir, "force.csv", 0.0);
+  CaseDocument document = CaseDocument::Load(podid::testing::ExamplePath("beam.toml"));
+  ApplySetArguments(document, {"data.file=\"" + file + "\"", "force.type=channel",
+                               "force.channel=volts", "force.node=3", "force.offset=0.5"});
+  const CaseSpec base = document.ToSpec();
+  EXPECT_EQ(base.force.offset_N, 0.5);
+  Simulator simulator(base);
+  // The cached load is rebuilt with the new gain and offset; the document
+  // path re-reads the channel. Same operations on the same samples, the
+  // nonlinear solve included: equal to round-off relative to the response.
+  constexpr double kRoundoffRelative = 1e-12;
+  for (const auto& [key, value] :
+       std::vector<std::pair<std::string, double>>{{"force.gain", 4.0}, {"force.offset", -1.5},
+                                                   {"force.gain", -2.0}}) {
+    const ModelParameter parameter = ModelParameter::Resolve(base, key);
+    EXPECT_EQ(parameter.effect(), ParameterEffect::kLoad) << key;
+    std::string why;
+    ASSERT_TRUE(simulator.Set(parameter, value, &why)) << why;
+    document.SetNumber(key, value);
+    const SimulationResult expected = Simulate(document.ToSpec(), SimulateOptions{false});
+    const SimulationResult actual = simulator.Run();
+    ASSERT_TRUE(expected.summary.IsSolutionUsable() && actual.summary.IsSolutionUsable());
+    const double scale = expected.sensors.values.cwiseAbs().maxCoeff();
+    EXPECT_TRUE(ExpectMatricesNear(actual.sensors.values, expected.sensors.values,
+                                   kRoundoffRelative * scale))
+        << "after " << key << " = " << value;
+  }
+  // A harmonic force has neither.
+  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(ReferenceCase({"force.type=harmonic",
+                                                                 "force.amplitude=1.0",
+                                                                 "force.frequency=10.0"}),
+                                                  "force.offset"),
+                          std::invalid_argument, "a value the case's force.type does not have");
+}
+
+// A one-dof oscillator m x'' + c x' + k x = F, F = gain x u + offset with a
+// measured u = 0: the offset alone is a step force b applied at t = 0, whose
+// response from rest is x(t) = b / k (1 - e^(-zeta w t) (cos(wd t) +
+// zeta / sqrt(1 - zeta^2) sin(wd t))).
+TEST(RecordingTest, ForceOffsetIsAStepForceWithTheAnalyticResponse) {
+  TempDir dir;
+  dir.Write("m.mtx", "%%MatrixMarket matrix coordinate real general\n1 1 1\n1 1 1.0\n");
+  dir.Write("k.mtx", "%%MatrixMarket matrix coordinate real general\n1 1 1\n1 1 986.96044010893581\n");
+  dir.Write("c.mtx", "%%MatrixMarket matrix coordinate real general\n1 1 1\n1 1 0.4\n");
+  std::string csv = "t,u\n";
+  for (int i = 0; i <= 5000; ++i) csv += std::to_string(i * 1e-4) + ",0\n";
+  const std::string data = dir.Write("u.csv", csv);
+  const std::string path = dir.Write("sdof.toml", R"([model]
+type = "matrices"
+mass = "m.mtx"
+stiffness = "k.mtx"
+damping = "c.mtx"
+[force]
+type = "channel"
+channel = "u"
+dof = 1
+gain = 3.0
+offset = 2.0
+[data]
+file = "u.csv"
+[time]
+duration = 0.5
+step = 1.0e-4
+[sensors]
+dofs = [1]
+)");
+  (void)data;
+  const SimulationResult sim = Simulate(CaseDocument::Load(path).ToSpec());
+  ASSERT_TRUE(sim.summary.IsSolutionUsable()) << sim.summary.message;
+  const double k = 986.96044010893581, c = 0.4, b = 2.0;
+  const double w = std::sqrt(k), zeta = c / (2 * w), wd = w * std::sqrt(1 - zeta * zeta);
+  Eigen::MatrixXd expected(sim.sensors.samples(), 1);
+  for (int i = 0; i < sim.sensors.samples(); ++i) {
+    const double t = sim.sensors.time_s[i];
+    expected(i, 0) = b / k * (1 - std::exp(-zeta * w * t) *
+                                      (std::cos(wd * t) + zeta / std::sqrt(1 - zeta * zeta) *
+                                                              std::sin(wd * t)));
+  }
+  // Trapezoidal Newmark's period error (w dt)^2 / 12 = 8.2e-7 over 2.5
+  // periods is a phase error of 1.3e-5 rad, i.e. 1.3e-5 x (b / k) at most;
+  // 1e-4 x (b / k) leaves margin, and a missing or doubled offset (an error
+  // of b / k) fails.
+  constexpr double kNewmarkPhaseRelative = 1e-4;
+  EXPECT_TRUE(ExpectMatricesNear(sim.sensors.values, expected, kNewmarkPhaseRelative * b / k));
 }
 
 }  // namespace

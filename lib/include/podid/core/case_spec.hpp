@@ -147,8 +147,11 @@ enum class ForceType { kNone, kHarmonic, kSweep, kFile, kChannel };
 /// start (time.start_s), t_abs = time.start_s + t the record's time:
 ///  harmonic: F = A sin(2 pi f t);
 ///  sweep:    F = A sin(2 pi (f0 t + (f1 - f0) t^2 / (2 T))), T = duration;
-///  file:     F = gain x (a CSV column at t_abs), linearly interpolated, 0 outside;
-///  channel:  F = gain x (a channel of the [data] file at t_abs), the same way.
+///  file:     F = gain x (a CSV column at t_abs) + offset, linearly interpolated
+///            (band-limited with integrator.substeps > 1), 0 outside the column's time;
+///  channel:  F = gain x (a channel of the [data] file at t_abs) + offset, the same way.
+/// gain and offset are applied when the load is built (BuildLoad), so that an
+/// identification changes them without re-reading the file (kLoad parameters).
 struct ForceSpec {
   ForceType type = ForceType::kNone;
   int node = 0;
@@ -161,8 +164,9 @@ struct ForceSpec {
   std::string column;               ///< file: column name
   std::string channel;              ///< channel: channel name in the [data] file
   double gain = 1.0;                ///< file, channel: N per unit of the column (e.g. N/V)
+  double offset_N = 0.0;            ///< file, channel: added after the gain (N)
   Eigen::VectorXd file_time_s;      ///< file, channel: the column's time (s), filled by ToSpec()
-  Eigen::VectorXd file_force_N;     ///< file, channel: gain x the column (N), filled by ToSpec()
+  Eigen::VectorXd file_values;      ///< file, channel: the column, in its unit, filled by ToSpec()
 };
 
 struct TimeSpec {

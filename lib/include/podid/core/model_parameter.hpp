@@ -15,6 +15,7 @@
 //   beam.segment.i.{youngs_modulus,density}, mass.i.{mass,inertia},
 //   spring.i.{stiffness,damping}       kModel (M, K, C and the integrator)
 //   force.{amplitude,frequency,start_frequency,end_frequency}   kLoad
+//   force.{gain,offset} (file and channel forces)               kLoad
 //   initial.static_tip_force, initial.static_force             kInitialState
 // Any other real-valued key of the schema (CaseDocument::IsNumericKey, e.g.
 // beam.length, beam.width) is a kDocument parameter: it is set in a copy of
@@ -69,6 +70,7 @@ class ModelParameter {
     kBeamModulus, kBeamDensity, kSegmentModulus, kSegmentDensity,
     kMass, kInertia, kSpringStiffness, kSpringDamping,
     kForceAmplitude, kForceFrequency, kForceStartFrequency, kForceEndFrequency,
+    kForceGain, kForceOffset,
     kStaticForce, kNone,
   };
   enum class Range { kAny, kNonNegative, kPositive, kRatio };
