@@ -25,16 +25,6 @@ void SetMallocAllowed([[maybe_unused]] bool allowed) {
 
 }  // namespace
 
-ExternalLoad ExternalLoad::PointForce(int n_dofs, int dof, const Eigen::VectorXd& values_N) {
-  if (dof < 0 || dof >= n_dofs) ThrowInvalid("external load dof", "a dof in 0.." + ToText(n_dofs - 1), ToText(dof));
-  ExternalLoad load;
-  load.pattern.resize(n_dofs, 1);
-  load.pattern.insert(dof, 0) = 1.0;
-  load.pattern.makeCompressed();
-  load.history = values_N.transpose();
-  return load;
-}
-
 const char* ToString(SimulationTermination termination) {
   switch (termination) {
     case SimulationTermination::kNotRun: return "not run";
@@ -251,16 +241,6 @@ void NewmarkIntegrator::NonlinearVelocity(NewmarkWorkspace& w) const {
   const double dt = options_.step_s, g = options_.gamma, b = options_.beta;
   w.va = a1_ * (w.xa - w.xa_n) + (1.0 - g / b) * w.z.segment(n_, na_) +
          dt * (1.0 - g / (2.0 * b)) * w.z.segment(2 * n_, na_);
-}
-
-void NewmarkIntegrator::AddLoad(NewmarkWorkspace& w, Eigen::VectorXd& rhs) {
-  // Column by column (K is small): no temporary, and a point force adds
-  // 1.0 * F to its dof exactly.
-  const Eigen::SparseMatrix<double>& p = w.load_pattern;
-  for (int k = 0; k < p.outerSize(); ++k) {
-    const double h = w.load_now[k];
-    for (Eigen::SparseMatrix<double>::InnerIterator it(p, k); it; ++it) rhs[it.row()] += it.value() * h;
-  }
 }
 
 bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, bool has_load, int* iterations,
@@ -497,28 +477,7 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
   if (recording->record_acceleration) recording->acceleration.resize(rows, n_rec);
 
   NewmarkWorkspace& w = *workspace;
-  // The load in the permuted order, and on the dense condensed path how each
-  // column enters y = S_b^-1 rhs_b and bhat = rhs_a - S_ab y (eqs. 28-29).
-  const int columns = load.columns();
-  w.load_now.setZero(columns);
-  w.load_pattern.resize(n_, columns);
-  if (has_load) {
-    std::vector<Eigen::Triplet<double>> t;
-    t.reserve(static_cast<std::size_t>(load.pattern.nonZeros()));
-    for (int k = 0; k < load.pattern.outerSize(); ++k)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(load.pattern, k); it; ++it)
-        t.emplace_back(inv_perm_[it.row()], k, it.value());
-    w.load_pattern.setFromTriplets(t.begin(), t.end());
-    w.load_now = load.history.col(0);
-  }
-  w.load_y.setZero(nb_, columns);
-  w.load_bhat.setZero(na_, columns);
-  if (has_load && options_.type == IntegratorType::kModifiedNewmark && !sparse_) {
-    const Eigen::MatrixXd dense = Eigen::MatrixXd(w.load_pattern);
-    w.load_y.noalias() = sbb_inv_ * dense.bottomRows(nb_);
-    w.load_bhat = dense.topRows(na_);
-    w.load_bhat.noalias() -= sab_ * w.load_y;
-  }
+  PrepareLoad(load, w);
   auto x = w.z.head(n_);
   auto v = w.z.segment(n_, n_);
   auto acc = w.z.tail(n_);

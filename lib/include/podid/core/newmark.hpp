@@ -204,8 +204,11 @@ class NewmarkIntegrator {
  private:
   friend class NewmarkWorkspace;
   bool StepModified(NewmarkWorkspace& w, bool has_load, int* iterations, double* residual) const;
-  /// rhs += the load's pattern times w.load_now (allocation-free).
+  /// rhs += the load's pattern times w.load_now (allocation-free; newmark_load.cpp).
   static void AddLoad(NewmarkWorkspace& w, Eigen::VectorXd& rhs);
+  /// Before the loop: the load in w (permuted pattern, its dense condensed
+  /// images load_y and load_bhat, load_now at t = 0).
+  void PrepareLoad(const ExternalLoad& load, NewmarkWorkspace& w) const;
   bool SolveScalar(NewmarkWorkspace& w, int* iterations, double* residual) const;
   /// The dense condensed step with one nonlinear dof, product, Newton (eq. 29),
   /// eq. 28 and the Newmark update fused; *bounded = false (state untouched)
