@@ -45,6 +45,10 @@ std::vector<NamedFile> CaseInputFiles(const CaseArguments& arguments) {
   if (spec.force.type == ForceType::kFile && !spec.force.file.empty()) {
     add("force file", spec.force.file);
   }
+  for (const ForceSpec& force : spec.forces)
+    if (force.type == ForceType::kFile && !force.file.empty()) add("force file", force.file);
+  if (spec.base.type == ForceType::kFile && !spec.base.file.empty()) add("base acceleration file", spec.base.file);
+  if (!spec.base.influence_file.empty()) add("base influence file", spec.base.influence_file);
   // [data] file or -m: already resolved against the case's folder.
   if (!spec.data.file.empty()) files.push_back({"data file", spec.data.file});
   if (spec.model.type == ModelType::kMatrices) {

@@ -29,7 +29,8 @@ namespace {
 // written "*". To add a key (e.g. for [identify]), add a row here and read it
 // in ToSpec() or with CaseDocument::GetNumber().
 enum class Kind {
-  kTable, kTableArray, kReal, kInteger, kString, kRealArray, kIntegerArray, kStringArray
+  kTable, kTableArray, kReal, kInteger, kString, kRealArray, kIntegerArray, kStringArray,
+  kTableOrArray,  ///< [force] or [[force]]: "force.key" or "force.*.key"
 };
 
 struct SchemaEntry {
@@ -101,7 +102,7 @@ constexpr SchemaEntry kSchema[] = {
     {"initial.dof", Kind::kInteger},
     {"initial.displacement", Kind::kRealArray},
     {"initial.velocity", Kind::kRealArray},
-    {"force", Kind::kTable},
+    {"force", Kind::kTableOrArray},
     {"force.type", Kind::kString},
     {"force.node", Kind::kInteger},
     {"force.dof", Kind::kInteger},
@@ -114,6 +115,31 @@ constexpr SchemaEntry kSchema[] = {
     {"force.channel", Kind::kString},
     {"force.gain", Kind::kReal},
     {"force.offset", Kind::kReal},
+    {"force.*.type", Kind::kString},
+    {"force.*.node", Kind::kInteger},
+    {"force.*.dof", Kind::kInteger},
+    {"force.*.amplitude", Kind::kReal},
+    {"force.*.frequency", Kind::kReal},
+    {"force.*.start_frequency", Kind::kReal},
+    {"force.*.end_frequency", Kind::kReal},
+    {"force.*.file", Kind::kString},
+    {"force.*.column", Kind::kString},
+    {"force.*.channel", Kind::kString},
+    {"force.*.gain", Kind::kReal},
+    {"force.*.offset", Kind::kReal},
+    {"base", Kind::kTable},
+    {"base.type", Kind::kString},
+    {"base.amplitude", Kind::kReal},
+    {"base.frequency", Kind::kReal},
+    {"base.start_frequency", Kind::kReal},
+    {"base.end_frequency", Kind::kReal},
+    {"base.file", Kind::kString},
+    {"base.column", Kind::kString},
+    {"base.channel", Kind::kString},
+    {"base.gain", Kind::kReal},
+    {"base.offset", Kind::kReal},
+    {"base.influence", Kind::kRealArray},
+    {"base.influence_file", Kind::kString},
     {"time", Kind::kTable},
     {"time.duration", Kind::kReal},
     {"time.step", Kind::kReal},
@@ -137,6 +163,7 @@ constexpr SchemaEntry kSchema[] = {
     {"sensors.dofs", Kind::kIntegerArray},
     {"sensors.names", Kind::kStringArray},
     {"sensors.quantity", Kind::kString},
+    {"sensors.reference", Kind::kString},
     {"noise", Kind::kTable},
     {"noise.relative", Kind::kReal},
     {"noise.seed", Kind::kInteger},
@@ -299,6 +326,9 @@ void CheckKnown(const CaseDocument::Impl& doc,
       }
       break;
     }
+    case Kind::kTableOrArray:
+      CheckKnown(doc, node, key, pattern, node.is_array() ? Kind::kTableArray : Kind::kTable);
+      break;
     case Kind::kTableArray: {
       const auto* array = node.as_array();
       if (array == nullptr || !array->is_array_of_tables()) {
@@ -316,95 +346,6 @@ void CheckKnown(const CaseDocument::Impl& doc,
 }
 
 // --- the sections ----------------------------------------------------------
-
-/// A time series read once per document family (force files, the [data] file).
-std::shared_ptr<const TimeSeries> CachedSeries(const CaseDocument::Impl& doc,
-                                               const std::string& cache_key,
-                                               const std::string& key,
-                                               const std::function<TimeSeries()>& read) {
-  std::lock_guard<std::mutex> lock(doc.force_files->mutex);
-  auto& cached = doc.force_files->files[cache_key];
-  if (!cached) {
-    try {
-      cached = std::make_shared<const TimeSeries>(read());
-    } catch (const std::exception& e) {
-      doc.force_files->files.erase(cache_key);
-      throw std::invalid_argument(doc.Where(key) + ": " + key + ": " + e.what());
-    }
-  }
-  return cached;
-}
-
-std::string ChannelList(const TimeSeries& series) {
-  std::string names;
-  for (const auto& n : series.channel_names) names += (names.empty() ? "" : ", ") + n;
-  return names.size() <= 200 ? names : names.substr(0, 200) + "...";
-}
-
-ForceSpec ReadForce(const CaseDocument::Impl& doc, const CaseSpec& spec) {
-  const Section s = SubSection(doc, "force", false);
-  ForceSpec force;
-  if (!s.present()) return force;
-  const std::string type = s.Choice("type", {"none", "harmonic", "sweep", "file", "channel"});
-  const std::string why = "for type \"" + type + "\"";
-  if (type == "none") return force;  // other keys ignored, as for damping
-  ReadNodeOrDof(s, spec, &force.node, &force.dof);
-  if (type == "harmonic") {
-    s.OnlyKeys({"type", "node", "dof", "amplitude", "frequency"}, why);
-    force.type = ForceType::kHarmonic;
-    force.amplitude_N = s.Real("amplitude", AnyReal("N"));
-    force.frequency_Hz = s.Real("frequency", Positive("Hz"));
-  } else if (type == "sweep") {
-    s.OnlyKeys({"type", "node", "dof", "amplitude", "start_frequency", "end_frequency"}, why);
-    force.type = ForceType::kSweep;
-    force.amplitude_N = s.Real("amplitude", AnyReal("N"));
-    force.start_frequency_Hz = s.Real("start_frequency", Positive("Hz"));
-    force.end_frequency_Hz = s.Real("end_frequency", Positive("Hz"));
-  } else if (type == "file") {
-    s.OnlyKeys({"type", "node", "dof", "file", "column", "gain", "offset"}, why);
-    force.type = ForceType::kFile;
-    force.file = s.String("file");
-    force.column = s.String("column");
-    force.gain = s.Real("gain", AnyReal("N per unit of the column"), 1.0);
-    force.offset_N = s.Real("offset", AnyReal("N"), 0.0);
-    const std::string path = ResolvePath(doc, force.file);
-    const auto series = CachedSeries(doc, path, s.Full("file"), [&] { return ReadCsv(path); });
-    const int column = series->ChannelIndex(force.column);
-    if (column < 0) {
-      s.Fail("column", "a column of " + path + " (" + ChannelList(*series) + ")",
-             "\"" + force.column + "\"");
-    }
-    force.file_time_s = series->time_s;
-    force.file_values = series->values.col(column);
-  } else {
-    s.OnlyKeys({"type", "node", "dof", "channel", "gain", "offset"}, why);
-    force.type = ForceType::kChannel;
-    force.channel = s.String("channel");
-    force.gain = s.Real("gain", AnyReal("N per unit of the channel"), 1.0);
-    force.offset_N = s.Real("offset", AnyReal("N"), 0.0);
-    const DataSpec& data = spec.data;
-    if (data.file.empty()) {
-      s.Fail("channel", "a [data] file to read it from (data.file, or the measured file given "
-             "on the command line)", "no data.file");
-    }
-    DataReadOptions options;
-    options.variable = data.variable;
-    options.rate_Hz = data.rate_Hz;
-    options.step_s = data.step_s;
-    const std::string cache_key = data.file + "\n" + data.variable + "\n" +
-                                  FormatReal(data.rate_Hz) + "\n" + FormatReal(data.step_s);
-    const auto series = CachedSeries(doc, cache_key, "data.file",
-                                     [&] { return ReadTimeSeries(data.file, options); });
-    const int column = series->ChannelIndex(force.channel);
-    if (column < 0) {
-      s.Fail("channel", "a channel of " + data.file + " (" + ChannelList(*series) + ")",
-             Excerpt(force.channel));
-    }
-    force.file_time_s = series->time_s;
-    force.file_values = series->values.col(column);
-  }
-  return force;
-}
 
 DataSpec ReadData(const CaseDocument::Impl& doc) {
   const Section s = SubSection(doc, "data", false);
@@ -642,7 +583,9 @@ void Navigate(toml::table& root,
       }
       toml::node* child = table->get(parts[i]);
       if (child == nullptr) {
-        const auto kind = LookupKind(Join(parts, i + 1, true));
+        auto kind = LookupKind(Join(parts, i + 1, true));
+        if (kind == Kind::kTableOrArray)  // [force] or [[force]]: the next part says which
+          kind = IsIndex(parts[i + 1]) ? Kind::kTableArray : Kind::kTable;
         if (kind == Kind::kTable) {
           child = table->insert_or_assign(parts[i], toml::table{}).first->second.as_table();
         } else {
@@ -801,7 +744,8 @@ CaseSpec ReadModel(const CaseDocument::Impl& doc) {
   spec.source = doc.source;
   ReadStructure(doc, &spec);
   spec.data = ReadData(doc);
-  spec.force = ReadForce(doc, spec);
+  ReadForces(doc, &spec);
+  spec.base = ReadBase(doc, spec);
   spec.time = ReadTime(doc);
   // The simulated record, (duration / step + 1) samples x sensors doubles,
   // must fit in memory: the data files' bound of 2^27 values (1 GiB).

@@ -243,6 +243,9 @@ class Section {
 
   /// Rejects keys of this table that `type` does not use.
   void OnlyKeys(std::initializer_list<std::string_view> allowed, std::string_view why) const {
+    OnlyKeys(std::vector<std::string_view>(allowed), why);
+  }
+  void OnlyKeys(const std::vector<std::string_view>& allowed, std::string_view why) const {
     if (table_ == nullptr) return;
     for (const auto& [name, node] : *table_) {
       if (std::find(allowed.begin(), allowed.end(), name.str()) != allowed.end()) continue;
@@ -314,6 +317,13 @@ void ReadStructure(const CaseDocument::Impl& doc, CaseSpec* spec);
 /// Reads `node` (a beam node, default the right end) or `dof` (a 1-based model
 /// dof; required for imported matrices) of section `s`: exactly one is set.
 void ReadNodeOrDof(const Section& s, const CaseSpec& spec, int* node, int* dof);
+
+/// Reads the single [force] into spec->force or the [[force]] tables (at most
+/// kMaxForces) into spec->forces (case_force.cpp). After the structure and [data].
+void ReadForces(const CaseDocument::Impl& doc, CaseSpec* spec);
+
+/// Reads [base] (case_force.cpp). After the structure and [data].
+BaseSpec ReadBase(const CaseDocument::Impl& doc, const CaseSpec& spec);
 
 /// The largest element count of a beam (keeps 2 (elements + 1) dofs in
 /// kMaxModelDofs).

@@ -301,6 +301,19 @@ SensorSpec ReadSensors(const CaseDocument::Impl& doc, const CaseSpec& spec) {
                          ? SensorQuantity::kDisplacement
                          : (quantity == "velocity" ? SensorQuantity::kVelocity
                                                    : SensorQuantity::kAcceleration);
+  // Under [base]: accelerometers measure the absolute acceleration; a
+  // displacement or velocity is relative to the supports (the base's own is
+  // not known from its measured acceleration).
+  const bool acceleration = sensors.quantity == SensorQuantity::kAcceleration;
+  const std::string reference =
+      s.Choice("reference", {"absolute", "relative"}, acceleration ? "absolute" : "relative");
+  if (!acceleration && reference == "absolute") {
+    s.Fail("reference",
+           "\"relative\" for a displacement or velocity (\"absolute\" is for quantity = "
+           "\"acceleration\": the base's own motion is not known from its acceleration)",
+           "\"absolute\"");
+  }
+  sensors.reference = reference == "absolute" ? SensorReference::kAbsolute : SensorReference::kRelative;
   if (!beam) {
     for (const char* key : {"dof", "nodes"}) {
       if (s.Has(key)) {

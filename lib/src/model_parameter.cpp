@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "podid/core/case_file.hpp"
@@ -13,7 +14,7 @@ namespace {
 constexpr const char* kTypedForms =
     "a real-valued case-file key, e.g. nonlinearity.N.k3, damping.modal_ratios.N, "
     "damping.alpha, beam.youngs_modulus, beam.segment.N.youngs_modulus, mass.N.mass, "
-    "spring.N.stiffness, force.amplitude, force.gain, initial.static_tip_force";
+    "spring.N.stiffness, force.amplitude, force.N.gain, base.amplitude, initial.static_tip_force";
 
 std::vector<std::string_view> Split(std::string_view key) {
   std::vector<std::string_view> parts;
@@ -141,23 +142,39 @@ ModelParameter ModelParameter::Resolve(const CaseSpec& spec, std::string_view ke
     if (parts[2] == "stiffness") return set(ParameterEffect::kModel, Field::kSpringStiffness, Range::kNonNegative, i);
     return set(ParameterEffect::kModel, Field::kSpringDamping, Range::kNonNegative, i);
   }
-  if (head == "force" && parts.size() == 2) {
-    const ForceType t = spec.force.type;
-    const std::string_view f = parts[1];
-    if (f == "amplitude" && (t == ForceType::kHarmonic || t == ForceType::kSweep))
-      return set(ParameterEffect::kLoad, Field::kForceAmplitude, Range::kAny);
-    if (f == "frequency" && t == ForceType::kHarmonic)
-      return set(ParameterEffect::kLoad, Field::kForceFrequency, Range::kPositive);
-    if (f == "start_frequency" && t == ForceType::kSweep)
-      return set(ParameterEffect::kLoad, Field::kForceStartFrequency, Range::kPositive);
-    if (f == "end_frequency" && t == ForceType::kSweep)
-      return set(ParameterEffect::kLoad, Field::kForceEndFrequency, Range::kPositive);
+  // A force's or the base's history: the fields its type has (ForceSpec).
+  auto history = [&](ForceType t, std::string_view f, int index, bool base) -> std::optional<ModelParameter> {
     const bool sampled = t == ForceType::kFile || t == ForceType::kChannel;
-    if (f == "gain" && sampled) return set(ParameterEffect::kLoad, Field::kForceGain, Range::kAny);
-    if (f == "offset" && sampled) return set(ParameterEffect::kLoad, Field::kForceOffset, Range::kAny);
+    const Field amplitude = base ? Field::kBaseAmplitude : Field::kForceAmplitude;
+    if (f == "amplitude" && (t == ForceType::kHarmonic || t == ForceType::kSweep))
+      return set(ParameterEffect::kLoad, amplitude, Range::kAny, index);
+    if (f == "frequency" && t == ForceType::kHarmonic)
+      return set(ParameterEffect::kLoad, base ? Field::kBaseFrequency : Field::kForceFrequency, Range::kPositive, index);
+    if (f == "start_frequency" && t == ForceType::kSweep)
+      return set(ParameterEffect::kLoad, base ? Field::kBaseStartFrequency : Field::kForceStartFrequency,
+                 Range::kPositive, index);
+    if (f == "end_frequency" && t == ForceType::kSweep)
+      return set(ParameterEffect::kLoad, base ? Field::kBaseEndFrequency : Field::kForceEndFrequency,
+                 Range::kPositive, index);
+    if (f == "gain" && sampled)
+      return set(ParameterEffect::kLoad, base ? Field::kBaseGain : Field::kForceGain, Range::kAny, index);
+    if (f == "offset" && sampled)
+      return set(ParameterEffect::kLoad, base ? Field::kBaseOffset : Field::kForceOffset, Range::kAny, index);
     if (f == "amplitude" || f == "frequency" || f == "start_frequency" || f == "end_frequency" ||
         f == "gain" || f == "offset")
-      unused("a value the case's force.type does not have");
+      unused(std::string("a value the case's ") + (base ? "base" : "force") + ".type does not have");
+    return std::nullopt;
+  };
+  if (head == "force" && parts.size() == 2) {
+    if (!spec.forces.empty()) unused("the case has [[force]] tables: force.<i>." + std::string(parts[1]));
+    if (auto q = history(spec.force.type, parts[1], -1, false)) return *q;
+  }
+  if (head == "force" && parts.size() == 3) {
+    const int i = table(spec.forces.size(), "[[force]] tables");
+    if (auto q = history(spec.forces[static_cast<std::size_t>(i)].type, parts[2], i, false)) return *q;
+  }
+  if (head == "base" && parts.size() == 2) {
+    if (auto q = history(spec.base.type, parts[1], 0, true)) return *q;
   }
   if (head == "initial" && parts.size() == 2 &&
       (parts[1] == "static_tip_force" || parts[1] == "static_force")) {
@@ -166,6 +183,10 @@ ModelParameter ModelParameter::Resolve(const CaseSpec& spec, std::string_view ke
   }
   p.effect_ = ParameterEffect::kDocument;  // checked by the document
   return p;
+}
+
+ForceSpec& ModelParameter::ForceOf(CaseSpec* spec) const {
+  return index_ < 0 ? spec->force : spec->forces.at(static_cast<std::size_t>(index_));
 }
 
 double* ModelParameter::FieldOf(CaseSpec* spec) const {
@@ -190,12 +211,18 @@ double* ModelParameter::FieldOf(CaseSpec* spec) const {
     case Field::kInertia: return &spec->masses.at(i).inertia_kg_m2;
     case Field::kSpringStiffness: return &spec->springs.at(i).stiffness;
     case Field::kSpringDamping: return &spec->springs.at(i).damping;
-    case Field::kForceAmplitude: return &spec->force.amplitude_N;
-    case Field::kForceFrequency: return &spec->force.frequency_Hz;
-    case Field::kForceStartFrequency: return &spec->force.start_frequency_Hz;
-    case Field::kForceEndFrequency: return &spec->force.end_frequency_Hz;
-    case Field::kForceGain: return &spec->force.gain;
-    case Field::kForceOffset: return &spec->force.offset_N;
+    case Field::kForceAmplitude: return &ForceOf(spec).amplitude_N;
+    case Field::kForceFrequency: return &ForceOf(spec).frequency_Hz;
+    case Field::kForceStartFrequency: return &ForceOf(spec).start_frequency_Hz;
+    case Field::kForceEndFrequency: return &ForceOf(spec).end_frequency_Hz;
+    case Field::kForceGain: return &ForceOf(spec).gain;
+    case Field::kForceOffset: return &ForceOf(spec).offset_N;
+    case Field::kBaseAmplitude: return &spec->base.amplitude_m_per_s2;
+    case Field::kBaseFrequency: return &spec->base.frequency_Hz;
+    case Field::kBaseStartFrequency: return &spec->base.start_frequency_Hz;
+    case Field::kBaseEndFrequency: return &spec->base.end_frequency_Hz;
+    case Field::kBaseGain: return &spec->base.gain;
+    case Field::kBaseOffset: return &spec->base.offset_m_per_s2;
     case Field::kStaticForce: return &spec->initial.static_force_N;
     case Field::kNone: break;
   }

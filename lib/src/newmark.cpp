@@ -215,7 +215,6 @@ NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
   const int n = integrator.n_, na = integrator.na_;
   z.setZero(3 * n);
   for (Eigen::VectorXd* v : {&x_new, &rhs, &r, &dx}) v->setZero(n);
-  load_y.setZero(integrator.nb_);
   if (!integrator.sparse_ && integrator.options_.type == IntegratorType::kModifiedNewmark)
     u.setZero(2 * n);
   if (integrator.sparse_) {
@@ -223,8 +222,7 @@ NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
     u2.setZero(n);
     y.setZero(integrator.nb_);
   }
-  for (Eigen::VectorXd* v : {&xa, &xa_n, &va, &fa, &ra, &dxa, &xa_trial, &load_bhat})
-    v->setZero(na);
+  for (Eigen::VectorXd* v : {&xa, &xa_n, &va, &fa, &ra, &dxa, &xa_trial}) v->setZero(na);
   ka.setZero(na, na);
   ca.setZero(na, na);
   jac_a.setZero(na, na);
@@ -245,8 +243,8 @@ void NewmarkIntegrator::NonlinearVelocity(NewmarkWorkspace& w) const {
          dt * (1.0 - g / (2.0 * b)) * w.z.segment(2 * n_, na_);
 }
 
-bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, double load, int load_dof,
-                                     int* iterations, double* residual) const {
+bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, bool has_load, int* iterations,
+                                     double* residual) const {
   if (sparse_) {
     // rhs = M u1 + C u2 + g (eq. 23's known part), y = S_b^-1 rhs_b and
     // bhat = rhs_a - S_ab y; w.rhs becomes [bhat; y] as in the dense path.
@@ -256,7 +254,7 @@ bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, double load, int load_
     w.u2 = a1_ * x + (g / b - 1.0) * v + (dt * (g / (2.0 * b) - 1.0)) * acc;
     w.rhs.noalias() = mass_sparse_ * w.u1;
     w.rhs.noalias() += damping_sparse_ * w.u2;
-    if (load_dof >= 0) w.rhs[load_dof] += load;
+    if (has_load) AddLoad(w, w.rhs);
     // y = S_b^-1 rhs_b with the factor P^T L D L^T P, permutations done here:
     // Eigen's in-place permutation allocates a mask.
     const Eigen::VectorXi& p = sbb_permutation_;
@@ -281,13 +279,17 @@ bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, double load, int load_
     // x_b = y): w.rhs = [bhat; y] = T [M, C] [u1; u2] (see the header).
     // Run() keeps w.u = [u1; u2] of the current state (fused with the update).
     multiply_small_(condensed_mc_.data(), n_, 2 * n_, w.u.data(), w.rhs.data());
-    if (load != 0.0) w.rhs.tail(nb_) += load * w.load_y;
+    if (has_load)
+      for (Eigen::Index k = 0; k < w.load_now.size(); ++k)
+        if (w.load_now[k] != 0.0) w.rhs.tail(nb_) += w.load_now[k] * w.load_y.col(k);
   }
   *iterations = 0;
   *residual = 0.0;
   if (na_ > 0) {
     w.ra = w.rhs.head(na_);  // ra holds bhat during the iterations
-    if (load != 0.0 && !sparse_) w.ra += load * w.load_bhat;
+    if (has_load && !sparse_)
+      for (Eigen::Index k = 0; k < w.load_now.size(); ++k)
+        if (w.load_now[k] != 0.0) w.ra += w.load_now[k] * w.load_bhat.col(k);
     if (na_ == 1) return SolveScalar(w, iterations, residual);
     w.xa_n = w.z.head(na_);
     w.xa = w.xa_n;
@@ -353,16 +355,20 @@ bool NewmarkIntegrator::SolveScalar(NewmarkWorkspace& w, int* iterations, double
   return false;
 }
 
-bool NewmarkIntegrator::StepDenseScalar(NewmarkWorkspace& w, double load, int* iterations,
+bool NewmarkIntegrator::StepDenseScalar(NewmarkWorkspace& w, bool has_load, int* iterations,
                                         double* residual, bool* bounded) const {
   // As StepModified + SolveScalar + Run's update for this case, the same
   // operations in the same order, with scalars and raw pointers.
   double* const rhs = w.rhs.data();
   multiply_small_(condensed_mc_.data(), n_, 2 * n_, w.u.data(), rhs);
   double bhat = rhs[0];
-  if (load != 0.0) {
-    w.rhs.tail(nb_) += load * w.load_y;
-    bhat += load * w.load_bhat[0];
+  if (has_load) {
+    for (Eigen::Index k = 0; k < w.load_now.size(); ++k) {
+      const double load = w.load_now[k];
+      if (load == 0.0) continue;
+      w.rhs.tail(nb_) += load * w.load_y.col(k);
+      bhat += load * w.load_bhat(0, k);
+    }
   }
   const double* const z = w.z.data();
   const double x_n = z[0], v_n = z[n_], a_n = z[2 * n_];
@@ -396,10 +402,10 @@ bool NewmarkIntegrator::StepDenseScalar(NewmarkWorkspace& w, double load, int* i
   return true;
 }
 
-bool NewmarkIntegrator::StepFull(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
+bool NewmarkIntegrator::StepFull(NewmarkWorkspace& w, bool has_load, int* iterations,
                                  double* residual) const {
   w.rhs.noalias() = rhs_matrix_ * w.z;
-  if (load_dof >= 0) w.rhs[load_dof] += load;
+  if (has_load) AddLoad(w, w.rhs);
   w.x_new = w.z.head(n_);
   w.xa_n = w.z.head(na_);
   *iterations = 0;
@@ -448,14 +454,14 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
                  ToText(initial.displacement.size()) + " and " + ToText(initial.velocity.size()));
   }
   const int steps = options_.steps;
-  if (load.values_N.size() != 0 && load.values_N.size() != steps + 1) {
-    ThrowInvalid("external load", ToText(steps + 1) + " samples", ToText(load.values_N.size()));
+  const bool has_load = load.columns() > 0;
+  if (has_load && (load.pattern.rows() != n_ || load.history.rows() != load.columns() ||
+                   load.history.cols() != steps + 1)) {
+    ThrowInvalid("external load", "a " + ToText(n_) + " x K pattern and a K x " + ToText(steps + 1) +
+                                      " history",
+                 ToText(load.pattern.rows()) + " x " + ToText(load.columns()) + " and " +
+                     ToText(load.history.rows()) + " x " + ToText(load.history.cols()));
   }
-  const bool has_load = load.values_N.size() > 0;
-  if (has_load && (load.dof < 0 || load.dof >= n_)) {
-    ThrowInvalid("external load dof", "a dof in 0.." + ToText(n_ - 1), ToText(load.dof));
-  }
-  const int load_dof = has_load ? inv_perm_[load.dof] : -1;
   PODID_CHECK(recording != nullptr && workspace != nullptr);
   const int n_rec = static_cast<int>(recording->dofs.size());
   std::vector<int> rec(n_rec);
@@ -471,6 +477,7 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
   if (recording->record_acceleration) recording->acceleration.resize(rows, n_rec);
 
   NewmarkWorkspace& w = *workspace;
+  PrepareLoad(load, w);
   auto x = w.z.head(n_);
   auto v = w.z.segment(n_, n_);
   auto acc = w.z.tail(n_);
@@ -484,7 +491,7 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
   nonlinear_.Evaluate(w.xa, w.va, w.fa, w.ka, w.ca);
   w.rhs.setZero();
   w.rhs.head(na_) = w.fa;
-  if (has_load) w.rhs[load_dof] += load.values_N[0];
+  if (has_load) AddLoad(w, w.rhs);
   if (sparse_) {
     w.rhs.noalias() -= stiffness_sparse_ * x;
     w.rhs.noalias() -= damping_sparse_ * v;
@@ -493,17 +500,6 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
     w.rhs.noalias() -= stiffness_ * x;
     w.rhs.noalias() -= damping_ * v;
     acc.noalias() = mass_inverse_ * w.rhs;
-  }
-  // How a unit load on load_dof enters y and bhat (modified method).
-  w.load_y.setZero();
-  w.load_bhat.setZero();
-  if (has_load && options_.type == IntegratorType::kModifiedNewmark && !sparse_) {
-    if (load_dof < na_) {
-      w.load_bhat[load_dof] = 1.0;
-    } else {
-      w.load_y = sbb_inv_.col(load_dof - na_);
-      w.load_bhat.noalias() -= sab_ * w.load_y;
-    }
   }
 
   SimulationSummary summary;
@@ -544,11 +540,11 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
     int iterations = 0;
     double residual = 0.0;
     bool bounded = true;
-    const double load_value = has_load ? load.values_N[step] : 0.0;
-    const bool ok = dense_scalar ? StepDenseScalar(w, load_value, &iterations, &residual, &bounded)
+    if (has_load) w.load_now = load.history.col(step);
+    const bool ok = dense_scalar ? StepDenseScalar(w, has_load, &iterations, &residual, &bounded)
                     : options_.type == IntegratorType::kModifiedNewmark
-                        ? StepModified(w, load_value, load_dof, &iterations, &residual)
-                        : StepFull(w, load_value, load_dof, &iterations, &residual);
+                        ? StepModified(w, has_load, &iterations, &residual)
+                        : StepFull(w, has_load, &iterations, &residual);
     summary.newton_iterations += iterations;
     if (iterations > summary.max_step_iterations) {
       summary.max_step_iterations = iterations;

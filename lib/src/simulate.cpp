@@ -5,7 +5,6 @@
 #include <string>
 
 #include "podid/core/error.hpp"
-#include "podid/core/interpolate.hpp"
 #include "podid/core/noise.hpp"
 
 namespace podid {
@@ -40,59 +39,6 @@ State InitialState(const CaseSpec& spec, const BeamModel& model, StaticSolveSumm
   return state;
 }
 
-ExternalLoad BuildLoad(const CaseSpec& spec) {
-  ExternalLoad load;
-  const ForceSpec& f = spec.force;
-  if (f.type == ForceType::kNone) return load;
-  load.dof = ResolveDof(spec, f.node, f.dof, SensorDof::kW, f.dof > 0 ? "force.dof" : "force.node");
-  const int samples = spec.time.samples();
-  const double dt = spec.time.step_s;
-  const double duration = (samples - 1) * dt;
-  // Sub-stepping: analytic forces at the fine times; a sampled force on the
-  // data's grid here, interpolated band-limited below.
-  const bool sampled = f.type == ForceType::kFile || f.type == ForceType::kChannel;
-  const int k = sampled ? 1 : spec.integrator.substeps;
-  const int count = (samples - 1) * k + 1;
-  load.values_N.resize(count);
-  constexpr double kTwoPi = 2 * std::numbers::pi;
-  for (int i = 0; i < count; ++i) {
-    const double t = i * dt / k;                   // from the simulation's start
-    const double t_abs = spec.time.start_s + t;    // on the record's time axis
-    double value = 0.0;
-    switch (f.type) {
-      case ForceType::kHarmonic:
-        value = f.amplitude_N * std::sin(kTwoPi * f.frequency_Hz * t);
-        break;
-      case ForceType::kSweep:  // linear sweep: phase = 2 pi (f0 t + (f1 - f0) t^2 / (2 T))
-        value = f.amplitude_N *
-                std::sin(kTwoPi * (f.start_frequency_Hz * t +
-                                   (f.end_frequency_Hz - f.start_frequency_Hz) * t * t / (2 * duration)));
-        break;
-      case ForceType::kFile:
-      case ForceType::kChannel: {
-        const Eigen::VectorXd& ft = f.file_time_s;
-        const Eigen::VectorXd& fv = f.file_values;
-        PODID_CHECK(ft.size() == fv.size());
-        if (ft.size() >= 2 && t_abs >= ft[0] && t_abs <= ft[ft.size() - 1]) {
-          // Linear interpolation on the (uniform, increasing) file time grid.
-          const double h = (ft[ft.size() - 1] - ft[0]) / static_cast<double>(ft.size() - 1);
-          Eigen::Index k =
-              std::min<Eigen::Index>(static_cast<Eigen::Index>((t_abs - ft[0]) / h), ft.size() - 2);
-          const double s = (t_abs - ft[k]) / (ft[k + 1] - ft[k]);
-          value = f.gain * ((1 - s) * fv[k] + s * fv[k + 1]) + f.offset_N;
-        }
-        break;
-      }
-      case ForceType::kNone:
-        break;
-    }
-    load.values_N[i] = value;
-  }
-  if (sampled && spec.integrator.substeps > 1)
-    load.values_N = InterpolateBandLimited(load.values_N, spec.integrator.substeps);
-  return load;
-}
-
 std::vector<int> SensorDofs(const CaseSpec& spec) {
   std::vector<int> dofs;
   if (!spec.sensors.dofs.empty()) {
@@ -106,6 +52,20 @@ std::vector<int> SensorDofs(const CaseSpec& spec) {
     dofs.push_back(ResolveDof(spec, node, 0, spec.sensors.dof, "sensors.nodes"));
   }
   return dofs;
+}
+
+void AddBaseAcceleration(const CaseSpec& spec, const ExternalLoad& load, int rows, Recording* recording) {
+  // Accelerometers under base excitation: u'' = u_r'' + r a_g at the samples.
+  if (load.base_row < 0 || spec.sensors.quantity != SensorQuantity::kAcceleration ||
+      spec.sensors.reference != SensorReference::kAbsolute)
+    return;
+  const int stride = spec.integrator.substeps;
+  for (std::size_t k = 0; k < recording->dofs.size(); ++k) {
+    const double r = load.base_influence[recording->dofs[k]];
+    if (r == 0.0) continue;
+    for (int i = 0; i < rows; ++i)
+      recording->acceleration(i, static_cast<Eigen::Index>(k)) += r * load.history(load.base_row, i * stride);
+  }
 }
 
 void FillSensors(const CaseSpec& spec, const Recording& recording, int rows, TimeSeries* sensors) {
@@ -137,7 +97,9 @@ SimulationResult Simulate(const CaseSpec& spec, const SimulateOptions& options) 
     result.sensors.values.resize(0, static_cast<Eigen::Index>(recording.dofs.size()));
     return result;
   }
-  result.summary = integrator.Run(initial, BuildLoad(spec), &recording);
+  const ExternalLoad load = BuildLoad(spec, model);
+  result.summary = integrator.Run(initial, load, &recording);
+  AddBaseAcceleration(spec, load, result.summary.rows_recorded, &recording);
   FillSensors(spec, recording, result.summary.rows_recorded, &result.sensors);
   if (options.add_noise && spec.noise.relative > 0.0) {
     AddNoise(result.sensors, spec.noise.relative, spec.noise.seed);

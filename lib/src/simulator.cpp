@@ -49,6 +49,7 @@ void Simulator::Rebuild() {
     channel_names_ = spec_.sensors.ChannelNames();
     model_dirty_ = nonlinear_dirty_ = false;
     initial_dirty_ = true;
+    if (spec_.base.type != ForceType::kNone) load_dirty_ = true;  // -M r a_g depends on M
   }
   if (nonlinear_dirty_) {
     model_->SetNonlinearCoefficients(spec_.nonlinearities);
@@ -56,7 +57,7 @@ void Simulator::Rebuild() {
     nonlinear_dirty_ = false;
   }
   if (load_dirty_) {
-    load_ = BuildLoad(spec_);
+    load_ = BuildLoad(spec_, *model_);
     load_dirty_ = false;
   }
   if (initial_dirty_) {
@@ -76,6 +77,7 @@ const SimulationSummary& Simulator::RunInPlace() {
     return summary_;
   }
   summary_ = integrator_->Run(initial_, load_, &recording_, workspace_.get());
+  AddBaseAcceleration(spec_, load_, summary_.rows_recorded, &recording_);
   return summary_;
 }
 

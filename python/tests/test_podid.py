@@ -77,6 +77,31 @@ def test_simulate_takes_overrides_and_toml_text():
     assert not np.allclose(linear.sensors.values, stiff.sensors.values)
 
 
+# Superposition on the linear beam (k3 = 0, from rest): each step solves the
+# same linear system, Newton to 1e-10 of the residual scale, so sums agree to
+# ~1e-10 of the response; 1e-9 leaves a margin (tests/core/multi_force_test.cpp).
+SUPERPOSITION_TOLERANCE = 1e-9
+
+
+def test_several_forces_and_base_excitation_through_set():
+    linear = ["nonlinearity.0.k3=0", "initial.static_tip_force=0"]
+    first = ["force.0.type=harmonic", "force.0.node=3", "force.0.amplitude=4", "force.0.frequency=70"]
+    second = ["force.{}.type=sweep", "force.{}.node=6", "force.{}.amplitude=-2",
+              "force.{}.start_frequency=20", "force.{}.end_frequency=200"]
+    base = ["base.type=harmonic", "base.amplitude=9.81", "base.frequency=15"]
+    both = podid.simulate(CASE, set=linear + first + [k.format(1) for k in second] + base, noise=False)
+    one = podid.simulate(CASE, set=linear + first, noise=False)
+    two = podid.simulate(CASE, set=linear + [k.format(0) for k in second], noise=False)
+    three = podid.simulate(CASE, set=linear + base, noise=False)
+    assert both.completed and one.completed and two.completed and three.completed
+    total = one.sensors.values + two.sensors.values + three.sensors.values
+    scale = np.abs(both.sensors.values).max()
+    assert np.abs(both.sensors.values - total).max() <= SUPERPOSITION_TOLERANCE * scale
+    with pytest.raises(ValueError, match="force.1.node: expected"):
+        podid.simulate(CASE, set=first + ["force.1.type=harmonic", "force.1.node=99",
+                                          "force.1.amplitude=1", "force.1.frequency=5"])
+
+
 def test_instantaneous_frequency_of_a_tone():
     step = 1e-3
     t = np.arange(4000) * step

@@ -22,21 +22,23 @@ TEST(LoadTest, HarmonicAndSweepFollowTheirFormulas) {
   const CaseSpec harmonic = ReferenceCase({"force.type=\"harmonic\"", "force.node=6",
                                            "force.amplitude=3", "force.frequency=40"});
   const ExternalLoad h = BuildLoad(harmonic);
-  EXPECT_EQ(h.dof, TransverseDof(6));
-  ASSERT_EQ(h.values_N.size(), 501);
+  ASSERT_EQ(h.columns(), 1);
+  EXPECT_EQ(h.pattern.coeff(TransverseDof(6), 0), 1.0);
+  EXPECT_EQ(h.pattern.nonZeros(), 1);
+  ASSERT_EQ(h.history.cols(), 501);
   for (int i = 0; i < 501; i += 37) {
-    EXPECT_NEAR(h.values_N[i], 3 * std::sin(2 * kPi * 40 * i * 2e-4), kRoundOff);
+    EXPECT_NEAR(h.history(0, i), 3 * std::sin(2 * kPi * 40 * i * 2e-4), kRoundOff);
   }
   const CaseSpec sweep = ReferenceCase({"force.type=\"sweep\"", "force.node=3", "force.amplitude=2",
                                         "force.start_frequency=10", "force.end_frequency=110"});
   const ExternalLoad s = BuildLoad(sweep);
-  EXPECT_EQ(s.dof, TransverseDof(3));
+  EXPECT_EQ(s.pattern.coeff(TransverseDof(3), 0), 1.0);
   // Instantaneous frequency f0 + (f1 - f0) t / T: the phase is its integral.
   for (int i = 0; i < 501; i += 41) {
     const double t = i * 2e-4;
-    EXPECT_NEAR(s.values_N[i], 2 * std::sin(2 * kPi * (10 * t + 100 * t * t / (2 * 0.1))), kRoundOff);
+    EXPECT_NEAR(s.history(0, i), 2 * std::sin(2 * kPi * (10 * t + 100 * t * t / (2 * 0.1))), kRoundOff);
   }
-  EXPECT_EQ(BuildLoad(ReferenceCase()).values_N.size(), 0);  // free vibration
+  EXPECT_EQ(BuildLoad(ReferenceCase()).columns(), 0);  // free vibration
 }
 
 TEST(LoadTest, FileForceIsInterpolatedLinearly) {
@@ -52,11 +54,11 @@ TEST(LoadTest, FileForceIsInterpolatedLinearly) {
   }
   const CaseSpec spec = CaseDocument::Load(dir + "/case.toml").ToSpec();
   const ExternalLoad load = BuildLoad(spec);
-  ASSERT_EQ(load.values_N.size(), 501);
-  EXPECT_NEAR(load.values_N[0], 0.0, kRoundOff);
-  EXPECT_NEAR(load.values_N[125], 5.0, kRoundOff);  // t = 0.025: half-way up
-  EXPECT_NEAR(load.values_N[250], 10.0, kRoundOff);
-  EXPECT_NEAR(load.values_N[375], 5.0, kRoundOff);
+  ASSERT_EQ(load.history.cols(), 501);
+  EXPECT_NEAR(load.history(0, 0), 0.0, kRoundOff);
+  EXPECT_NEAR(load.history(0, 125), 5.0, kRoundOff);  // t = 0.025: half-way up
+  EXPECT_NEAR(load.history(0, 250), 10.0, kRoundOff);
+  EXPECT_NEAR(load.history(0, 375), 5.0, kRoundOff);
 }
 
 TEST(LoadTest, ForcedSdofMatchesClosedForm) {
@@ -73,10 +75,9 @@ TEST(LoadTest, ForcedSdofMatchesClosedForm) {
   options.step_s = 1e-4;
   options.steps = 5000;
   const NewmarkIntegrator integrator(model, options);
-  ExternalLoad load;
-  load.dof = 0;
-  load.values_N.resize(options.steps + 1);
-  for (int i = 0; i <= options.steps; ++i) load.values_N[i] = force * std::sin(w * i * options.step_s);
+  Eigen::VectorXd values_N(options.steps + 1);
+  for (int i = 0; i <= options.steps; ++i) values_N[i] = force * std::sin(w * i * options.step_s);
+  const ExternalLoad load = ExternalLoad::PointForce(1, 0, values_N);
   Recording recording;
   recording.dofs = {0};
   const SimulationSummary summary =

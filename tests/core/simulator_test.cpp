@@ -165,6 +165,75 @@ TEST(SimulatorTest, RunInPlaceGivesRunsSensorsWithoutTheCopy) {
   }
 }
 
+// Several forces and base excitation: force.i.* and base.* are kLoad keys; a
+// change of the mass (kModel) also changes the base's load -M r a_g.
+constexpr const char* kForcesAndBaseCase = R"(
+[beam]
+length = 0.593
+elements = 6
+youngs_modulus = 2.05e11
+density = 7800.0
+area = 0.196e-3
+[[mass]]
+node = 4
+mass = 0.2
+[damping]
+type = "rayleigh"
+modal_ratios = [0.01, 0.02]
+[[nonlinearity]]
+type = "cubic"
+node = 6
+k3 = 5.0e9
+[[force]]
+type = "harmonic"
+node = 6
+amplitude = 2.0
+frequency = 30.0
+[[force]]
+type = "sweep"
+node = 3
+amplitude = 1.0
+start_frequency = 10.0
+end_frequency = 80.0
+[base]
+type = "harmonic"
+amplitude = 5.0
+frequency = 25.0
+[sensors]
+quantity = "acceleration"
+[time]
+duration = 0.05
+step = 2.0e-4
+)";
+
+TEST(SimulatorTest, ForceArrayAndBaseKeysMatchTheDocumentPath) {
+  const std::vector<std::pair<std::string, double>> changes = {
+      {"force.0.amplitude", -1.0}, {"force.1.end_frequency", 120.0}, {"base.amplitude", 9.0},
+      {"base.frequency", 40.0},    {"mass.0.mass", 0.6},             {"force.0.frequency", 45.0},
+  };
+  ExpectChangesMatchTheDocumentPath(kForcesAndBaseCase, "simulator_test", changes);
+  const CaseSpec spec = CaseDocument::Parse(kForcesAndBaseCase, "simulator_test").ToSpec();
+  EXPECT_EQ(ModelParameter::Resolve(spec, "force.1.amplitude").effect(), ParameterEffect::kLoad);
+  EXPECT_EQ(ModelParameter::Resolve(spec, "base.amplitude").effect(), ParameterEffect::kLoad);
+  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "force.2.amplitude"), std::invalid_argument,
+                          "an index of the case's [[force]] tables (0..1)");
+  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "force.amplitude"), std::invalid_argument,
+                          "the case has [[force]] tables: force.<i>.amplitude");
+  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "force.0.gain"), std::invalid_argument,
+                          "a value the case's force.type does not have");
+  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "base.start_frequency"), std::invalid_argument,
+                          "a value the case's base.type does not have");
+  // The objective's path (RunInPlace, no copy) sees the absolute accelerations too.
+  Simulator simulator(spec);
+  const SimulationResult copied = simulator.Run();
+  ASSERT_TRUE(simulator.RunInPlace().IsSolutionUsable());
+  EXPECT_TRUE(Eigen::MatrixXd(simulator.sensor_values()) == copied.sensors.values);
+  CaseDocument relative_doc = CaseDocument::Parse(kForcesAndBaseCase, "simulator_test");
+  ApplySetArguments(relative_doc, {"sensors.reference=relative"});
+  const SimulationResult relative = Simulate(relative_doc.ToSpec(), SimulateOptions{false});
+  EXPECT_FALSE(relative.sensors.values == copied.sensors.values);
+}
+
 TEST(ModelParameterTest, ResolvesEachKeyOnceWithWhatItInvalidates) {
   const CaseSpec spec = CaseDocument::Parse(kCase, "simulator_test").ToSpec();
   EXPECT_EQ(ModelParameter::Resolve(spec, "nonlinearity.0.k3").effect(), ParameterEffect::kNonlinear);

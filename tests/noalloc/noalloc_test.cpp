@@ -46,6 +46,19 @@ TEST(NoAllocationTest, TwoNonlinearDofsWithForcing) {
                         "force.amplitude=1", "force.frequency=30"});
 }
 
+TEST(NoAllocationTest, SeveralForcesAndBaseExcitationWithSubsteps) {
+  for (const char* type : {"modified", "newmark"}) {
+    RunWithoutAllocation({"force.0.type=\"harmonic\"", "force.0.node=6", "force.0.amplitude=1",
+                          "force.0.frequency=30", "force.1.type=\"sweep\"", "force.1.node=2",
+                          "force.1.amplitude=1", "force.1.start_frequency=5", "force.1.end_frequency=50",
+                          "base.type=\"harmonic\"", "base.amplitude=3", "base.frequency=20",
+                          "integrator.substeps=2", std::string("integrator.type=\"") + type + "\""});
+  }
+  RunWithoutAllocation({"beam.elements=300", "time.duration=0.01", "force.0.type=\"harmonic\"",
+                        "force.0.node=100", "force.0.amplitude=1", "force.0.frequency=30",
+                        "base.type=\"harmonic\"", "base.amplitude=3", "base.frequency=20"});
+}
+
 TEST(NoAllocationTest, SparseCondensedLoop) {
   // 300 elements (600 dofs): the sparse path (kDenseDofLimit) with a force
   // on a linear dof and two nonlinear dofs.

@@ -150,8 +150,8 @@ enum class ForceType { kNone, kHarmonic, kSweep, kFile, kChannel };
 ///  file:     F = gain x (a CSV column at t_abs) + offset, linearly interpolated
 ///            (band-limited with integrator.substeps > 1), 0 outside the column's time;
 ///  channel:  F = gain x (a channel of the [data] file at t_abs) + offset, the same way.
-/// gain and offset are applied when the load is built (BuildLoad), so that an
-/// identification changes them without re-reading the file (kLoad parameters).
+/// gain and offset are applied when the load is built (BuildLoad, load.hpp), so
+/// that an identification changes them without re-reading the file (kLoad).
 struct ForceSpec {
   ForceType type = ForceType::kNone;
   int node = 0;
@@ -169,6 +169,37 @@ struct ForceSpec {
   Eigen::VectorXd file_values;      ///< file, channel: the column, in its unit, filled by ToSpec()
 };
 
+/// Most [[force]] tables a case may have (each adds a load history of the
+/// integration grid's length to a simulation's memory).
+inline constexpr int kMaxForces = 64;
+
+/// Base (support) excitation: the supports move with the ground acceleration
+/// a_g(t) (m/s^2) and the structure is integrated in coordinates u_r relative
+/// to them (the support is the ground of springs and grounded elements):
+///   M u_r'' + C u_r' + K u_r + f_nl(u_r) = -M r a_g(t) + (the [force]s),
+/// r the rigid-body motion of the dofs when the base moves by 1 (beam: 1 on
+/// every free w, 0 on theta, with the supports' consistent-mass coupling,
+/// i.e. -(M_full r_full) restricted to the free dofs; imported models: the
+/// `influence` vector). a_g follows the force rules (ForceSpec) with
+/// amplitude_m_per_s2 for A, gain in m/s^2 per unit of the column and
+/// offset in m/s^2.
+struct BaseSpec {
+  ForceType type = ForceType::kNone;
+  double amplitude_m_per_s2 = 0.0;  ///< harmonic, sweep
+  double frequency_Hz = 0.0;        ///< harmonic
+  double start_frequency_Hz = 0.0;  ///< sweep
+  double end_frequency_Hz = 0.0;    ///< sweep
+  std::string file, column, channel;
+  double gain = 1.0;                ///< file, channel: m/s^2 per unit of the column
+  double offset_m_per_s2 = 0.0;     ///< file, channel: added after the gain
+  Eigen::VectorXd file_time_s;      ///< file, channel: the column's time (s), filled by ToSpec()
+  Eigen::VectorXd file_values;      ///< file, channel: the column, in its unit
+  /// Imported models: r (dim n_dofs), from `influence` or `influence_file`;
+  /// empty for beams (their r is built from the supports).
+  Eigen::VectorXd influence;
+  std::string influence_file;  ///< the file r was read from (for messages), or ""
+};
+
 struct TimeSpec {
   double duration_s = 0.0;  ///< > 0
   double step_s = 0.0;      ///< > 0, <= duration
@@ -182,12 +213,21 @@ struct TimeSpec {
 
 enum class SensorQuantity { kDisplacement, kVelocity, kAcceleration };
 
+/// What the sensors measure under base excitation: the motion relative to the
+/// supports, or the absolute one (the support's added back). Absolute is
+/// available for accelerations only (u_r'' + r a_g, as accelerometers
+/// measure): a measured acceleration does not fix the base's displacement.
+/// Without [base] both are the same.
+enum class SensorReference { kRelative, kAbsolute };
+
 struct SensorSpec {
   SensorDof dof = SensorDof::kW;
   std::vector<int> nodes;  ///< beam nodes; default the free nodes 1..elements
   std::vector<int> dofs;   ///< 1-based model dofs; when non-empty, replaces `nodes`
   std::vector<std::string> names;  ///< channel names; empty: the defaults below
   SensorQuantity quantity = SensorQuantity::kDisplacement;
+  /// Default: absolute for accelerations, relative for the rest.
+  SensorReference reference = SensorReference::kRelative;
   /// `names` if given, else "w1".."w6" (or "theta1"...) for nodes, "x3" for dofs.
   std::vector<std::string> ChannelNames() const;
 };
@@ -246,7 +286,9 @@ struct CaseSpec {
   DampingSpec damping;
   std::vector<NonlinearitySpec> nonlinearities;
   InitialSpec initial;
-  ForceSpec force;
+  ForceSpec force;                ///< the single [force] table (type kNone when absent)
+  std::vector<ForceSpec> forces;  ///< [[force]] tables (at most kMaxForces; none with [force])
+  BaseSpec base;                  ///< [base] (type kNone when absent)
   TimeSpec time;
   SensorSpec sensors;
   NoiseSpec noise;

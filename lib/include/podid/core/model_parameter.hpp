@@ -14,8 +14,12 @@
 //   beam.youngs_modulus, beam.density  (a beam without [[beam.segment]]),
 //   beam.segment.i.{youngs_modulus,density}, mass.i.{mass,inertia},
 //   spring.i.{stiffness,damping}       kModel (M, K, C and the integrator)
-//   force.{amplitude,frequency,start_frequency,end_frequency}   kLoad
-//   force.{gain,offset} (file and channel forces)               kLoad
+//   force.{amplitude,frequency,start_frequency,end_frequency,gain,offset}
+//                                      kLoad (the single [force]; gain and
+//                                      offset of file and channel forces)
+//   force.i.{same fields}              kLoad (the i-th [[force]])
+//   base.{amplitude,frequency,start_frequency,end_frequency,gain,offset}
+//                                      kLoad ([base]'s acceleration)
 //   initial.static_tip_force, initial.static_force             kInitialState
 // Any other real-valued key of the schema (CaseDocument::IsNumericKey, e.g.
 // beam.length, beam.width) is a kDocument parameter: it is set in a copy of
@@ -71,17 +75,19 @@ class ModelParameter {
     kMass, kInertia, kSpringStiffness, kSpringDamping,
     kForceAmplitude, kForceFrequency, kForceStartFrequency, kForceEndFrequency,
     kForceGain, kForceOffset,
+    kBaseAmplitude, kBaseFrequency, kBaseStartFrequency, kBaseEndFrequency, kBaseGain, kBaseOffset,
     kStaticForce, kNone,
   };
   enum class Range { kAny, kNonNegative, kPositive, kRatio };
 
   double* FieldOf(CaseSpec* spec) const;
+  ForceSpec& ForceOf(CaseSpec* spec) const;  ///< index_ -1: [force]; else [[force]] index_
 
   std::string key_;
   ParameterEffect effect_ = ParameterEffect::kDocument;
   Field field_ = Field::kNone;
   Range range_ = Range::kAny;
-  int index_ = 0;  ///< the table's (or modal ratio's) index
+  int index_ = 0;  ///< the table's (or modal ratio's) index; force fields: -1 for [force]
 };
 
 }  // namespace podid

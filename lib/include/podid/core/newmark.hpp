@@ -80,12 +80,22 @@ struct State {
   Eigen::VectorXd velocity;      ///< (dim n_dofs) m/s, rad/s
 };
 
-/// External force on one dof, sampled at t_n = n dt (dim steps + 1, N), dt
-/// the integration step (the fine grid when sub-stepping).
-/// An empty `values_N` means no external force.
+/// External load g(t_n) = sum_k pattern.col(k) history(k, n) at t_n = n dt,
+/// dt the integration step (the fine grid when sub-stepping), n = 0..steps.
+/// A point force on dof d is a column e_d with its force (N) as history; base
+/// excitation is the column -M r with a_g (m/s^2) as history (load.hpp).
+/// No columns means no external load.
 struct ExternalLoad {
-  int dof = -1;
-  Eigen::VectorXd values_N;
+  Eigen::SparseMatrix<double> pattern;  ///< n_dofs x K (N per unit of the history)
+  Eigen::MatrixXd history;              ///< K x (steps + 1)
+  /// Base excitation: the row of `history` holding a_g (m/s^2), or -1; and r
+  /// (dim n_dofs), the dofs' motion per unit base motion (absolute sensors).
+  int base_row = -1;
+  Eigen::VectorXd base_influence;
+
+  int columns() const { return static_cast<int>(pattern.cols()); }
+  /// A single point force on `dof` (0-based) of an n_dofs model.
+  static ExternalLoad PointForce(int n_dofs, int dof, const Eigen::VectorXd& values_N);
 };
 
 enum class SimulationTermination {
@@ -151,8 +161,14 @@ class NewmarkWorkspace {
  private:
   friend class NewmarkIntegrator;
   Eigen::VectorXd z;  ///< state (dim 3 n): x, x', x'' in the permuted order
-  Eigen::VectorXd x_new, rhs, r, dx, load_y;
-  Eigen::VectorXd xa, xa_n, va, fa, ra, dxa, xa_trial, load_bhat;
+  Eigen::VectorXd x_new, rhs, r, dx;
+  Eigen::VectorXd xa, xa_n, va, fa, ra, dxa, xa_trial;
+  // The load (set by Run() before the loop): the permuted pattern, how its
+  // columns enter [bhat; y] on the dense condensed path, and this step's
+  // history values (dim K).
+  Eigen::SparseMatrix<double> load_pattern;
+  Eigen::MatrixXd load_y, load_bhat;  ///< n_b x K, n_a x K
+  Eigen::VectorXd load_now;
   Eigen::VectorXd u1, u2, y;  ///< sparse path: M and C operands (dim n), S_bb^-1 rhs_b (dim n_b)
   Eigen::VectorXd u;          ///< dense condensed path: [u1; u2] (dim 2 n)
   Eigen::MatrixXd ka, ca;  ///< tangents of the nonlinear forces (n_a x n_a)
@@ -187,16 +203,19 @@ class NewmarkIntegrator {
 
  private:
   friend class NewmarkWorkspace;
-  bool StepModified(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
-                    double* residual) const;
+  bool StepModified(NewmarkWorkspace& w, bool has_load, int* iterations, double* residual) const;
+  /// rhs += the load's pattern times w.load_now (allocation-free; newmark_load.cpp).
+  static void AddLoad(NewmarkWorkspace& w, Eigen::VectorXd& rhs);
+  /// Before the loop: the load in w (permuted pattern, its dense condensed
+  /// images load_y and load_bhat, load_now at t = 0).
+  void PrepareLoad(const ExternalLoad& load, NewmarkWorkspace& w) const;
   bool SolveScalar(NewmarkWorkspace& w, int* iterations, double* residual) const;
   /// The dense condensed step with one nonlinear dof, product, Newton (eq. 29),
   /// eq. 28 and the Newmark update fused; *bounded = false (state untouched)
   /// when x_new exceeds max_displacement or is not finite.
-  bool StepDenseScalar(NewmarkWorkspace& w, double load, int* iterations, double* residual,
+  bool StepDenseScalar(NewmarkWorkspace& w, bool has_load, int* iterations, double* residual,
                        bool* bounded) const;
-  bool StepFull(NewmarkWorkspace& w, double load, int load_dof, int* iterations,
-                double* residual) const;
+  bool StepFull(NewmarkWorkspace& w, bool has_load, int* iterations, double* residual) const;
   void NonlinearVelocity(NewmarkWorkspace& w) const;
 
   NewmarkOptions options_;

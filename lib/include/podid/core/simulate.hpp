@@ -7,6 +7,7 @@
 
 #include "podid/core/beam_model.hpp"
 #include "podid/core/case_spec.hpp"
+#include "podid/core/load.hpp"
 #include "podid/core/newmark.hpp"
 #include "podid/core/time_series.hpp"
 
@@ -19,18 +20,16 @@ namespace podid {
 State InitialState(const CaseSpec& spec, const BeamModel& model,
                    StaticSolveSummary* static_summary = nullptr);
 
-/// The case's external force on the integration grid: t_n = n dt / substeps,
-/// n = 0..(samples - 1) substeps (integrator.substeps; 1: the data's grid).
-/// Analytic forces are evaluated there; a force file or channel is read at
-/// the record's times time.start_s + n dt (linear interpolation within the
-/// file), then interpolated band-limited (InterpolateBandLimited) onto the
-/// fine grid.
-ExternalLoad BuildLoad(const CaseSpec& spec);
-
 /// The first `rows` recorded samples of the case's sensor quantity
 /// (displacement, velocity or acceleration) into `sensors`, stamped
 /// time.start + n time.step: what Simulate() and Simulator::Run() return.
 void FillSensors(const CaseSpec& spec, const Recording& recording, int rows, TimeSeries* sensors);
+
+/// Under [base], accelerometers (sensors.quantity "acceleration" with
+/// reference "absolute") measure u_r'' + r a_g: adds r a_g (`load`'s base row
+/// at the samples) to the first `rows` rows of recording->acceleration.
+/// Nothing otherwise. Allocates nothing.
+void AddBaseAcceleration(const CaseSpec& spec, const ExternalLoad& load, int rows, Recording* recording);
 
 /// Free-dof indices of the case's sensors, in channel order.
 std::vector<int> SensorDofs(const CaseSpec& spec);
