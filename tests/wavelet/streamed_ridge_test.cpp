@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <numbers>
 #include <random>
 #include <vector>
 
-#include "chain_model.hpp"  // PeakRssBytes
+#include "../../wavelet/src/ridge_cost.hpp"  // internal: the ridge cost kernel
+#include "chain_model.hpp"                    // PeakRssBytes
 #include "podid/wavelet/ridge.hpp"
 #include "test_support.hpp"
 
@@ -60,6 +62,32 @@ Differences Compare(const RidgeTrack& a, const RidgeTrack& b) {
     d.amplitude = std::max(d.amplitude, std::abs(a.amplitude(j) - b.amplitude(j)) / top);
   }
   return d;
+}
+
+TEST(RidgeCost, IsMinusHalfTheLogOfThePowerToRounding) {
+  // The vectorised logarithm against libm over |W| from 1e-160 to 1e3 and
+  // near 1 (where ln is small and the reduction's cancellation shows): its
+  // truncation is 6e-19, the rest is a few roundings, so 4 ulp of
+  // max(1, |ln|) bounds it; and the floor 1e-300 for |W| = 0.
+  constexpr double kUlps = 4.0 * 2.220446049250313e-16;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> decades(-160.0, 3.0), phase(0.0, 2 * kPi),
+      near(-1e-3, 1e-3);
+  std::vector<std::complex<double>> w;
+  for (int i = 0; i < 20000; ++i) w.push_back(std::polar(std::pow(10.0, decades(rng)), phase(rng)));
+  for (int i = 0; i < 2000; ++i) w.push_back(std::polar(1.0 + near(rng), phase(rng)));
+  for (double m : {1.0, std::sqrt(0.5), std::sqrt(2.0), 0.5, 2.0}) w.emplace_back(m, 0.0);
+  w.emplace_back(0.0, 0.0);
+  std::vector<double> cost(w.size());
+  internal::RidgeCost(w.data(), static_cast<Eigen::Index>(w.size()), 1.0, cost.data());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const double power = std::max(std::norm(w[i]), 1e-300);
+    const double truth = -0.5 * std::log(power);
+    worst = std::max(worst, std::abs(cost[i] - truth) / std::max(1.0, std::abs(truth)));
+  }
+  std::printf("ridge cost vs -0.5 log: worst %.3g (%.2f ulp)\n", worst, worst / 2.220446049250313e-16);
+  EXPECT_LE(worst, kUlps);
 }
 
 TEST(StreamedRidge, OneBlockEqualsTheWholeScalogramPath) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "podid/core/error.hpp"
+#include "ridge_cost.hpp"
 #include "ridge_programme.hpp"
 #include "ridge_sample.hpp"
 
@@ -16,9 +17,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-// Floor of |W|^2 (relative to the peak 1) in the ridge cost: far below any
-// coefficient that can matter, far above the subnormal range.
-constexpr double kTiny = 1e-300;
 
 bool Fail(std::string* why, std::string message) {
   if (why != nullptr) *why = std::move(message);
@@ -93,27 +91,25 @@ std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeO
   int exponent = 0;
   std::frexp(top, &exponent);
   const double scale = std::ldexp(1.0, -exponent);
-  // Blocks of kBlock times: |W|^2 of each frequency's contiguous segment,
-  // then Eigen's vectorised log on a plain array, stored frequency-major
-  // (the block of cost stays in cache).
+  // Blocks of kBlock times: -log|W| of each frequency's contiguous segment
+  // (a vectorised logarithm), stored frequency-major (the block of cost stays
+  // in cache).
   constexpr Eigen::Index kBlock = 64;
   Eigen::MatrixXd cost(freqs, times);
-  Eigen::ArrayXd power(kBlock);
+  Eigen::ArrayXd segment(kBlock);
   for (Eigen::Index j0 = 0; j0 < times; j0 += kBlock) {
     const Eigen::Index count = std::min(kBlock, times - j0);
     for (Eigen::Index k = 0; k < freqs; ++k) {
-      const double* w = reinterpret_cast<const double*>(scalogram.coefficients.col(k).data() + j0);
-      for (Eigen::Index i = 0; i < count; ++i) {
-        const double re = w[2 * i] * scale, im = w[2 * i + 1] * scale;
-        power(i) = std::max(re * re + im * im, kTiny);
-      }
-      power.head(count) = -0.5 * power.head(count).log();
-      for (Eigen::Index i = 0; i < count; ++i) cost(k, j0 + i) = power(i);
+      internal::RidgeCost(scalogram.coefficients.col(k).data() + j0, count, scale, segment.data());
+      for (Eigen::Index i = 0; i < count; ++i) cost(k, j0 + i) = segment(i);
     }
   }
-  if (!all_finite) {
-    for (Eigen::Index i = 0; i < cost.size(); ++i) {
-      if (!std::isfinite(cost.data()[i])) cost.data()[i] = kInf;
+  if (!all_finite) {  // a non-finite coefficient is a forbidden cell
+    for (Eigen::Index j = 0; j < times; ++j) {
+      for (Eigen::Index k = 0; k < freqs; ++k) {
+        const std::complex<double> w = scalogram.coefficients(j, k);
+        if (!std::isfinite(w.real()) || !std::isfinite(w.imag())) cost(k, j) = kInf;
+      }
     }
   }
   const Eigen::VectorXd x = scalogram.frequencies_Hz.array().log();

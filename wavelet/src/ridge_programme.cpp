@@ -43,7 +43,10 @@ RidgeProgramme::RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool max
   prev_.resize(x_.size());
   next_.resize(x_.size());
   v_.resize(static_cast<std::size_t>(x_.size()));
-  z_.resize(static_cast<std::size_t>(x_.size() + 1));
+  h_.resize(static_cast<std::size_t>(x_.size()));
+  zn_.resize(static_cast<std::size_t>(x_.size() + 1));
+  zd_.resize(static_cast<std::size_t>(x_.size() + 1));
+  column_back_.resize(static_cast<std::size_t>(x_.size()));
 }
 
 double RidgeProgramme::Bytes(Eigen::Index frequencies, Eigen::Index times, bool maximum) {
@@ -74,16 +77,19 @@ std::int64_t RidgeProgramme::Back(Eigen::Index k, Eigen::Index j) const {
   return value == none_ ? -1 : static_cast<std::int64_t>(value);
 }
 
-void RidgeProgramme::SetBack(Eigen::Index k, Eigen::Index j, std::int64_t value) {
-  const std::size_t at = static_cast<std::size_t>(width_ * (j * x_.size() + k));
-  const std::uint32_t v = value < 0 ? static_cast<std::uint32_t>(none_) : static_cast<std::uint32_t>(value);
+void RidgeProgramme::StoreColumn(Eigen::Index j) {
+  const Eigen::Index freqs = x_.size();
+  unsigned char* out = back_.data() + static_cast<std::size_t>(width_ * j * freqs);
+  const std::uint32_t* in = column_back_.data();
   if (width_ == 1) {
-    back_[at] = static_cast<unsigned char>(v);
+    for (Eigen::Index q = 0; q < freqs; ++q) out[q] = static_cast<unsigned char>(in[q]);
   } else if (width_ == 2) {
-    const std::uint16_t v16 = static_cast<std::uint16_t>(v);
-    std::memcpy(&back_[at], &v16, 2);
+    for (Eigen::Index q = 0; q < freqs; ++q) {
+      const std::uint16_t v = static_cast<std::uint16_t>(in[q]);
+      std::memcpy(out + 2 * q, &v, 2);
+    }
   } else {
-    std::memcpy(&back_[at], &v, 4);
+    std::memcpy(out, in, 4 * static_cast<std::size_t>(freqs));
   }
 }
 
@@ -102,41 +108,51 @@ void RidgeProgramme::Push(const double* cost, Eigen::Index stride) {
   const int before = j > 0 ? best_[static_cast<std::size_t>(j - 1)] : -1;
   if (before < 0) {  // nothing reachable before: start afresh
     prev_ = column;
-    for (Eigen::Index q = 0; q < freqs; ++q) SetBack(q, j, -1);
+    std::fill(column_back_.begin(), column_back_.end(), static_cast<std::uint32_t>(none_));
+    StoreColumn(j);
   } else if (lambda_ == 0.0) {
     const double floor = prev_(before);
     prev_ = column.array() + floor;
-    for (Eigen::Index q = 0; q < freqs; ++q) SetBack(q, j, before);
+    std::fill(column_back_.begin(), column_back_.end(), static_cast<std::uint32_t>(before));
+    StoreColumn(j);
   } else {
+    // Intersections z = num / den (den > 0) are compared by cross-multiplying:
+    // no division on the stack's dependency chain.
     Eigen::Index top = -1;
     for (Eigen::Index p = 0; p < freqs; ++p) {
       if (!std::isfinite(prev_(p))) continue;
       const double hp = prev_(p) + x2_(p);
-      double s = -kInf;
+      double num = -kInf, den = 1.0;
       while (top >= 0) {
-        const Eigen::Index q = v_[static_cast<std::size_t>(top)];
-        s = (hp - (prev_(q) + x2_(q))) / (2.0 * lambda_ * (x_(p) - x_(q)));
-        if (s <= z_[static_cast<std::size_t>(top)]) {
+        const std::size_t t = static_cast<std::size_t>(top);
+        num = hp - h_[t];
+        den = 2.0 * lambda_ * (x_(p) - x_(v_[t]));
+        if (num * zd_[t] <= zn_[t] * den) {
           --top;
         } else {
           break;
         }
       }
       ++top;
-      v_[static_cast<std::size_t>(top)] = p;
-      z_[static_cast<std::size_t>(top)] = top == 0 ? -kInf : s;
+      const std::size_t t = static_cast<std::size_t>(top);
+      v_[t] = p;
+      h_[t] = hp;
+      zn_[t] = top == 0 ? -kInf : num;
+      zd_[t] = top == 0 ? 1.0 : den;
     }
     PODID_CHECK(top >= 0);  // before >= 0: prev has a finite entry
-    z_[static_cast<std::size_t>(top + 1)] = kInf;
-    Eigen::Index e = 0;
+    zn_[static_cast<std::size_t>(top + 1)] = kInf;
+    zd_[static_cast<std::size_t>(top + 1)] = 1.0;
+    std::size_t e = 0;
     for (Eigen::Index q = 0; q < freqs; ++q) {
-      while (z_[static_cast<std::size_t>(e + 1)] < x_(q)) ++e;
-      const Eigen::Index p = v_[static_cast<std::size_t>(e)];
+      while (zn_[e + 1] < x_(q) * zd_[e + 1]) ++e;
+      const Eigen::Index p = v_[e];
       const double dx = x_(q) - x_(p);
       next_(q) = cost[q * stride] + prev_(p) + lambda_ * dx * dx;
-      SetBack(q, j, p);
+      column_back_[static_cast<std::size_t>(q)] = static_cast<std::uint32_t>(p);
     }
     std::swap(prev_, next_);
+    StoreColumn(j);
   }
   best_[static_cast<std::size_t>(j)] = Argmin(prev_);
 }

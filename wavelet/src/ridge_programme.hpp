@@ -29,7 +29,7 @@ class RidgeProgramme {
 
  private:
   std::int64_t Back(Eigen::Index k, Eigen::Index j) const;
-  void SetBack(Eigen::Index k, Eigen::Index j, std::int64_t value);
+  void StoreColumn(Eigen::Index j);  // column_back_ into back_
 
   Eigen::VectorXd x_, x2_;
   double lambda_;
@@ -40,8 +40,9 @@ class RidgeProgramme {
   std::vector<unsigned char> back_;  // (freq, time) frequency-fastest
   std::vector<int> best_;            // argmin of the totals after each column, -1: none
   Eigen::VectorXd prev_, next_;
-  std::vector<Eigen::Index> v_;
-  std::vector<double> z_;
+  std::vector<Eigen::Index> v_;        // the envelope's parabolas
+  std::vector<double> h_, zn_, zd_;    // their prev + lambda x^2; intersections zn / zd
+  std::vector<std::uint32_t> column_back_;
 };
 
 }  // namespace podid::wavelet::internal

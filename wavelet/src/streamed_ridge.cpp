@@ -12,6 +12,7 @@
 #include "band_transform.hpp"
 #include "podid/core/error.hpp"
 #include "podid/wavelet/ridge.hpp"
+#include "ridge_cost.hpp"
 #include "ridge_programme.hpp"
 #include "ridge_sample.hpp"
 
@@ -21,10 +22,6 @@ namespace {
 using Complex = std::complex<double>;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kPi = std::numbers::pi;
-// Floor of |W|^2 in the ridge cost (W of the signal scaled to a peak in
-// [1, 2)): far below any coefficient that can matter, far above the
-// subnormal range.
-constexpr double kTiny = 1e-300;
 // As CwtTransform: coefficients in signal units while the scale 2^e has |e| <= this.
 constexpr int kMaxUnscaledExponent = 960;
 // Bytes of a RidgeTrack per output time (time, index, 4 doubles, 2 flags) and
@@ -62,7 +59,6 @@ struct RidgeFrequencyEstimator::Impl {
   std::unique_ptr<internal::RidgeProgramme> programme;
   Eigen::MatrixXcd kept;      // one block: W of every scale (block times x freqs)
   Eigen::MatrixXd cost;       // -log|W| of a block (block times x freqs)
-  Eigen::ArrayXd power;       // one scale's |W|^2 over a block
   Eigen::VectorXcd column;    // one scale's W over a block
   Eigen::MatrixXcd cache_w, cache_d;  // pass 2: W and dW/dt at the path's scales
   std::vector<int> slot_w, slot_d;    // scale -> column of cache_w / cache_d, -1: absent
@@ -123,7 +119,6 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
       b.frequencies_Hz().array().log().matrix(), options.ridge.penalty_s / sg.step_s, maximum);
   const Eigen::Index block = b.max_block_times();
   cost.resize(block, freqs);
-  power.resize(block);
   column.resize(block);
   if (b.blocks() == 1) {
     kept.resize(block, freqs);
@@ -147,12 +142,7 @@ void RidgeFrequencyEstimator::Impl::Streamed(const Eigen::Ref<const Eigen::Vecto
     const Eigen::Index count = b.block_times(block);
     for (Eigen::Index k = 0; k < freqs; ++k) {
       b.Synthesise(k, false, column.data());
-      const double* parts = reinterpret_cast<const double*>(column.data());
-      for (Eigen::Index i = 0; i < count; ++i) {
-        const double re = parts[2 * i], im = parts[2 * i + 1];
-        power(i) = std::max(re * re + im * im, kTiny);
-      }
-      cost.col(k).head(count) = -0.5 * power.head(count).log();
+      internal::RidgeCost(column.data(), count, 1.0, cost.col(k).data());
       if (b.blocks() == 1) kept.col(k).head(count) = column.head(count) * output_scale;
     }
     for (Eigen::Index i = 0; i < count; ++i) programme->Push(cost.data() + i, cost.rows());
