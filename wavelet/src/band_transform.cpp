@@ -173,7 +173,13 @@ void BandTransform::SetSignal(const Eigen::Ref<const Eigen::VectorXd>& signal) {
   exponent_ -= 1;
   // One block: CwtTransform's padded sequence, built as it builds it.
   double* x = blocks_ == 1 ? segment_.get() : signal_.data();
-  for (Eigen::Index i = 0; i < n_; ++i) x[i] = std::ldexp(signal(i), -exponent_);
+  // 2^-e is a normal double for |e| <= 1000: multiplying is exact like ldexp, and cheaper.
+  if (std::abs(exponent_) <= 1000) {
+    const double factor = std::ldexp(1.0, -exponent_);
+    for (Eigen::Index i = 0; i < n_; ++i) x[i] = signal(i) * factor;
+  } else {
+    for (Eigen::Index i = 0; i < n_; ++i) x[i] = std::ldexp(signal(i), -exponent_);
+  }
   if (options_.remove_mean) {
     const double mean = Eigen::Map<const Eigen::VectorXd>(x, n_).mean();
     for (Eigen::Index i = 0; i < n_; ++i) x[i] -= mean;
@@ -219,24 +225,40 @@ void BandTransform::LoadBlock(Eigen::Index b) {
 void BandTransform::Synthesise(Eigen::Index k, bool derivative, Complex* out) const {
   PODID_CHECK(loaded_ >= 0 && k >= 0 && k < scales_s_.size());
   Complex* w = work_.get();
-  std::fill(w, w + mb_, Complex(0.0, 0.0));
   const auto& filter = filters_[static_cast<std::size_t>(k)];
   const Eigen::Index a = band_first_[static_cast<std::size_t>(k)];
   const Complex* x = spectrum_.get();
   const Eigen::Index size = static_cast<Eigen::Index>(filter.size());
+  const double* gain = filter.data();
   // Bin b lands at b mod Mb: at the decimated times the exponentials are
-  // Mb-periodic in b, and the band (<= Mb bins) never folds onto itself.
-  Eigen::Index slot = ((a % mb_) + mb_) % mb_;
-  for (Eigen::Index i = 0; i < size; ++i) {
-    const Eigen::Index bin = a + i;
-    const Complex value = bin >= 0 ? x[bin] : std::conj(x[-bin]);
-    const double gain = filter[static_cast<std::size_t>(i)];
-    if (derivative) {
-      w[slot] = value * Complex(0.0, gain * static_cast<double>(bin) * bin_rad_per_s_);
-    } else {
-      w[slot] = value * gain;
+  // Mb-periodic in b, and the band (<= Mb bins) never folds onto itself. The
+  // band's slots are written, the rest zeroed; negative bins are the
+  // conjugates of positive ones (a real signal).
+  const Eigen::Index start = ((a % mb_) + mb_) % mb_;
+  const Eigen::Index end = start + size;  // one past the band, unwrapped
+  if (end <= mb_) {
+    std::fill(w, w + start, Complex(0.0, 0.0));
+    std::fill(w + end, w + mb_, Complex(0.0, 0.0));
+  } else {
+    std::fill(w + end - mb_, w + start, Complex(0.0, 0.0));
+  }
+  const auto slot = [&](Eigen::Index i) { return start + i < mb_ ? start + i : start + i - mb_; };
+  const Eigen::Index negative = std::min<Eigen::Index>(size, std::max<Eigen::Index>(0, -a));
+  if (derivative) {
+    for (Eigen::Index i = 0; i < size; ++i) {
+      const Eigen::Index bin = a + i;
+      const Complex value = i < negative ? std::conj(x[-bin]) : x[bin];
+      w[slot(i)] = value * Complex(0.0, gain[i] * static_cast<double>(bin) * bin_rad_per_s_);
     }
-    if (++slot == mb_) slot = 0;
+  } else {
+    for (Eigen::Index i = 0; i < negative; ++i) w[slot(i)] = std::conj(x[-(a + i)]) * gain[i];
+    if (end <= mb_) {  // the positive bins in one contiguous run
+      const Complex* in = x + (a + negative);
+      Complex* out = w + start + negative;
+      for (Eigen::Index i = negative; i < size; ++i, ++in, ++out) *out = *in * gain[i];
+    } else {
+      for (Eigen::Index i = negative; i < size; ++i) w[slot(i)] = x[a + i] * gain[i];
+    }
   }
   fftw_execute_dft(backward_, AsFftw(w), AsFftw(w));
   std::copy(w + h_ / d_, w + h_ / d_ + block_times(loaded_), out);

@@ -19,17 +19,15 @@ int Width(Eigen::Index frequencies) {
   return 4;
 }
 
+// The first index of the smallest entry, -1 if all are +inf: the minimum by
+// a vectorised reduction (exact), then its first occurrence.
 template <typename Vector>
 int Argmin(const Vector& total) {
-  int k_best = -1;
-  double value = kInf;
-  for (Eigen::Index k = 0; k < total.size(); ++k) {
-    if (total(k) < value) {
-      value = total(k);
-      k_best = static_cast<int>(k);
-    }
-  }
-  return k_best;
+  const double value = total.minCoeff();
+  if (!(value < kInf)) return -1;
+  Eigen::Index k = 0;
+  while (total(k) != value) ++k;
+  return static_cast<int>(k);
 }
 
 }  // namespace
@@ -42,6 +40,7 @@ RidgeProgramme::RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool max
   for (Eigen::Index p = 0; p < x_.size(); ++p) x2_(p) = lambda_ * x_(p) * x_(p);
   prev_.resize(x_.size());
   next_.resize(x_.size());
+  h_all_.resize(x_.size());
   v_.resize(static_cast<std::size_t>(x_.size()));
   h_.resize(static_cast<std::size_t>(x_.size()));
   zn_.resize(static_cast<std::size_t>(x_.size() + 1));
@@ -118,10 +117,11 @@ void RidgeProgramme::Push(const double* cost, Eigen::Index stride) {
   } else {
     // Intersections z = num / den (den > 0) are compared by cross-multiplying:
     // no division on the stack's dependency chain.
+    h_all_ = prev_ + x2_;
     Eigen::Index top = -1;
     for (Eigen::Index p = 0; p < freqs; ++p) {
       if (!std::isfinite(prev_(p))) continue;
-      const double hp = prev_(p) + x2_(p);
+      const double hp = h_all_(p);
       double num = -kInf, den = 1.0;
       while (top >= 0) {
         const std::size_t t = static_cast<std::size_t>(top);

@@ -39,7 +39,7 @@ class RidgeProgramme {
   Eigen::Index times_ = 0, pushed_ = 0;
   std::vector<unsigned char> back_;  // (freq, time) frequency-fastest
   std::vector<int> best_;            // argmin of the totals after each column, -1: none
-  Eigen::VectorXd prev_, next_;
+  Eigen::VectorXd prev_, next_, h_all_;
   std::vector<Eigen::Index> v_;        // the envelope's parabolas
   std::vector<double> h_, zn_, zd_;    // their prev + lambda x^2; intersections zn / zd
   std::vector<std::uint32_t> column_back_;
