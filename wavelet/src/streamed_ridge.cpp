@@ -27,6 +27,8 @@ constexpr int kMaxUnscaledExponent = 960;
 // Bytes of a RidgeTrack per output time (time, index, 4 doubles, 2 flags) and
 // the streamed IF's per-time state (refined sample, |W|).
 constexpr double kTrackBytesPerTime = 80.0;
+// Times per transposed tile of the ridge cost (64 x 157 frequencies: 80 kB, in L2).
+constexpr Eigen::Index kTile = 64;
 
 // CwtTransform::Compute's checks, with its messages.
 void CheckSignal(const Eigen::Ref<const Eigen::VectorXd>& signal, double step_s, double max_Hz) {
@@ -59,6 +61,7 @@ struct RidgeFrequencyEstimator::Impl {
   std::unique_ptr<internal::RidgeProgramme> programme;
   Eigen::MatrixXcd kept;      // one block: W of every scale (block times x freqs)
   Eigen::MatrixXd cost;       // -log|W| of a block (block times x freqs)
+  Eigen::MatrixXd tile;       // kTile times of cost, frequency-major
   Eigen::VectorXcd column;    // one scale's W over a block
   Eigen::MatrixXcd cache_w, cache_d;  // pass 2: W and dW/dt at the path's scales
   std::vector<int> slot_w, slot_d;    // scale -> column of cache_w / cache_d, -1: absent
@@ -119,6 +122,7 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
       b.frequencies_Hz().array().log().matrix(), options.ridge.penalty_s / sg.step_s, maximum);
   const Eigen::Index block = b.max_block_times();
   cost.resize(block, freqs);
+  tile.resize(freqs, kTile);
   column.resize(block);
   if (b.blocks() == 1) {
     kept.resize(block, freqs);
@@ -145,7 +149,14 @@ void RidgeFrequencyEstimator::Impl::Streamed(const Eigen::Ref<const Eigen::Vecto
       internal::RidgeCost(column.data(), count, 1.0, cost.col(k).data());
       if (b.blocks() == 1) kept.col(k).head(count) = column.head(count) * output_scale;
     }
-    for (Eigen::Index i = 0; i < count; ++i) programme->Push(cost.data() + i, cost.rows());
+    // The programme reads a time column: transpose tiles of kTile times into
+    // frequency-major order (a strided read of a large block would miss the
+    // cache at every frequency).
+    for (Eigen::Index i0 = 0; i0 < count; i0 += kTile) {
+      const Eigen::Index tile_times = std::min(kTile, count - i0);
+      tile.leftCols(tile_times) = cost.block(i0, 0, tile_times, freqs).transpose();
+      for (Eigen::Index i = 0; i < tile_times; ++i) programme->Push(tile.col(i).data());
+    }
   }
   Track(programme->Path());
 }
