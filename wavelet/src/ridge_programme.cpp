@@ -43,6 +43,7 @@ RidgeProgramme::RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool max
   h_all_.resize(x_.size());
   v_.resize(static_cast<std::size_t>(x_.size()));
   h_.resize(static_cast<std::size_t>(x_.size()));
+  xv_.resize(static_cast<std::size_t>(x_.size()));
   zn_.resize(static_cast<std::size_t>(x_.size() + 1));
   zd_.resize(static_cast<std::size_t>(x_.size() + 1));
   column_back_.resize(static_cast<std::size_t>(x_.size()));
@@ -123,10 +124,11 @@ void RidgeProgramme::Push(const double* cost, Eigen::Index stride) {
       if (!std::isfinite(prev_(p))) continue;
       const double hp = h_all_(p);
       double num = -kInf, den = 1.0;
+      const double tx = x_(p);
       while (top >= 0) {
         const std::size_t t = static_cast<std::size_t>(top);
         num = hp - h_[t];
-        den = 2.0 * lambda_ * (x_(p) - x_(v_[t]));
+        den = 2.0 * lambda_ * (tx - xv_[t]);
         if (num * zd_[t] <= zn_[t] * den) {
           --top;
         } else {
@@ -136,6 +138,7 @@ void RidgeProgramme::Push(const double* cost, Eigen::Index stride) {
       ++top;
       const std::size_t t = static_cast<std::size_t>(top);
       v_[t] = p;
+      xv_[t] = tx;
       h_[t] = hp;
       zn_[t] = top == 0 ? -kInf : num;
       zd_[t] = top == 0 ? 1.0 : den;

@@ -41,7 +41,7 @@ class RidgeProgramme {
   std::vector<int> best_;            // argmin of the totals after each column, -1: none
   Eigen::VectorXd prev_, next_, h_all_;
   std::vector<Eigen::Index> v_;        // the envelope's parabolas
-  std::vector<double> h_, zn_, zd_;    // their prev + lambda x^2; intersections zn / zd
+  std::vector<double> h_, xv_, zn_, zd_;  // their prev + lambda x^2, x; intersections zn / zd
   std::vector<std::uint32_t> column_back_;
 };
 
