@@ -181,7 +181,12 @@ TEST(StreamedRidge, LongRecordRidgeAndIfInBoundedMemory) {
               static_cast<long>(estimator.blocks()), static_cast<long>(track.size()),
               static_cast<double>(growth) / 1048576.0);
   EXPECT_GT(estimator.blocks(), 1);
+#if defined(__SANITIZE_ADDRESS__)
+  // AddressSanitizer keeps freed blocks in quarantine (up to 256 MB): no bound there.
+  (void)kMemoryBytes;
+#else
   EXPECT_LE(static_cast<double>(growth), kMemoryBytes);
+#endif
   ASSERT_GT(track.InsideCoiCount(), track.size() * 9 / 10);
   double worst = 0.0, middle = 0.0;
   for (Eigen::Index j = 0; j < track.size(); ++j) {
