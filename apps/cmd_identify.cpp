@@ -151,7 +151,9 @@ void WritePlots(const std::string& dir, const ident::ObjectiveFunction& objectiv
   PlotLines(dir + "/convergence.png", {"Objective per evaluation", "evaluation", "F", true},
             {{"F", evaluation, value}, {"best so far", evaluation, best}});
   if (ridges && !objective.measured_ridges().empty()) {
-    wavelet::RidgeFrequencyEstimator estimator(objective.mode_ridge_options(0));
+    wavelet::RidgeFrequencyOptions plot_options = objective.mode_ridge_options(0);
+    plot_options.keep_scalogram = true;  // the heat map needs |W|
+    wavelet::RidgeFrequencyEstimator estimator(plot_options);
     const PodResult& pod = objective.measured_pod();
     const wavelet::RidgeTrack& measured_ridge = estimator.Estimate(pod.time_modes.col(0), measured.step_s());
     const wavelet::Scalogram& sc = estimator.scalogram();

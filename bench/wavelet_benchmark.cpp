@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "podid/core/io.hpp"
 #include "podid/wavelet/cwt.hpp"
 #include "podid/wavelet/denoise.hpp"
 #include "podid/wavelet/ridge.hpp"
@@ -48,41 +49,89 @@ void BM_CwtFull(benchmark::State& state) {
 BENCHMARK(BM_CwtFull)->Args({5001, 64})->Unit(benchmark::kMillisecond);
 
 // The identification's call: main ridge + phase IF over 10-120 Hz, 32 voices
-// per octave (115 frequencies), band-limited (M = 625, every 16th sample).
+// per octave (115 frequencies), band-limited (M = 640, every 16th sample).
+// Second argument: 1 = keep_scalogram (the whole-scalogram path: CwtTransform,
+// FindRidges, TrackRidge, what Estimate ran before the streamed ridge), 0 =
+// streamed (one block here). Compare the two in one run.
 void BM_RidgeFrequencyBandLimited(benchmark::State& state) {
   const Eigen::VectorXd x = Signal(state.range(0));
-  RidgeFrequencyEstimator estimator;
+  RidgeFrequencyOptions o;
+  o.keep_scalogram = state.range(1) != 0;
+  RidgeFrequencyEstimator estimator(o);
   estimator.Estimate(x, kStep);
   for (auto _ : state) {
     const RidgeTrack& track = estimator.Estimate(x, kStep);
     benchmark::DoNotOptimize(track.frequency_Hz.data());
   }
 }
-BENCHMARK(BM_RidgeFrequencyBandLimited)->Arg(5001)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RidgeFrequencyBandLimited)
+    ->Args({5001, 1})
+    ->Args({5001, 0})
+    ->Unit(benchmark::kMillisecond);
+
+// Peak resident memory of this process (VmHWM), in MB.
+double PeakRssMB() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
 
 // Issue 13 item 3: the ridge and IF of a long record (10^6 samples = 200 s at
 // 5 kHz) in one band-limited call, CwtOptions defaults (zero padding), the
 // first call included (plans, filters, every buffer): what a one-shot user
-// pays. peak_RSS_MB is the process's peak resident set after the run
-// (getrusage), which includes the signal and Google Benchmark itself.
+// pays. Second argument as above (1: whole scalogram, 0: streamed).
+// peak_RSS_MB is the process's peak resident set after the run (VmHWM),
+// which includes the signal, Google Benchmark and the runs before it: run
+// each variant alone (--benchmark_filter) for its own peak.
 void BM_LongRecordRidgeFirstCall(benchmark::State& state) {
   const Eigen::VectorXd x = Signal(state.range(0));
   RidgeFrequencyOptions o;
   o.cwt.padding = Padding::kZero;
   o.cwt.coi_factor = 2.0;
+  o.keep_scalogram = state.range(1) != 0;
   for (auto _ : state) {
     RidgeFrequencyEstimator estimator(o);
     const RidgeTrack& track = estimator.Estimate(x, kStep);
     benchmark::DoNotOptimize(track.frequency_Hz.data());
   }
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  state.counters["peak_RSS_MB"] = static_cast<double>(usage.ru_maxrss) / 1024.0;
+  state.counters["peak_RSS_MB"] = PeakRssMB();
 }
 BENCHMARK(BM_LongRecordRidgeFirstCall)
-    ->Arg(1000000)
+    ->Args({1000000, 1})
+    ->Args({1000000, 0})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(2);
+
+// Issue 13 item 3: the wavelet objective's ridge on the Silverbox record
+// (../shared/realdata/silverbox/SNLS80mV.mat, V2: 131,072 samples at
+// 10^7 / 2^14 Hz = 610.35 Hz), 10-300 Hz at 32 voices (157 frequencies),
+// the objective's reflect padding and coi 1. The band reaches Nyquist: no
+// decimation, 20.6 M output cells. Steady state (the estimator reused, as
+// the objective reuses it per evaluation); second argument as above.
+void BM_SilverboxRidge(benchmark::State& state) {
+  const std::string path =
+      std::string(PODID_TEST_DATA_DIR) + "/../../../shared/realdata/silverbox/SNLS80mV.mat";
+  if (!std::ifstream(path).good()) {
+    state.SkipWithError("no ../shared/realdata/silverbox/SNLS80mV.mat");
+    return;
+  }
+  podid::MatReadOptions read;
+  read.variable = "V2";
+  read.step_s = std::ldexp(1.0, 14) / 1e7;
+  const Eigen::VectorXd x = podid::ReadMat(path, read).values.col(0);
+  RidgeFrequencyOptions o;
+  o.cwt.frequencies.max_frequency_Hz = 300.0;
+  o.keep_scalogram = state.range(0) != 0;
+  RidgeFrequencyEstimator estimator(o);
+  estimator.Estimate(x, read.step_s);
+  for (auto _ : state) {
+    const RidgeTrack& track = estimator.Estimate(x, read.step_s);
+    benchmark::DoNotOptimize(track.frequency_Hz.data());
+  }
+  state.counters["blocks"] = static_cast<double>(estimator.blocks());
+  state.counters["peak_RSS_MB"] = PeakRssMB();
+}
+BENCHMARK(BM_SilverboxRidge)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
 // The same at full time resolution, for comparison.
 void BM_RidgeFrequencyFull(benchmark::State& state) {

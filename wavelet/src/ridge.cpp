@@ -8,112 +8,19 @@
 #include <string>
 
 #include "podid/core/error.hpp"
+#include "ridge_cost.hpp"
+#include "ridge_programme.hpp"
+#include "ridge_sample.hpp"
 
 namespace podid::wavelet {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-// Floor of |W|^2 (relative to the peak 1) in the ridge cost: far below any
-// coefficient that can matter, far above the subnormal range.
-constexpr double kTiny = 1e-300;
 
 bool Fail(std::string* why, std::string message) {
   if (why != nullptr) *why = std::move(message);
   return false;
-}
-
-// Minimises sum_j cost(k_j, j) + lambda sum_j (x_{k_j} - x_{k_{j-1}})^2 over
-// paths; costs are finite or +inf (a forbidden cell), and a column of +inf
-// gives -1 there (the path restarts after it).
-Eigen::VectorXi PenalisedPath(const Eigen::MatrixXd& cost,
-                              const Eigen::VectorXd& x,
-                              double lambda) {
-  const Eigen::Index freqs = cost.rows(), times = cost.cols();
-  Eigen::MatrixXi back(freqs, times);
-  Eigen::VectorXi best(times);
-  Eigen::VectorXd prev(freqs), next(freqs);
-  std::vector<Eigen::Index> v(static_cast<std::size_t>(freqs));
-  std::vector<double> z(static_cast<std::size_t>(freqs + 1));
-  const auto argmin = [&](const Eigen::VectorXd& total) {
-    int k_best = -1;
-    double value = kInf;
-    for (Eigen::Index k = 0; k < freqs; ++k) {
-      if (total(k) < value) {
-        value = total(k);
-        k_best = static_cast<int>(k);
-      }
-    }
-    return k_best;
-  };
-  prev = cost.col(0);
-  back.col(0).setConstant(-1);
-  best(0) = argmin(prev);
-  for (Eigen::Index j = 1; j < times; ++j) {
-    if (best(j - 1) < 0) {  // nothing reachable before: start afresh
-      next = cost.col(j);
-      back.col(j).setConstant(-1);
-    } else if (lambda == 0.0) {
-      const double floor = prev(best(j - 1));
-      next = cost.col(j).array() + floor;
-      back.col(j).setConstant(best(j - 1));
-    } else {
-      // Lower envelope of the parabolas prev(p) + lambda (x - x_p)^2.
-      Eigen::Index top = -1;
-      for (Eigen::Index p = 0; p < freqs; ++p) {
-        if (!std::isfinite(prev(p))) continue;
-        const double hp = prev(p) + lambda * x(p) * x(p);
-        double s = -kInf;
-        while (top >= 0) {
-          const Eigen::Index q = v[static_cast<std::size_t>(top)];
-          s = (hp - (prev(q) + lambda * x(q) * x(q))) / (2.0 * lambda * (x(p) - x(q)));
-          if (s <= z[static_cast<std::size_t>(top)]) {
-            --top;
-          } else {
-            break;
-          }
-        }
-        ++top;
-        v[static_cast<std::size_t>(top)] = p;
-        z[static_cast<std::size_t>(top)] = top == 0 ? -kInf : s;
-      }
-      PODID_CHECK(top >= 0);  // best(j - 1) >= 0: prev has a finite entry
-      z[static_cast<std::size_t>(top + 1)] = kInf;
-      Eigen::Index e = 0;
-      for (Eigen::Index q = 0; q < freqs; ++q) {
-        while (z[static_cast<std::size_t>(e + 1)] < x(q)) ++e;
-        const Eigen::Index p = v[static_cast<std::size_t>(e)];
-        const double dx = x(q) - x(p);
-        next(q) = cost(q, j) + prev(p) + lambda * dx * dx;
-        back(q, j) = static_cast<int>(p);
-      }
-    }
-    std::swap(prev, next);
-    best(j) = argmin(prev);
-  }
-  Eigen::VectorXi path(times);
-  int k = best(times - 1);
-  for (Eigen::Index j = times - 1; j >= 0; --j) {
-    path(j) = k;
-    if (j > 0) k = k >= 0 ? back(k, j) : best(j - 1);
-  }
-  return path;
-}
-
-Eigen::VectorXi MaximumPath(const Eigen::MatrixXd& cost) {
-  Eigen::VectorXi path(cost.cols());
-  for (Eigen::Index j = 0; j < cost.cols(); ++j) {
-    int k_best = -1;
-    double value = kInf;
-    for (Eigen::Index k = 0; k < cost.rows(); ++k) {
-      if (cost(k, j) < value) {
-        value = cost(k, j);
-        k_best = static_cast<int>(k);
-      }
-    }
-    path(j) = k_best;
-  }
-  return path;
 }
 
 }  // namespace
@@ -184,27 +91,25 @@ std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeO
   int exponent = 0;
   std::frexp(top, &exponent);
   const double scale = std::ldexp(1.0, -exponent);
-  // Blocks of kBlock times: |W|^2 of each frequency's contiguous segment,
-  // then Eigen's vectorised log on a plain array, stored frequency-major
-  // (the block of cost stays in cache).
+  // Blocks of kBlock times: -log|W| of each frequency's contiguous segment
+  // (a vectorised logarithm), stored frequency-major (the block of cost stays
+  // in cache).
   constexpr Eigen::Index kBlock = 64;
   Eigen::MatrixXd cost(freqs, times);
-  Eigen::ArrayXd power(kBlock);
+  Eigen::ArrayXd segment(kBlock);
   for (Eigen::Index j0 = 0; j0 < times; j0 += kBlock) {
     const Eigen::Index count = std::min(kBlock, times - j0);
     for (Eigen::Index k = 0; k < freqs; ++k) {
-      const double* w = reinterpret_cast<const double*>(scalogram.coefficients.col(k).data() + j0);
-      for (Eigen::Index i = 0; i < count; ++i) {
-        const double re = w[2 * i] * scale, im = w[2 * i + 1] * scale;
-        power(i) = std::max(re * re + im * im, kTiny);
-      }
-      power.head(count) = -0.5 * power.head(count).log();
-      for (Eigen::Index i = 0; i < count; ++i) cost(k, j0 + i) = power(i);
+      internal::RidgeCost(scalogram.coefficients.col(k).data() + j0, count, scale, segment.data());
+      for (Eigen::Index i = 0; i < count; ++i) cost(k, j0 + i) = segment(i);
     }
   }
-  if (!all_finite) {
-    for (Eigen::Index i = 0; i < cost.size(); ++i) {
-      if (!std::isfinite(cost.data()[i])) cost.data()[i] = kInf;
+  if (!all_finite) {  // a non-finite coefficient is a forbidden cell
+    for (Eigen::Index j = 0; j < times; ++j) {
+      for (Eigen::Index k = 0; k < freqs; ++k) {
+        const std::complex<double> w = scalogram.coefficients(j, k);
+        if (!std::isfinite(w.real()) || !std::isfinite(w.imag())) cost(k, j) = kInf;
+      }
     }
   }
   const Eigen::VectorXd x = scalogram.frequencies_Hz.array().log();
@@ -212,8 +117,10 @@ std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeO
   const double half_width = options.separation_octaves * std::numbers::ln2;
   std::vector<Eigen::VectorXi> paths;
   for (int r = 0; r < options.ridges; ++r) {
-    Eigen::VectorXi path = options.method == RidgeMethod::kMaximum ? MaximumPath(cost)
-                                                                   : PenalisedPath(cost, x, lambda);
+    internal::RidgeProgramme programme(x, lambda, options.method == RidgeMethod::kMaximum);
+    programme.Reset(times);
+    for (Eigen::Index j = 0; j < times; ++j) programme.Push(cost.col(j).data());
+    Eigen::VectorXi path = programme.Path();
     for (Eigen::Index j = 0; j < times && r + 1 < options.ridges; ++j) {
       if (path(j) < 0) continue;
       const Eigen::Index c = path(j);
@@ -268,37 +175,21 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
   track.grid_frequency_Hz.setConstant(times, kNaN);
   track.amplitude.setConstant(times, kNaN);
   track.inside_coi.setConstant(times, false);
-  const double unit = scalogram.coefficient_scale;
   const auto& s = scalogram.scales_s;
-  // The refined (vertex) scale at each time, or the grid scale.
-  Eigen::VectorXd vertex_s = Eigen::VectorXd::Constant(times, kNaN);
+  const auto& w = scalogram.coefficients;
+  std::vector<internal::RidgeSample> samples(static_cast<std::size_t>(times));
   for (Eigen::Index j = 0; j < times; ++j) {
     const int k = path(j);
     if (k < 0) continue;
     track.inside_coi(j) = scalogram.InsideCoi(j, k);
     track.grid_frequency_Hz(j) = scalogram.frequencies_Hz(k);
-    const double yb = std::log(std::abs(scalogram.coefficients(j, k)));
-    double scale = s(k), peak = yb;
-    if (k > 0 && k + 1 < freqs && std::isfinite(yb)) {
-      // std::abs is hypot: no overflow for any finite W.
-      const double ya = std::log(std::abs(scalogram.coefficients(j, k - 1)));
-      const double yc = std::log(std::abs(scalogram.coefficients(j, k + 1)));
-      if (std::isfinite(ya) && std::isfinite(yc) && yb >= ya && yb >= yc && (yb > ya || yb > yc)) {
-        // Parabola through (s_{k-1}, ya), (s_k, yb), (s_{k+1}, yc) (divided differences).
-        const double a = s(k - 1), b = s(k), c = s(k + 1);
-        const double d1 = (yb - ya) / (b - a), d2 = (yc - yb) / (c - b);
-        const double curvature = (d2 - d1) / (c - a);
-        if (curvature < 0.0) {
-          scale = 0.5 * (a + b) - d1 / (2.0 * curvature);
-          peak = ya + d1 * (scale - a) + curvature * (scale - a) * (scale - b);
-        }
-      }
-    }
-    vertex_s(j) = scale;
-    track.amplitude(j) = std::exp(peak) * unit / wavelet.UnitCosineMagnitude(scale);
+    const internal::RidgeSample& r = samples[static_cast<std::size_t>(j)] = internal::RefineRidgeSample(
+        wavelet, s, k, w(j, k > 0 ? k - 1 : k), w(j, k), w(j, k + 1 < freqs ? k + 1 : k),
+        scalogram.coefficient_scale, options.parabolic_refinement);
+    track.amplitude(j) = r.amplitude;
     if (options.estimator == FrequencyEstimator::kScale) {
       track.frequency_Hz(j) = options.parabolic_refinement
-                                  ? kappa / (2.0 * std::numbers::pi * scale)
+                                  ? kappa / (2.0 * std::numbers::pi * r.vertex_s)
                                   : scalogram.frequencies_Hz(k);
     }
   }
@@ -306,17 +197,11 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
     // Phase IF at the path's scales and the neighbour towards the vertex,
     // interpolated linearly in s to the vertex: the IF of a chirp drifts with
     // the scale offset, a tone's does not.
-    const auto neighbour = [&](Eigen::Index j) -> int {
-      const int k = path(j);
-      if (options.parabolic_refinement == false || vertex_s(j) == s(k)) return k;
-      const int n = vertex_s(j) > s(k) ? k - 1 : k + 1;  // scales descend with k
-      return n >= 0 && n < freqs ? n : k;
-    };
     std::vector<int> used;
     for (Eigen::Index j = 0; j < times; ++j) {
       if (path(j) < 0) continue;
       used.push_back(path(j));
-      used.push_back(neighbour(j));
+      used.push_back(samples[static_cast<std::size_t>(j)].neighbour);
     }
     std::sort(used.begin(), used.end());
     used.erase(std::unique(used.begin(), used.end()), used.end());
@@ -330,24 +215,18 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
       transform->TimeDerivative(k, &derivative);
       PODID_CHECK(derivative.size() == times);
       for (Eigen::Index j = 0; j < times; ++j) {
-        // Im(conj(W) dW/dt) / |W|^2 = Im((dW/dt) / W): the complex division
-        // scales internally, so it neither overflows nor underflows.
-        const std::complex<double> w = scalogram.coefficients(j, k);
-        frequency(j, static_cast<Eigen::Index>(u)) =
-            w != 0.0 ? std::imag(derivative(j) / w) / (2.0 * std::numbers::pi) : kNaN;
+        frequency(j, static_cast<Eigen::Index>(u)) = internal::PhaseFrequency_Hz(w(j, k), derivative(j));
       }
     }
     for (Eigen::Index j = 0; j < times; ++j) {
       const int k = path(j);
       if (k < 0) continue;
-      const int n = neighbour(j);
+      const internal::RidgeSample& r = samples[static_cast<std::size_t>(j)];
       const double fk = frequency(j, slot(k));
-      if (n == k) {
-        track.frequency_Hz(j) = fk;
-      } else {
-        const double fn = frequency(j, slot(n));
-        track.frequency_Hz(j) = fk + (fn - fk) * (vertex_s(j) - s(k)) / (s(n) - s(k));
-      }
+      track.frequency_Hz(j) =
+          r.neighbour == k ? fk
+                           : fk + (frequency(j, slot(r.neighbour)) - fk) * (r.vertex_s - s(k)) /
+                                      (s(r.neighbour) - s(k));
     }
   }
   // Screening: where |W| on the path is a negligible fraction of the path's
@@ -355,11 +234,11 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
   track.screened.setConstant(times, false);
   double peak = 0.0;
   for (Eigen::Index j = 0; j < times; ++j) {
-    if (path(j) >= 0) peak = std::max(peak, std::abs(scalogram.coefficients(j, path(j))));
+    if (path(j) >= 0) peak = std::max(peak, std::abs(w(j, path(j))));
   }
   for (Eigen::Index j = 0; j < times; ++j) {
     if (path(j) < 0) continue;
-    if (std::abs(scalogram.coefficients(j, path(j))) <= options.min_relative_magnitude * peak) {
+    if (std::abs(w(j, path(j))) <= options.min_relative_magnitude * peak) {
       track.screened(j) = true;
       track.inside_coi(j) = false;
       track.frequency_Hz(j) = kNaN;
@@ -368,23 +247,56 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
   return track;
 }
 
+namespace internal {
+
+RidgeSample RefineRidgeSample(const MorletWavelet& wavelet,
+                              const Eigen::VectorXd& s,
+                              int k,
+                              std::complex<double> wa,
+                              std::complex<double> wb,
+                              std::complex<double> wc,
+                              double unit,
+                              bool parabolic_refinement) {
+  const Eigen::Index freqs = s.size();
+  // std::abs is hypot: no overflow for any finite W.
+  const double yb = std::log(std::abs(wb));
+  double scale = s(k), peak = yb;
+  if (k > 0 && k + 1 < freqs && std::isfinite(yb)) {
+    const double ya = std::log(std::abs(wa));
+    const double yc = std::log(std::abs(wc));
+    if (std::isfinite(ya) && std::isfinite(yc) && yb >= ya && yb >= yc && (yb > ya || yb > yc)) {
+      // Parabola through (s_{k-1}, ya), (s_k, yb), (s_{k+1}, yc) (divided differences).
+      const double a = s(k - 1), b = s(k), c = s(k + 1);
+      const double d1 = (yb - ya) / (b - a), d2 = (yc - yb) / (c - b);
+      const double curvature = (d2 - d1) / (c - a);
+      if (curvature < 0.0) {
+        scale = 0.5 * (a + b) - d1 / (2.0 * curvature);
+        peak = ya + d1 * (scale - a) + curvature * (scale - a) * (scale - b);
+      }
+    }
+  }
+  RidgeSample r;
+  r.vertex_s = scale;
+  r.amplitude = std::exp(peak) * unit / wavelet.UnitCosineMagnitude(scale);
+  r.neighbour = k;
+  if (parabolic_refinement && scale != s(k)) {
+    const int n = scale > s(k) ? k - 1 : k + 1;  // scales descend with k
+    if (n >= 0 && n < freqs) r.neighbour = n;
+  }
+  return r;
+}
+
+double PhaseFrequency_Hz(std::complex<double> w, std::complex<double> dw_dt) {
+  return w != 0.0 ? std::imag(dw_dt / w) / (2.0 * std::numbers::pi) : kNaN;
+}
+
+}  // namespace internal
+
 bool RidgeFrequencyOptions::IsValid(std::string* why) const {
+  if (!(block_cells >= 1024.0 && block_cells <= 67108864.0)) {
+    return Fail(why, "RidgeFrequencyOptions.block_cells: expected 2^10..2^26, got " + ToText(block_cells));
+  }
   return cwt.IsValid(why) && ridge.IsValid(why);
-}
-
-RidgeFrequencyEstimator::RidgeFrequencyEstimator(const RidgeFrequencyOptions& options)
-    : options_(options), transform_(options.cwt) {
-  std::string why;
-  if (!options_.IsValid(&why)) throw std::invalid_argument(why);
-  options_.ridge.ridges = 1;
-}
-
-const RidgeTrack& RidgeFrequencyEstimator::Estimate(const Eigen::Ref<const Eigen::VectorXd>& signal,
-                                                    double step_s) {
-  transform_.Compute(signal, step_s, &scalogram_);
-  const std::vector<Eigen::VectorXi> paths = FindRidges(scalogram_, options_.ridge);
-  track_ = TrackRidge(scalogram_, paths.front(), options_.ridge, &transform_);
-  return track_;
 }
 
 RidgeTrack RidgeFrequency(const Eigen::Ref<const Eigen::VectorXd>& signal,

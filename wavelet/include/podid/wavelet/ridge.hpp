@@ -36,6 +36,7 @@
 //                     units (|W| / UnitCosineMagnitude(s_k) at the grid's ends).
 
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -117,6 +118,16 @@ struct RidgeFrequencyOptions {
     return o;
   }();
   RidgeOptions ridge;  ///< ridges is ignored (one ridge)
+  /// Keep the whole scalogram (RidgeFrequencyEstimator::scalogram()'s
+  /// coefficients, 16 bytes per output cell; the transform, FindRidges and
+  /// TrackRidge as written). Otherwise (default) the ridge is streamed:
+  /// memory is bounded by blocks, see RidgeFrequencyEstimator.
+  bool keep_scalogram = false;
+  /// Streamed: output cells (times x frequencies) per block, 2^10..2^26. A
+  /// record with at most this many cells is one block; the default (2^20,
+  /// about 8 MB of ridge cost per block) keeps the overlap (twice the
+  /// wavelet's support at the lowest frequency) a small share of a block.
+  double block_cells = 1048576.0;
 
   bool IsValid(std::string* why) const;
 };
@@ -125,23 +136,42 @@ struct RidgeFrequencyOptions {
 /// per objective evaluation. Buffers and filters are kept between calls with
 /// the same length and step, so repeated calls do not re-plan or re-filter.
 /// One object per thread (distinct objects run in parallel safely).
+///
+/// Streamed (unless keep_scalogram): the band-limited transform runs over
+/// blocks of output times with an overlap of the wavelet's support at the
+/// lowest frequency (one block when the scalogram has at most block_cells
+/// cells, as for 5001 samples at 10-120 Hz); the dynamic
+/// programme takes one time column at a time and keeps a back-pointer per
+/// cell (1 byte up to 255 frequencies, 2 up to 65535); the IF is then
+/// computed block by block along the chosen path, recomputing W and dW/dt
+/// only at the path's scales. Memory: about 1 byte per output cell plus
+/// O(block) buffers and the track, instead of 24 bytes per cell. The result
+/// equals FindRidges + TrackRidge on the full transform to about
+/// band_tolerance (tests StreamedRidge.*); CwtOptions::memory_budget_bytes
+/// bounds what one call allocates.
 class RidgeFrequencyEstimator {
  public:
   /// Throws std::invalid_argument if !options.IsValid().
   explicit RidgeFrequencyEstimator(const RidgeFrequencyOptions& options = {});
+  ~RidgeFrequencyEstimator();
+  RidgeFrequencyEstimator(RidgeFrequencyEstimator&&) noexcept;
+  RidgeFrequencyEstimator& operator=(RidgeFrequencyEstimator&&) noexcept;
 
   /// The main ridge of `signal` (dim N >= 4, step step_s). The returned
   /// reference stays valid until the next call. Bad input: std::invalid_argument.
   const RidgeTrack& Estimate(const Eigen::Ref<const Eigen::VectorXd>& signal, double step_s);
 
-  /// The scalogram of the last Estimate() (decimated in band-limited mode).
-  const Scalogram& scalogram() const { return scalogram_; }
+  /// The scalogram of the last Estimate() (decimated in band-limited mode):
+  /// its grid (times, frequencies, scales, decimation, cone of influence)
+  /// always; its coefficients only with keep_scalogram (else empty).
+  const Scalogram& scalogram() const;
+
+  /// Blocks of the last streamed Estimate() (0 with keep_scalogram).
+  Eigen::Index blocks() const;
 
  private:
-  RidgeFrequencyOptions options_;
-  CwtTransform transform_;
-  Scalogram scalogram_;
-  RidgeTrack track_;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 /// One-shot convenience (builds an estimator per call; reuse a

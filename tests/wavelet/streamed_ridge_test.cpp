@@ -1,0 +1,217 @@
+// The streamed ridge (RidgeFrequencyEstimator without keep_scalogram) against
+// the whole-scalogram path (CwtTransform + FindRidges + TrackRidge, what
+// keep_scalogram runs): one block, many blocks (block boundaries, the
+// record's borders under each padding), and a long record's memory.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "../../wavelet/src/ridge_cost.hpp"  // internal: the ridge cost kernel
+#include "chain_model.hpp"                    // PeakRssBytes
+#include "podid/wavelet/ridge.hpp"
+#include "test_support.hpp"
+
+namespace podid::wavelet {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kStep = 1.0 / 5000.0;
+
+// A hardening free decay (IF 39 -> 33 Hz), a weak 90 Hz tone and a little
+// noise: a ridge that moves across scales and blocks.
+Eigen::VectorXd Decay(Eigen::Index n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, 1e-3);
+  Eigen::VectorXd x(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) * kStep;
+    const double phase = 2 * kPi * (33.0 * t + 0.375 * (1.0 - std::exp(-4.0 * t)));
+    x(i) = std::exp(-2.0 * t) * std::cos(phase) + 0.05 * std::sin(2 * kPi * 90.0 * t) + noise(rng);
+  }
+  return x;
+}
+
+RidgeTrack Whole(const Eigen::VectorXd& x, RidgeFrequencyOptions options) {
+  options.keep_scalogram = true;
+  RidgeFrequencyEstimator estimator(options);
+  return estimator.Estimate(x, kStep);
+}
+
+struct Differences {
+  int path = 0;                 // samples on another frequency index
+  double frequency = 0.0;       // max |IF - IF_whole| / IF_whole where both are finite
+  double amplitude = 0.0;       // max |A - A_whole| / max A_whole
+  int flags = 0;                // samples with other screened / inside_coi flags
+};
+
+Differences Compare(const RidgeTrack& a, const RidgeTrack& b) {
+  Differences d;
+  EXPECT_EQ(a.size(), b.size());
+  if (a.size() != b.size()) return d;
+  const double top = b.amplitude.cwiseAbs().maxCoeff();
+  for (Eigen::Index j = 0; j < a.size(); ++j) {
+    if (a.frequency_index(j) != b.frequency_index(j)) ++d.path;
+    if (a.screened(j) != b.screened(j) || a.inside_coi(j) != b.inside_coi(j)) ++d.flags;
+    if (std::isfinite(a.frequency_Hz(j)) && std::isfinite(b.frequency_Hz(j))) {
+      d.frequency = std::max(d.frequency, std::abs(a.frequency_Hz(j) / b.frequency_Hz(j) - 1.0));
+    }
+    d.amplitude = std::max(d.amplitude, std::abs(a.amplitude(j) - b.amplitude(j)) / top);
+  }
+  return d;
+}
+
+TEST(RidgeCost, IsMinusHalfTheLogOfThePowerToRounding) {
+  // The vectorised logarithm against libm over |W| from 1e-160 to 1e3 and
+  // near 1 (where ln is small and the reduction's cancellation shows): its
+  // truncation is 6e-19, the rest is a few roundings, so 4 ulp of
+  // max(1, |ln|) bounds it; and the floor 1e-300 for |W| = 0.
+  constexpr double kUlps = 4.0 * 2.220446049250313e-16;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> decades(-160.0, 3.0), phase(0.0, 2 * kPi),
+      near(-1e-3, 1e-3);
+  std::vector<std::complex<double>> w;
+  for (int i = 0; i < 20000; ++i) w.push_back(std::polar(std::pow(10.0, decades(rng)), phase(rng)));
+  for (int i = 0; i < 2000; ++i) w.push_back(std::polar(1.0 + near(rng), phase(rng)));
+  for (double m : {1.0, std::sqrt(0.5), std::sqrt(2.0), 0.5, 2.0}) w.emplace_back(m, 0.0);
+  w.emplace_back(0.0, 0.0);
+  std::vector<double> cost(w.size());
+  internal::RidgeCost(w.data(), static_cast<Eigen::Index>(w.size()), 1.0, cost.data());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const double power = std::max(std::norm(w[i]), 1e-300);
+    const double truth = -0.5 * std::log(power);
+    worst = std::max(worst, std::abs(cost[i] - truth) / std::max(1.0, std::abs(truth)));
+  }
+  std::printf("ridge cost vs -0.5 log: worst %.3g (%.2f ulp)\n", worst, worst / 2.220446049250313e-16);
+  EXPECT_LE(worst, kUlps);
+}
+
+TEST(StreamedRidge, OneBlockEqualsTheWholeScalogramPath) {
+  // The identification's call (5001 samples, 10-120 Hz, reflect, coi 1) is
+  // one block laid out as CwtTransform lays it out: the same W and the same
+  // formulas. Only the cost's power-of-2 normalisation differs (a constant
+  // per cell, exact up to one rounding of each log), so the path is the same
+  // and the IF equal to rounding: 1e-13 allows a few ulps through the
+  // parabola and the interpolation.
+  constexpr double kTolerance = 1e-13;
+  const Eigen::VectorXd x = Decay(5001, 1);
+  RidgeFrequencyOptions options;
+  RidgeFrequencyEstimator streamed(options);
+  const RidgeTrack a = streamed.Estimate(x, kStep);
+  EXPECT_EQ(streamed.blocks(), 1);
+  EXPECT_EQ(streamed.scalogram().decimation, 16);
+  EXPECT_EQ(streamed.scalogram().coefficients.size(), 0);  // nothing of W is kept
+  const Differences d = Compare(a, Whole(x, options));
+  EXPECT_EQ(d.path, 0);
+  EXPECT_EQ(d.flags, 0);
+  EXPECT_LE(d.frequency, kTolerance);
+  EXPECT_LE(d.amplitude, kTolerance);
+}
+
+TEST(StreamedRidge, BlocksEqualTheWholeRecordTransformAtBoundariesAndBorders) {
+  // 20-120 Hz keeps the padded length above N + 2 supports, where each
+  // padding's transform is that of the record's extension (even, zero,
+  // periodic) to the band tolerance 1e-12 of the signal's peak; blocks of
+  // ~46 output times put 4 to 17 boundaries in the record, and the first
+  // and last blocks hold the borders. |W| on this ridge stays above 1e-2
+  // of its peak (the decay ends at exp(-2), the 90 Hz tone is 0.05), so the
+  // IF and the amplitude move by at most ~1e-12 / 1e-2 = 1e-10 (measured:
+  // 1.4e-13).
+  constexpr double kTolerance = 1e-10;
+  const Eigen::VectorXd x = Decay(5001, 2);
+  for (Padding padding : {Padding::kReflect, Padding::kZero, Padding::kPeriodic}) {
+    for (RidgeMethod method : {RidgeMethod::kPenalised, RidgeMethod::kMaximum}) {
+      SCOPED_TRACE(std::string(ToString(padding)) + " " + ToString(method));
+      RidgeFrequencyOptions options;
+      options.cwt.padding = padding;
+      options.cwt.frequencies.min_frequency_Hz = 20.0;
+      options.ridge.method = method;
+      options.ridge.estimator =
+          method == RidgeMethod::kMaximum ? FrequencyEstimator::kScale : FrequencyEstimator::kPhase;
+      options.block_cells = 4096;
+      RidgeFrequencyEstimator streamed(options);
+      const RidgeTrack a = streamed.Estimate(x, kStep);
+      EXPECT_GE(streamed.blocks(), 4);
+      const Differences d = Compare(a, Whole(x, options));
+      std::printf("%s %s, %ld blocks: path %d, flags %d, IF %.3g, amplitude %.3g\n",
+                  ToString(padding), ToString(method), static_cast<long>(streamed.blocks()), d.path,
+                  d.flags, d.frequency, d.amplitude);
+      EXPECT_EQ(d.path, 0);
+      EXPECT_EQ(d.flags, 0);
+      EXPECT_LE(d.frequency, kTolerance);
+      EXPECT_LE(d.amplitude, kTolerance);
+    }
+  }
+}
+
+TEST(StreamedRidge, LongRecordRidgeAndIfInBoundedMemory) {
+  // 10^6 samples (200 s at 5 kHz), 10-120 Hz (115 frequencies), every 16th
+  // sample: the whole scalogram and its ridge cost would take 24 bytes x
+  // 62,500 x 115 = 172 MB. Streamed: back-pointers (1 byte per cell, 7 MB),
+  // one block's cost (8 MB), the IF's caches, a copy of the signal (8 MB) and
+  // the track: 64 MB bounds it with room for the allocator. Away from the
+  // ends the IF of the slow chirp 30 -> 60 Hz has almost no ridge bias (its
+  // rate is 1/400 of the 1 s chirp 20 -> 80 Hz of docs/wavelet.md, bias
+  // 1.5e-4, and the bias grows with the rate squared): 1e-8 (measured 3e-10).
+  constexpr double kMemoryBytes = 64.0 * 1048576.0;
+  constexpr double kTolerance = 1e-8;
+  // Near the ends the zero padding's edge still reaches the cone (coi_factor
+  // 2): docs/wavelet.md's worst case over end phases for a chirp, 2.7e-3.
+  constexpr double kBorderTolerance = 2.7e-3;
+  const Eigen::Index n = 1000000;
+  const double duration = static_cast<double>(n - 1) * kStep;
+  Eigen::VectorXd x(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) * kStep;
+    x(i) = std::cos(2 * kPi * (30.0 * t + 15.0 * t * t / duration));
+  }
+  const long long before = podid::testing::PeakRssBytes();
+  ASSERT_GT(before, 0);
+  RidgeFrequencyOptions options;
+  options.cwt.padding = Padding::kZero;
+  options.cwt.coi_factor = 2.0;
+  RidgeFrequencyEstimator estimator(options);
+  const RidgeTrack& track = estimator.Estimate(x, kStep);
+  const long long growth = podid::testing::PeakRssBytes() - before;
+  std::printf("10^6 samples: %ld blocks, %ld output times, peak RSS growth %.1f MB\n",
+              static_cast<long>(estimator.blocks()), static_cast<long>(track.size()),
+              static_cast<double>(growth) / 1048576.0);
+  EXPECT_GT(estimator.blocks(), 1);
+#if defined(__SANITIZE_ADDRESS__)
+  // AddressSanitizer keeps freed blocks in quarantine (up to 256 MB): no bound there.
+  (void)kMemoryBytes;
+#else
+  EXPECT_LE(static_cast<double>(growth), kMemoryBytes);
+#endif
+  ASSERT_GT(track.InsideCoiCount(), track.size() * 9 / 10);
+  double worst = 0.0, middle = 0.0;
+  for (Eigen::Index j = 0; j < track.size(); ++j) {
+    if (!track.inside_coi(j)) continue;
+    const double truth = 30.0 + 30.0 * track.time_s(j) / duration;
+    const double error = std::abs(track.frequency_Hz(j) / truth - 1.0);
+    worst = std::max(worst, error);
+    if (track.time_s(j) > 1.0 && track.time_s(j) < duration - 1.0) middle = std::max(middle, error);
+  }
+  std::printf("IF error inside the cone: worst %.3g, beyond 1 s from the ends %.3g\n", worst, middle);
+  EXPECT_LE(worst, kBorderTolerance);
+  EXPECT_LE(middle, kTolerance);
+}
+
+TEST(StreamedRidge, MemoryBudgetAndBlockSizeAreChecked) {
+  RidgeFrequencyOptions options;
+  options.block_cells = 10.0;
+  PODID_EXPECT_THROW_WITH(RidgeFrequencyEstimator{options}, std::invalid_argument,
+                          "RidgeFrequencyOptions.block_cells: expected 2^10..2^26, got 10");
+  options.block_cells = 1048576.0;
+  options.cwt.memory_budget_bytes = 1048576.0;  // 1 MiB: less than 10^6 samples' back-pointers
+  RidgeFrequencyEstimator estimator(options);
+  PODID_EXPECT_THROW_WITH(estimator.Estimate(Decay(1000000, 3), kStep), std::invalid_argument,
+                          "RidgeFrequency: memory: expected at most");
+}
+
+}  // namespace
+}  // namespace podid::wavelet

@@ -1,0 +1,267 @@
+// The band-limited CWT in blocks of output times (band_transform.hpp).
+#include "band_transform.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "podid/core/error.hpp"
+
+namespace podid::wavelet::internal {
+namespace {
+
+using Complex = std::complex<double>;
+constexpr double kPi = std::numbers::pi;
+
+// The even extension's index: m mirrored at 0 and n - 1 (period 2n - 2).
+Eigen::Index Mirror(Eigen::Index m, Eigen::Index n) {
+  const Eigen::Index period = 2 * n - 2;
+  m %= period;
+  if (m < 0) m += period;
+  return m < n ? m : period - m;
+}
+
+// A block's inverse length at least this many times its two overlaps: the
+// overlap then costs at most 1/8 of the transform.
+constexpr Eigen::Index kOverlapShare = 8;
+
+}  // namespace
+
+double SupportRadius(double time_spread, bool morse, double band_tolerance) {
+  return (morse ? 1.5 : 1.0) * 2.0 * time_spread * std::sqrt(std::log(1.0 / band_tolerance));
+}
+
+BandTransform::BandTransform(const CwtOptions& options)
+    : options_(options), reference_(options) {
+  kappa_ = options_.wavelet.ScaleFrequencyConstant();
+  time_spread_ = options_.wavelet.TimeSpread();
+  options_.wavelet.Band(options_.band_tolerance, &band_low_, &band_high_);
+  frequencies_Hz_ = options_.frequencies.Frequencies_Hz();
+  scales_s_ = kappa_ / (2.0 * kPi) * frequencies_Hz_.cwiseInverse();
+}
+
+Eigen::Index BandTransform::block_times(Eigen::Index b) const {
+  return std::min(block_times_, times_ - b * block_times_);
+}
+
+// Bins kept over all scales for an FFT of `length` points; *widest: the widest band.
+Eigen::Index BandTransform::FilterBins(Eigen::Index length, double step_s, Eigen::Index* widest) const {
+  const double bin = 2.0 * kPi / (static_cast<double>(length) * step_s);
+  const Eigen::Index lowest = -((length - 1) / 2), highest = length / 2;
+  Eigen::Index total = 0;
+  *widest = 1;
+  for (Eigen::Index k = 0; k < scales_s_.size(); ++k) {
+    const double to_bin = 1.0 / (scales_s_(k) * bin);
+    const Eigen::Index a = std::max(lowest, static_cast<Eigen::Index>(std::ceil(band_low_ * to_bin)));
+    const Eigen::Index b = std::min(highest, static_cast<Eigen::Index>(std::floor(band_high_ * to_bin)));
+    total += std::max<Eigen::Index>(0, b - a + 1);
+    *widest = std::max<Eigen::Index>(*widest, b - a + 1);
+  }
+  return total;
+}
+
+BandTransform::Shape BandTransform::Plan(Eigen::Index samples, double step_s, double max_block_cells) const {
+  Shape z;
+  const FftLengths lengths = reference_.Lengths(samples, step_s);  // the full record's grid
+  z.p = lengths.real_forward.front();
+  z.m = lengths.complex_backward.front();
+  z.d = z.p / z.m;
+  z.times = (samples - 1) / z.d + 1;
+  const double freqs = static_cast<double>(scales_s_.size());
+  Eigen::Index widest = 0;
+  if (static_cast<double>(z.times) * freqs <= max_block_cells) {
+    z.blocks = 1;
+    z.block_times = z.times;
+    z.pb = z.p;
+    z.mb = z.m;
+    z.filter_bins = FilterBins(z.p, step_s, &widest);
+    return z;
+  }
+  const double radius = SupportRadius(time_spread_, options_.wavelet.family == WaveletFamily::kMorse,
+                                      options_.band_tolerance);
+  const Eigen::Index support = static_cast<Eigen::Index>(std::ceil(radius * scales_s_.maxCoeff() / step_s));
+  const Eigen::Index overlap = (support + z.d) / z.d;  // output steps, > support / D
+  z.h = overlap * z.d;
+  const Eigen::Index by_cells =
+      std::max<Eigen::Index>(1, static_cast<Eigen::Index>(max_block_cells / freqs));
+  Eigen::Index mb = FastFftLength(std::max<Eigen::Index>(kOverlapShare * 2 * overlap, 1024));
+  if (mb - 2 * overlap > by_cells) mb = FastFftLength(2 * overlap + by_cells);
+  // The block's bands must fit its inverse length (they scale with Pb as M's with P).
+  for (;;) {
+    FilterBins(z.d * mb, step_s, &widest);
+    if (widest <= mb) break;
+    mb = FastFftLength(mb + 1);
+  }
+  z.mb = mb;
+  z.pb = z.d * mb;
+  z.block_times = std::max<Eigen::Index>(1, std::min(mb - 2 * overlap, z.times));
+  z.blocks = (z.times + z.block_times - 1) / z.block_times;
+  z.filter_bins = FilterBins(z.pb, step_s, &widest);
+  return z;
+}
+
+double BandTransform::PlannedBytes(Eigen::Index samples,
+                                   double step_s,
+                                   double max_block_cells,
+                                   Eigen::Index* times,
+                                   Eigen::Index* block_times) const {
+  const Shape z = Plan(samples, step_s, max_block_cells);
+  *times = z.times;
+  *block_times = z.block_times;
+  return 8.0 * static_cast<double>(z.filter_bins) + 24.0 * static_cast<double>(z.pb) +
+         16.0 * static_cast<double>(z.mb) + (z.blocks > 1 ? 8.0 * static_cast<double>(samples) : 0.0);
+}
+
+double BandTransform::Bytes() const {
+  Eigen::Index bins = 0;
+  for (const auto& f : filters_) bins += static_cast<Eigen::Index>(f.size());
+  return 8.0 * static_cast<double>(bins) + 24.0 * static_cast<double>(pb_) + 16.0 * static_cast<double>(mb_) +
+         8.0 * static_cast<double>(signal_.size());
+}
+
+bool BandTransform::Layout(Eigen::Index samples, double step_s, double max_block_cells) {
+  if (IsLaidOut(samples, step_s, max_block_cells)) return false;
+  const Shape z = Plan(samples, step_s, max_block_cells);
+  n_ = samples;
+  step_s_ = step_s;
+  max_block_cells_ = max_block_cells;
+  p_ = z.p;
+  m_ = z.m;
+  d_ = z.d;
+  times_ = z.times;
+  blocks_ = z.blocks;
+  block_times_ = z.block_times;
+  h_ = z.h;
+  pb_ = z.pb;
+  mb_ = z.mb;
+  loaded_ = -1;
+  bin_rad_per_s_ = 2.0 * kPi / (static_cast<double>(pb_) * step_s_);
+  const Eigen::Index lowest = -((pb_ - 1) / 2), highest = pb_ / 2;
+  const bool energy = options_.wavelet.normalisation == Normalisation::kEnergy;
+  const Eigen::Index scales = scales_s_.size();
+  band_first_.assign(static_cast<std::size_t>(scales), 0);
+  filters_.assign(static_cast<std::size_t>(scales), {});
+  for (Eigen::Index k = 0; k < scales; ++k) {
+    const double s = scales_s_(k);
+    const double to_bin = 1.0 / (s * bin_rad_per_s_);
+    const Eigen::Index a = std::max(lowest, static_cast<Eigen::Index>(std::ceil(band_low_ * to_bin)));
+    const Eigen::Index b = std::min(highest, static_cast<Eigen::Index>(std::floor(band_high_ * to_bin)));
+    PODID_CHECK(b - a + 1 <= mb_);  // the band never folds onto itself
+    const double norm = (energy ? std::sqrt(s) : 1.0) / static_cast<double>(pb_);
+    auto& filter = filters_[static_cast<std::size_t>(k)];
+    for (Eigen::Index bin = a; bin <= b; ++bin) {
+      filter.push_back(norm * options_.wavelet.FourierTransform(s * bin * bin_rad_per_s_));
+    }
+    band_first_[static_cast<std::size_t>(k)] = a;
+  }
+  const bool measure = options_.planning == FftPlanning::kMeasure;
+  forward_ = RealForwardPlan(static_cast<int>(pb_), measure);
+  backward_ = ComplexBackwardPlan(static_cast<int>(mb_), measure);
+  segment_ = AllocateReal(static_cast<std::size_t>(pb_));
+  spectrum_ = AllocateComplex(static_cast<std::size_t>(pb_ / 2 + 1));
+  work_ = AllocateComplex(static_cast<std::size_t>(mb_));
+  signal_.resize(blocks_ > 1 ? n_ : 0);
+  return true;
+}
+
+void BandTransform::SetSignal(const Eigen::Ref<const Eigen::VectorXd>& signal) {
+  PODID_CHECK(signal.size() == n_);
+  loaded_ = -1;
+  std::frexp(signal.cwiseAbs().maxCoeff(), &exponent_);
+  exponent_ -= 1;
+  // One block: CwtTransform's padded sequence, built as it builds it.
+  double* x = blocks_ == 1 ? segment_.get() : signal_.data();
+  // 2^-e is a normal double for |e| <= 1000: multiplying is exact like ldexp, and cheaper.
+  if (std::abs(exponent_) <= 1000) {
+    const double factor = std::ldexp(1.0, -exponent_);
+    for (Eigen::Index i = 0; i < n_; ++i) x[i] = signal(i) * factor;
+  } else {
+    for (Eigen::Index i = 0; i < n_; ++i) x[i] = std::ldexp(signal(i), -exponent_);
+  }
+  if (options_.remove_mean) {
+    const double mean = Eigen::Map<const Eigen::VectorXd>(x, n_).mean();
+    for (Eigen::Index i = 0; i < n_; ++i) x[i] -= mean;
+  }
+  if (blocks_ > 1) return;
+  const Eigen::Index r = (p_ - n_ + 1) / 2;
+  if (options_.padding == Padding::kReflect) {
+    for (Eigen::Index i = n_; i < n_ + r; ++i) x[i] = x[Mirror(i, n_)];
+    for (Eigen::Index i = n_ + r; i < p_; ++i) x[i] = x[Mirror(i - p_, n_)];
+  } else if (options_.padding == Padding::kZero) {
+    std::fill(x + n_, x + p_, 0.0);
+  }
+}
+
+double BandTransform::Extension(Eigen::Index i) const {
+  switch (options_.padding) {
+    case Padding::kReflect:
+      return signal_(Mirror(i, n_));
+    case Padding::kZero:
+      return i >= 0 && i < n_ ? signal_(i) : 0.0;
+    case Padding::kPeriodic:
+      return signal_(((i % n_) + n_) % n_);
+  }
+  return 0.0;
+}
+
+void BandTransform::LoadBlock(Eigen::Index b) {
+  PODID_CHECK(b >= 0 && b < blocks_);
+  if (blocks_ > 1) {
+    const Eigen::Index first = b * block_times_ * d_ - h_;
+    double* x = segment_.get();
+    for (Eigen::Index q = 0; q < pb_; ++q) {
+      const Eigen::Index i = first + q;
+      x[q] = i >= 0 && i < n_ ? signal_(i) : Extension(i);
+    }
+  } else if (loaded_ == 0) {
+    return;
+  }
+  fftw_execute_dft_r2c(forward_, segment_.get(), AsFftw(spectrum_.get()));
+  loaded_ = b;
+}
+
+void BandTransform::Synthesise(Eigen::Index k, bool derivative, Complex* out) const {
+  PODID_CHECK(loaded_ >= 0 && k >= 0 && k < scales_s_.size());
+  Complex* w = work_.get();
+  const auto& filter = filters_[static_cast<std::size_t>(k)];
+  const Eigen::Index a = band_first_[static_cast<std::size_t>(k)];
+  const Complex* x = spectrum_.get();
+  const Eigen::Index size = static_cast<Eigen::Index>(filter.size());
+  const double* gain = filter.data();
+  // Bin b lands at b mod Mb: at the decimated times the exponentials are
+  // Mb-periodic in b, and the band (<= Mb bins) never folds onto itself. The
+  // band's slots are written, the rest zeroed; negative bins are the
+  // conjugates of positive ones (a real signal).
+  const Eigen::Index start = ((a % mb_) + mb_) % mb_;
+  const Eigen::Index end = start + size;  // one past the band, unwrapped
+  if (end <= mb_) {
+    std::fill(w, w + start, Complex(0.0, 0.0));
+    std::fill(w + end, w + mb_, Complex(0.0, 0.0));
+  } else {
+    std::fill(w + end - mb_, w + start, Complex(0.0, 0.0));
+  }
+  const auto slot = [&](Eigen::Index i) { return start + i < mb_ ? start + i : start + i - mb_; };
+  const Eigen::Index negative = std::min<Eigen::Index>(size, std::max<Eigen::Index>(0, -a));
+  if (derivative) {
+    for (Eigen::Index i = 0; i < size; ++i) {
+      const Eigen::Index bin = a + i;
+      const Complex value = i < negative ? std::conj(x[-bin]) : x[bin];
+      w[slot(i)] = value * Complex(0.0, gain[i] * static_cast<double>(bin) * bin_rad_per_s_);
+    }
+  } else {
+    for (Eigen::Index i = 0; i < negative; ++i) w[slot(i)] = std::conj(x[-(a + i)]) * gain[i];
+    if (end <= mb_) {  // the positive bins in one contiguous run
+      const Complex* in = x + (a + negative);
+      Complex* out = w + start + negative;
+      for (Eigen::Index i = negative; i < size; ++i, ++in, ++out) *out = *in * gain[i];
+    } else {
+      for (Eigen::Index i = negative; i < size; ++i) w[slot(i)] = x[a + i] * gain[i];
+    }
+  }
+  fftw_execute_dft(backward_, AsFftw(w), AsFftw(w));
+  std::copy(w + h_ / d_, w + h_ / d_ + block_times(loaded_), out);
+}
+
+}  // namespace podid::wavelet::internal

@@ -1,0 +1,48 @@
+#pragma once
+// The ridge's dynamic programme (podid/wavelet/ridge.hpp), fed one time
+// column at a time so that a long record never needs its whole cost matrix:
+// it keeps the running totals (dim n_freq) and one back-pointer per cell, 1
+// byte each up to 255 frequencies, 2 up to 65535, else 4.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+namespace podid::wavelet::internal {
+
+class RidgeProgramme {
+ public:
+  /// x: (dim n_freq) ln f of each frequency; lambda = penalty_s / step_s
+  /// (>= 0); maximum: kMaximum's path (argmin per column, no back-pointers).
+  RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool maximum);
+
+  /// Bytes Reset(times) will hold (checked against budgets before allocating).
+  static double Bytes(Eigen::Index frequencies, Eigen::Index times, bool maximum);
+  /// Starts a path over `times` columns.
+  void Reset(Eigen::Index times);
+  /// Column j = the number of columns pushed so far: cost(k) = -log|W(j, k)| +
+  /// any constant, finite or +inf (forbidden); an all-+inf column has no ridge.
+  /// cost(k) is cost[k * stride].
+  void Push(const double* cost, Eigen::Index stride = 1);
+  /// The path (dim times, -1 where a column had no finite cost), after every column.
+  Eigen::VectorXi Path() const;
+
+ private:
+  std::int64_t Back(Eigen::Index k, Eigen::Index j) const;
+  void StoreColumn(Eigen::Index j);  // column_back_ into back_
+
+  Eigen::VectorXd x_, x2_;
+  double lambda_;
+  bool maximum_;
+  int width_;  // bytes per back-pointer
+  std::int64_t none_;  // the back-pointer meaning "restart": all bits set
+  Eigen::Index times_ = 0, pushed_ = 0;
+  std::vector<unsigned char> back_;  // (freq, time) frequency-fastest
+  std::vector<int> best_;            // argmin of the totals after each column, -1: none
+  Eigen::VectorXd prev_, next_, h_all_;
+  std::vector<Eigen::Index> v_;        // the envelope's parabolas
+  std::vector<double> h_, xv_, zn_, zd_;  // their prev + lambda x^2, x; intersections zn / zd
+  std::vector<std::uint32_t> column_back_;
+};
+
+}  // namespace podid::wavelet::internal

@@ -1,0 +1,34 @@
+#pragma once
+// What TrackRidge computes at one ridge sample (podid/wavelet/ridge.hpp,
+// "Along a ridge"), shared by TrackRidge and the streamed ridge so that both
+// give the same numbers from the same coefficients.
+
+#include <Eigen/Core>
+#include <complex>
+
+#include "podid/wavelet/cwt.hpp"
+
+namespace podid::wavelet::internal {
+
+struct RidgeSample {
+  double vertex_s = 0.0;   ///< the parabola's vertex scale, or the grid scale s_k
+  double amplitude = 0.0;  ///< in the coefficients' units times `unit`
+  int neighbour = 0;       ///< the scale index towards the vertex (k if none)
+};
+
+/// From the coefficients at k - 1, k, k + 1 (wa and wc are ignored at the
+/// grid's ends); `unit` is Scalogram::coefficient_scale.
+RidgeSample RefineRidgeSample(const MorletWavelet& wavelet,
+                              const Eigen::VectorXd& scales_s,
+                              int k,
+                              std::complex<double> wa,
+                              std::complex<double> wb,
+                              std::complex<double> wc,
+                              double unit,
+                              bool parabolic_refinement);
+
+/// Im(conj(W) dW/dt) / (2 pi |W|^2) = Im((dW/dt) / W) / (2 pi) (the complex
+/// division scales internally: no overflow); NaN where W = 0.
+double PhaseFrequency_Hz(std::complex<double> w, std::complex<double> dw_dt);
+
+}  // namespace podid::wavelet::internal

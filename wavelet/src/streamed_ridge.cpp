@@ -1,0 +1,311 @@
+// RidgeFrequencyEstimator (podid/wavelet/ridge.hpp): the main ridge and its
+// IF, streamed over blocks of output times (band_transform.hpp), or from the
+// whole scalogram with keep_scalogram.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "band_transform.hpp"
+#include "podid/core/error.hpp"
+#include "podid/wavelet/ridge.hpp"
+#include "ridge_cost.hpp"
+#include "ridge_programme.hpp"
+#include "ridge_sample.hpp"
+
+namespace podid::wavelet {
+namespace {
+
+using Complex = std::complex<double>;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kPi = std::numbers::pi;
+// As CwtTransform: coefficients in signal units while the scale 2^e has |e| <= this.
+constexpr int kMaxUnscaledExponent = 960;
+// Bytes of a RidgeTrack per output time (time, index, 4 doubles, 2 flags) and
+// the streamed IF's per-time state (refined sample, |W|).
+constexpr double kTrackBytesPerTime = 80.0;
+// Times per transposed tile of the ridge cost (64 x 157 frequencies: 80 kB, in L2).
+constexpr Eigen::Index kTile = 64;
+
+// CwtTransform::Compute's checks, with its messages.
+void CheckSignal(const Eigen::Ref<const Eigen::VectorXd>& signal, double step_s, double max_Hz) {
+  const Eigen::Index n = signal.size();
+  if (n < 4) ThrowInvalid("Cwt: signal", "at least 4 samples", ToText(n) + " samples");
+  if (!signal.allFinite()) ThrowInvalid("Cwt: signal", "finite values", "NaN or Inf");
+  if (signal.maxCoeff() == signal.minCoeff()) {
+    ThrowInvalid("Cwt: signal", "a non-constant signal",
+                 "all " + ToText(n) + " samples equal to " + ToText(signal(0)));
+  }
+  if (!std::isfinite(step_s) || step_s <= 0.0) {
+    ThrowInvalid("Cwt: step_s", "a finite value > 0", ToText(step_s));
+  }
+  const double nyquist_Hz = 0.5 / step_s;
+  if (max_Hz > nyquist_Hz * (1.0 + 1e-12)) {
+    ThrowInvalid("Cwt: frequencies.max_frequency_Hz",
+                 "<= the Nyquist frequency 1 / (2 step_s) = " + ToText(nyquist_Hz) + " Hz",
+                 ToText(max_Hz) + " Hz");
+  }
+}
+
+}  // namespace
+
+struct RidgeFrequencyEstimator::Impl {
+  RidgeFrequencyOptions options;
+  // keep_scalogram
+  std::unique_ptr<CwtTransform> transform;
+  // streamed
+  std::unique_ptr<internal::BandTransform> band;
+  std::unique_ptr<internal::RidgeProgramme> programme;
+  Eigen::MatrixXcd kept;      // one block: W of every scale (block times x freqs)
+  Eigen::MatrixXd cost;       // -log|W| of a block (block times x freqs)
+  Eigen::MatrixXd tile;       // kTile times of cost, frequency-major
+  Eigen::VectorXcd column;    // one scale's W over a block
+  Eigen::MatrixXcd cache_w, cache_d;  // pass 2: W and dW/dt at the path's scales
+  std::vector<int> slot_w, slot_d;    // scale -> column of cache_w / cache_d, -1: absent
+  std::vector<internal::RidgeSample> samples;
+  Eigen::VectorXd path_magnitude;  // |W| on the path, coefficient units
+  Scalogram scalogram;
+  RidgeTrack track;
+  double output_scale = 1.0;
+
+  void LayOut(Eigen::Index n, double step_s);
+  void Streamed(const Eigen::Ref<const Eigen::VectorXd>& signal);
+  void BlockScales(Eigen::Index first, Eigen::Index count, const Eigen::VectorXi& path);
+  void Track(const Eigen::VectorXi& path);
+};
+
+void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
+  internal::BandTransform& b = *band;
+  const Eigen::Index freqs = b.frequencies_Hz().size();
+  const bool maximum = options.ridge.method == RidgeMethod::kMaximum;
+  // Checked before anything is allocated: transform buffers, the block's
+  // cost and W (kept W for one block, the IF's caches for several), the
+  // back-pointers and the track.
+  if (b.IsLaidOut(n, step_s, options.block_cells)) return;
+  Eigen::Index times = 0, block_times = 0;
+  const double planned = b.PlannedBytes(n, step_s, options.block_cells, &times, &block_times);
+  const double block_cells = static_cast<double>(block_times) * static_cast<double>(freqs);
+  const double bytes = planned + 40.0 * block_cells +
+                       internal::RidgeProgramme::Bytes(freqs, times, maximum) +
+                       kTrackBytesPerTime * static_cast<double>(times);
+  if (bytes > options.cwt.memory_budget_bytes) {
+    ThrowInvalid("RidgeFrequency: memory",
+                 "at most " + ToText(options.cwt.memory_budget_bytes) +
+                     " bytes (CwtOptions::memory_budget_bytes)",
+                 ToText(bytes) + " bytes for " + ToText(times) + " output times x " + ToText(freqs) +
+                     " frequencies (back-pointers, blocks of " + ToText(block_cells) +
+                     " cells, FFT buffers; fewer frequencies or band_limited)");
+  }
+  b.Layout(n, step_s, options.block_cells);
+  Scalogram& sg = scalogram;
+  sg.wavelet = options.cwt.wavelet;
+  sg.frequencies_Hz = b.frequencies_Hz();
+  sg.scales_s = b.scales_s();
+  sg.decimation = static_cast<int>(b.decimation());
+  sg.step_s = step_s * static_cast<double>(b.decimation());
+  sg.input_samples = n;
+  sg.time_s = Eigen::VectorXd::LinSpaced(b.times(), 0.0, static_cast<double>(b.times() - 1)) * sg.step_s;
+  sg.coefficients.resize(0, 0);
+  sg.magnitude.resize(0, 0);
+  sg.coi_frequency_Hz.resize(b.times());
+  for (Eigen::Index j = 0; j < b.times(); ++j) {
+    const Eigen::Index sample = j * b.decimation();
+    const double edge_s = static_cast<double>(std::min(sample, n - 1 - sample)) * step_s;
+    sg.coi_frequency_Hz(j) =
+        edge_s > 0.0 ? options.cwt.coi_factor * b.kappa() * 2.0 * b.time_spread() / (2.0 * kPi * edge_s)
+                     : std::numeric_limits<double>::infinity();
+  }
+  programme = std::make_unique<internal::RidgeProgramme>(
+      b.frequencies_Hz().array().log().matrix(), options.ridge.penalty_s / sg.step_s, maximum);
+  const Eigen::Index block = b.max_block_times();
+  cost.resize(block, freqs);
+  tile.resize(freqs, kTile);
+  column.resize(block);
+  if (b.blocks() == 1) {
+    kept.resize(block, freqs);
+  } else {
+    kept.resize(0, 0);
+  }
+  slot_w.assign(static_cast<std::size_t>(freqs), -1);
+  slot_d.assign(static_cast<std::size_t>(freqs), -1);
+}
+
+void RidgeFrequencyEstimator::Impl::Streamed(const Eigen::Ref<const Eigen::VectorXd>& signal) {
+  internal::BandTransform& b = *band;
+  b.SetSignal(signal);
+  const bool unscaled = std::abs(b.exponent()) <= kMaxUnscaledExponent;
+  output_scale = unscaled ? std::ldexp(1.0, b.exponent()) : 1.0;
+  scalogram.coefficient_scale = unscaled ? 1.0 : std::ldexp(1.0, b.exponent());
+  const Eigen::Index freqs = b.frequencies_Hz().size();
+  programme->Reset(b.times());
+  for (Eigen::Index block = 0; block < b.blocks(); ++block) {
+    b.LoadBlock(block);
+    const Eigen::Index count = b.block_times(block);
+    for (Eigen::Index k = 0; k < freqs; ++k) {
+      b.Synthesise(k, false, column.data());
+      internal::RidgeCost(column.data(), count, 1.0, cost.col(k).data());
+      if (b.blocks() == 1) kept.col(k).head(count) = column.head(count) * output_scale;
+    }
+    // The programme reads a time column: transpose tiles of kTile times into
+    // frequency-major order (a strided read of a large block would miss the
+    // cache at every frequency).
+    for (Eigen::Index i0 = 0; i0 < count; i0 += kTile) {
+      const Eigen::Index tile_times = std::min(kTile, count - i0);
+      tile.leftCols(tile_times) = cost.block(i0, 0, tile_times, freqs).transpose();
+      for (Eigen::Index i = 0; i < tile_times; ++i) programme->Push(tile.col(i).data());
+    }
+  }
+  Track(programme->Path());
+}
+
+// Pass 2, block `first`..: W at k - 1, k, k + 1 and dW/dt at k and the
+// vertex's neighbour, for the path's k in the block (several blocks only).
+void RidgeFrequencyEstimator::Impl::BlockScales(Eigen::Index first, Eigen::Index count,
+                                                const Eigen::VectorXi& path) {
+  internal::BandTransform& b = *band;
+  const int freqs = static_cast<int>(b.frequencies_Hz().size());
+  std::fill(slot_w.begin(), slot_w.end(), -1);
+  int used = 0;
+  for (Eigen::Index i = 0; i < count; ++i) {
+    const int k = path(first + i);
+    if (k < 0) continue;
+    for (int c = std::max(0, k - 1); c <= std::min(freqs - 1, k + 1); ++c) {
+      if (slot_w[static_cast<std::size_t>(c)] < 0) slot_w[static_cast<std::size_t>(c)] = used++;
+    }
+  }
+  cache_w.resize(count, used);
+  for (int k = 0; k < freqs; ++k) {
+    const int u = slot_w[static_cast<std::size_t>(k)];
+    if (u < 0) continue;
+    b.Synthesise(k, false, column.data());
+    cache_w.col(u) = column.head(count) * output_scale;
+  }
+}
+
+void RidgeFrequencyEstimator::Impl::Track(const Eigen::VectorXi& path) {
+  internal::BandTransform& b = *band;
+  const Scalogram& sg = scalogram;
+  const RidgeOptions& ro = options.ridge;
+  const Eigen::Index times = b.times();
+  const int freqs = static_cast<int>(b.frequencies_Hz().size());
+  const Eigen::VectorXd& s = b.scales_s();
+  const double kappa = sg.wavelet.RidgeAngularFrequency();
+  RidgeTrack& t = track;
+  t.time_s = sg.time_s;
+  t.frequency_index = path;
+  t.frequency_Hz.setConstant(times, kNaN);
+  t.grid_frequency_Hz.setConstant(times, kNaN);
+  t.amplitude.setConstant(times, kNaN);
+  t.inside_coi.setConstant(times, false);
+  t.screened.setConstant(times, false);
+  path_magnitude.setZero(times);
+  samples.resize(static_cast<std::size_t>(times));
+  const bool phase = ro.estimator == FrequencyEstimator::kPhase;
+  for (Eigen::Index block = 0; block < b.blocks(); ++block) {
+    const Eigen::Index first = b.block_first(block), count = b.block_times(block);
+    if (b.blocks() > 1) {
+      b.LoadBlock(block);
+      BlockScales(first, count, path);
+    }
+    const Eigen::MatrixXcd& w = b.blocks() > 1 ? cache_w : kept;
+    const auto at = [&](Eigen::Index i, int k) -> Complex {
+      return b.blocks() > 1 ? w(i, slot_w[static_cast<std::size_t>(k)]) : w(i, k);
+    };
+    // Refined samples, and the scales whose dW/dt the phase IF needs.
+    std::fill(slot_d.begin(), slot_d.end(), -1);
+    int used = 0;
+    for (Eigen::Index i = 0; i < count; ++i) {
+      const Eigen::Index j = first + i;
+      const int k = path(j);
+      if (k < 0) continue;
+      t.inside_coi(j) = sg.InsideCoi(j, k);
+      t.grid_frequency_Hz(j) = sg.frequencies_Hz(k);
+      const internal::RidgeSample& r = samples[static_cast<std::size_t>(j)] = internal::RefineRidgeSample(
+          sg.wavelet, s, k, at(i, k > 0 ? k - 1 : k), at(i, k), at(i, k + 1 < freqs ? k + 1 : k),
+          sg.coefficient_scale, ro.parabolic_refinement);
+      t.amplitude(j) = r.amplitude;
+      path_magnitude(j) = std::abs(at(i, k));
+      if (!phase) {
+        t.frequency_Hz(j) = ro.parabolic_refinement ? kappa / (2.0 * kPi * r.vertex_s) : sg.frequencies_Hz(k);
+        continue;
+      }
+      for (int c : {k, r.neighbour}) {
+        if (slot_d[static_cast<std::size_t>(c)] < 0) slot_d[static_cast<std::size_t>(c)] = used++;
+      }
+    }
+    if (!phase) continue;
+    cache_d.resize(count, used);
+    for (int k = 0; k < freqs; ++k) {
+      const int u = slot_d[static_cast<std::size_t>(k)];
+      if (u < 0) continue;
+      b.Synthesise(k, true, column.data());
+      cache_d.col(u) = column.head(count) * output_scale;
+    }
+    for (Eigen::Index i = 0; i < count; ++i) {
+      const Eigen::Index j = first + i;
+      const int k = path(j);
+      if (k < 0) continue;
+      const internal::RidgeSample& r = samples[static_cast<std::size_t>(j)];
+      const double fk = internal::PhaseFrequency_Hz(at(i, k), cache_d(i, slot_d[static_cast<std::size_t>(k)]));
+      if (r.neighbour == k) {
+        t.frequency_Hz(j) = fk;
+      } else {
+        const int n = r.neighbour;
+        const double fn = internal::PhaseFrequency_Hz(at(i, n), cache_d(i, slot_d[static_cast<std::size_t>(n)]));
+        t.frequency_Hz(j) = fk + (fn - fk) * (r.vertex_s - s(k)) / (s(n) - s(k));
+      }
+    }
+  }
+  // Screening (TrackRidge): |W| on the path at most min_relative_magnitude of its peak.
+  const double peak = path_magnitude.maxCoeff();
+  for (Eigen::Index j = 0; j < times; ++j) {
+    if (path(j) >= 0 && path_magnitude(j) <= ro.min_relative_magnitude * peak) {
+      t.screened(j) = true;
+      t.inside_coi(j) = false;
+      t.frequency_Hz(j) = kNaN;
+    }
+  }
+}
+
+RidgeFrequencyEstimator::RidgeFrequencyEstimator(const RidgeFrequencyOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument(why);
+  impl_->options = options;
+  impl_->options.ridge.ridges = 1;
+  if (options.keep_scalogram) {
+    impl_->transform = std::make_unique<CwtTransform>(options.cwt);
+  } else {
+    impl_->band = std::make_unique<internal::BandTransform>(options.cwt);
+  }
+}
+
+RidgeFrequencyEstimator::~RidgeFrequencyEstimator() = default;
+RidgeFrequencyEstimator::RidgeFrequencyEstimator(RidgeFrequencyEstimator&&) noexcept = default;
+RidgeFrequencyEstimator& RidgeFrequencyEstimator::operator=(RidgeFrequencyEstimator&&) noexcept = default;
+
+const Scalogram& RidgeFrequencyEstimator::scalogram() const { return impl_->scalogram; }
+
+Eigen::Index RidgeFrequencyEstimator::blocks() const {
+  return impl_->band ? impl_->band->blocks() : 0;
+}
+
+const RidgeTrack& RidgeFrequencyEstimator::Estimate(const Eigen::Ref<const Eigen::VectorXd>& signal,
+                                                    double step_s) {
+  Impl& s = *impl_;
+  if (s.transform) {
+    s.transform->Compute(signal, step_s, &s.scalogram);
+    const std::vector<Eigen::VectorXi> paths = FindRidges(s.scalogram, s.options.ridge);
+    s.track = TrackRidge(s.scalogram, paths.front(), s.options.ridge, s.transform.get());
+    return s.track;
+  }
+  CheckSignal(signal, step_s, s.options.cwt.frequencies.max_frequency_Hz);
+  s.LayOut(signal.size(), step_s);
+  s.Streamed(signal);
+  return s.track;
+}
+
+}  // namespace podid::wavelet
