@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fftw_plans.hpp"
+#include "signal_check.hpp"
 #include "full_rate.hpp"
 #include "podid/core/error.hpp"
 #include "podid/wavelet/plans.hpp"
@@ -272,24 +273,9 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
   PODID_CHECK(out != nullptr);
   Impl& s = *impl_;
   const Eigen::Index n = signal.size();
-  if (n < 4) ThrowInvalid("Cwt: signal", "at least 4 samples", ToText(n) + " samples");
-  if (!signal.allFinite()) ThrowInvalid("Cwt: signal", "finite values", "NaN or Inf");
-  if (signal.maxCoeff() == signal.minCoeff()) {
-    ThrowInvalid("Cwt: signal", "a non-constant signal",
-                 "all " + ToText(n) + " samples equal to " + ToText(signal(0)));
-  }
-  if (!std::isfinite(step_s) || step_s <= 0.0) {
-    ThrowInvalid("Cwt: step_s", "a finite value > 0", ToText(step_s));
-  }
+  internal::CheckSignal(signal, step_s, s.options.frequencies.max_frequency_Hz);
   if (!std::isfinite(start_time_s)) {
     ThrowInvalid("Cwt: start_time_s", "a finite value", ToText(start_time_s));
-  }
-  const double nyquist_Hz = 0.5 / step_s;
-  const double max_Hz = s.options.frequencies.max_frequency_Hz;
-  if (max_Hz > nyquist_Hz * (1.0 + 1e-12)) {
-    ThrowInvalid("Cwt: frequencies.max_frequency_Hz",
-                 "<= the Nyquist frequency 1 / (2 step_s) = " + ToText(nyquist_Hz) + " Hz",
-                 ToText(max_Hz) + " Hz");
   }
   if (n != s.n || step_s != s.step_s) s.Layout(n, step_s);
 

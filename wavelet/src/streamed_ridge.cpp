@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "band_transform.hpp"
+#include "signal_check.hpp"
 #include "podid/core/error.hpp"
 #include "podid/wavelet/ridge.hpp"
 #include "ridge_cost.hpp"
@@ -30,25 +31,6 @@ constexpr double kTrackBytesPerTime = 80.0;
 // Times per transposed tile of the ridge cost (64 x 157 frequencies: 80 kB, in L2).
 constexpr Eigen::Index kTile = 64;
 
-// CwtTransform::Compute's checks, with its messages.
-void CheckSignal(const Eigen::Ref<const Eigen::VectorXd>& signal, double step_s, double max_Hz) {
-  const Eigen::Index n = signal.size();
-  if (n < 4) ThrowInvalid("Cwt: signal", "at least 4 samples", ToText(n) + " samples");
-  if (!signal.allFinite()) ThrowInvalid("Cwt: signal", "finite values", "NaN or Inf");
-  if (signal.maxCoeff() == signal.minCoeff()) {
-    ThrowInvalid("Cwt: signal", "a non-constant signal",
-                 "all " + ToText(n) + " samples equal to " + ToText(signal(0)));
-  }
-  if (!std::isfinite(step_s) || step_s <= 0.0) {
-    ThrowInvalid("Cwt: step_s", "a finite value > 0", ToText(step_s));
-  }
-  const double nyquist_Hz = 0.5 / step_s;
-  if (max_Hz > nyquist_Hz * (1.0 + 1e-12)) {
-    ThrowInvalid("Cwt: frequencies.max_frequency_Hz",
-                 "<= the Nyquist frequency 1 / (2 step_s) = " + ToText(nyquist_Hz) + " Hz",
-                 ToText(max_Hz) + " Hz");
-  }
-}
 
 }  // namespace
 
@@ -302,7 +284,7 @@ const RidgeTrack& RidgeFrequencyEstimator::Estimate(const Eigen::Ref<const Eigen
     s.track = TrackRidge(s.scalogram, paths.front(), s.options.ridge, s.transform.get());
     return s.track;
   }
-  CheckSignal(signal, step_s, s.options.cwt.frequencies.max_frequency_Hz);
+  internal::CheckSignal(signal, step_s, s.options.cwt.frequencies.max_frequency_Hz);
   s.LayOut(signal.size(), step_s);
   s.Streamed(signal);
   return s.track;

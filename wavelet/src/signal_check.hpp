@@ -1,0 +1,33 @@
+#pragma once
+// The checks every transform applies to its input, with one set of messages
+// (CwtTransform::Compute and the streamed ridge).
+
+#include <Eigen/Core>
+#include <cmath>
+
+#include "podid/core/error.hpp"
+
+namespace podid::wavelet::internal {
+
+/// Throws std::invalid_argument for fewer than 4 samples, NaN/Inf, a constant
+/// signal, step_s not finite and > 0, or max_Hz above Nyquist.
+inline void CheckSignal(const Eigen::Ref<const Eigen::VectorXd>& signal, double step_s, double max_Hz) {
+  const Eigen::Index n = signal.size();
+  if (n < 4) ThrowInvalid("Cwt: signal", "at least 4 samples", ToText(n) + " samples");
+  if (!signal.allFinite()) ThrowInvalid("Cwt: signal", "finite values", "NaN or Inf");
+  if (signal.maxCoeff() == signal.minCoeff()) {
+    ThrowInvalid("Cwt: signal", "a non-constant signal",
+                 "all " + ToText(n) + " samples equal to " + ToText(signal(0)));
+  }
+  if (!std::isfinite(step_s) || step_s <= 0.0) {
+    ThrowInvalid("Cwt: step_s", "a finite value > 0", ToText(step_s));
+  }
+  const double nyquist_Hz = 0.5 / step_s;
+  if (max_Hz > nyquist_Hz * (1.0 + 1e-12)) {
+    ThrowInvalid("Cwt: frequencies.max_frequency_Hz",
+                 "<= the Nyquist frequency 1 / (2 step_s) = " + ToText(nyquist_Hz) + " Hz",
+                 ToText(max_Hz) + " Hz");
+  }
+}
+
+}  // namespace podid::wavelet::internal
