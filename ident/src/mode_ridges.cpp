@@ -23,13 +23,14 @@ constexpr double kExcludeOctaves = 0.25;
 // higher POD time mode of a nonlinear response carries the first mode's
 // frequency too (on the shared 1 s record, 68 % of the clean V_2's energy is
 // at 34 Hz, 32 % at the second mode's 207 Hz).
-wavelet::RidgeFrequencyOptions BandOf(int mode, const PodResult& pod, double step_s,
+wavelet::RidgeFrequencyOptions BandOf(int mode, int modes, const PodResult& pod, double step_s,
                                       const ObjectiveOptions& options, std::vector<double>* peaks_Hz,
                                       std::vector<std::string>* notes) {
   wavelet::RidgeFrequencyOptions ridge = options.ridge;
   auto& grid = ridge.cwt.frequencies;
   if (mode == 0) {
-    peaks_Hz->push_back(wavelet::SpectralPeak_Hz(pod.time_modes.col(0), step_s, grid.min_frequency_Hz,
+    // Mode 1's peak only serves to keep the later modes' bands off it.
+    if (modes > 1) peaks_Hz->push_back(wavelet::SpectralPeak_Hz(pod.time_modes.col(0), step_s, grid.min_frequency_Hz,
                                                  grid.max_frequency_Hz));
     return ridge;
   }
@@ -71,7 +72,7 @@ ModeRidges PrepareModeRidges(const PodResult& pod, const Eigen::VectorXd& noise_
   const double duration_s = (samples - 1) * step_s;
   std::vector<double> peaks_Hz;
   for (int k = 0; k < modes; ++k) {
-    out.options.push_back(BandOf(k, pod, step_s, options, &peaks_Hz, &out.notes));
+    out.options.push_back(BandOf(k, modes, pod, step_s, options, &peaks_Hz, &out.notes));
     const wavelet::CwtOptions& cwt = out.options.back().cwt;
     // The record must hold the cone of influence at the lowest frequency:
     // 2 * coi_factor * sqrt(2) s(f_min).
