@@ -149,8 +149,8 @@ void BindIdent(py::module_& m) {
       [](const std::string& case_, const Measured& measured, const std::string& objective,
          const std::map<std::string, double>& start, int multistart, const std::string& algorithm,
          int max_evaluations, double xtol, std::uint64_t seed, int modes, double fmin, double fmax,
-         int threads, const py::object& progress, const std::vector<std::string>& set) {
-        const auto f = BuildObjective(case_, measured, {objective}, modes, fmin, fmax, false, false, set);
+         int threads, const py::object& progress, bool keep_mean, const std::vector<std::string>& set) {
+        const auto f = BuildObjective(case_, measured, {objective}, modes, fmin, fmax, false, keep_mean, set);
         ident::IdentifyOptions options;
         options.algorithm = ident::ParseAlgorithm(algorithm);
         options.start = ValuesFrom(*f, start);
@@ -204,7 +204,8 @@ void BindIdent(py::module_& m) {
       py::arg("start") = std::map<std::string, double>{}, py::arg("multistart") = 1,
       py::arg("algorithm") = "LN_BOBYQA", py::arg("max_evaluations") = 500, py::arg("xtol") = 1e-6,
       py::arg("seed") = 1, py::arg("modes") = 1, py::arg("fmin") = 10.0, py::arg("fmax") = 120.0,
-      py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("set") = std::vector<std::string>{},
+      py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("keep_mean") = false,
+      py::arg("set") = std::vector<std::string>{},
       "Identify the case's parameters from a measured record, as `podid identify` does.\n"
       "Returns a dict: 'parameters' {name: value}, 'usable', 'termination', 'summary' (the full\n"
       "report), objectives and counts. progress(done, total) is called after each evaluation.");
@@ -214,8 +215,8 @@ void BindIdent(py::module_& m) {
       [](const std::string& case_, const Measured& measured, const std::string& param, double lower,
          double upper, int points, const std::vector<std::string>& objectives,
          const std::map<std::string, double>& base, int threads, const py::object& progress,
-         int modes, double fmin, double fmax, const std::vector<std::string>& set) {
-        const auto f = BuildObjective(case_, measured, objectives, modes, fmin, fmax, false, false, set);
+         int modes, double fmin, double fmax, bool keep_mean, const std::vector<std::string>& set) {
+        const auto f = BuildObjective(case_, measured, objectives, modes, fmin, fmax, false, keep_mean, set);
         ident::LandscapeOptions options;
         options.x.parameter = f->ParameterIndex(param, "param");
         options.x.lower = lower;
@@ -257,7 +258,7 @@ void BindIdent(py::module_& m) {
       py::arg("points") = 101, py::arg("objectives") = std::vector<std::string>{"full", "time-free", "wavelet"},
       py::arg("base") = std::map<std::string, double>{}, py::arg("threads") = 0,
       py::arg("progress") = py::none(), py::arg("modes") = 1, py::arg("fmin") = 10.0, py::arg("fmax") = 120.0,
-      py::arg("set") = std::vector<std::string>{},
+      py::arg("keep_mean") = false, py::arg("set") = std::vector<std::string>{},
       "Objectives over a 1-D grid of `param` (one simulation per point for all objectives): a dict\n"
       "with 'x', 'values' {objective: array (NaN where a point failed)} and 'metrics'.");
 }

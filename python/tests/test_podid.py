@@ -181,6 +181,13 @@ def test_keep_mean_compares_an_offset_the_default_pod_removes(tmp_path):
     kept = podid.Objective(CASE, str(shifted), weightings=["S,V"], keep_mean=True).evaluate({"knl": 40.0})
     assert removed["values"]["S,V"] == pytest.approx(plain["values"]["S,V"], rel=1e-10)
     assert kept["values"]["S,V"] > 10 * plain["values"]["S,V"]
+    # identify and landscape take keep_mean too: their first point is the
+    # Objective's value at the same parameters, from the same simulation.
+    start = podid.Objective(CASE, str(shifted), weightings=["S,V"], keep_mean=True).evaluate()
+    r = podid.identify(CASE, str(shifted), objective="S,V", keep_mean=True, max_evaluations=2)
+    assert r["initial_objective"] == start["values"]["S,V"]
+    g = podid.landscape(CASE, str(shifted), "knl", 40.0, 60.0, 2, objectives=["S,V"], keep_mean=True)
+    assert g["values"]["S,V"][0] == kept["values"]["S,V"]
 
 
 def test_failures_are_values_and_errors_are_exceptions():
