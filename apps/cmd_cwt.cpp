@@ -124,6 +124,7 @@ void Run(const CwtArguments& a) {
                  "--channel all (" + ToText(signals.size()) + " channels)");
   }
   const double step_s = series.step_s();
+  const double t0_s = series.time_s(0);
 
   wavelet::RidgeFrequencyOptions options;
   wavelet::CwtOptions& cwt = options.cwt;
@@ -157,12 +158,38 @@ void Run(const CwtArguments& a) {
   }
 
   // One transform for every signal (same length and step: laid out once).
-  wavelet::CwtTransform transform(cwt);
-  wavelet::Scalogram sg;
+  // Without a scalogram to write or plot, one ridge on one thread is streamed
+  // (RidgeFrequencyEstimator: memory bounded by blocks, about 1 byte per
+  // output cell, instead of 16-24 for the whole transform; the same ridge to
+  // about band_tolerance, tests StreamedRidge.*). The streamed transform is
+  // not threaded: --threads > 1 takes the whole transform.
+  const bool streamed =
+      a.ridges == 1 && a.scalogram.empty() && a.plot.empty() && a.threads == 1;
+  std::unique_ptr<wavelet::CwtTransform> transform;
+  std::unique_ptr<wavelet::RidgeFrequencyEstimator> estimator;
+  if (streamed) {
+    estimator = std::make_unique<wavelet::RidgeFrequencyEstimator>(options);
+  } else {
+    transform = std::make_unique<wavelet::CwtTransform>(cwt);
+  }
+  wavelet::Scalogram whole;
   std::vector<std::vector<wavelet::RidgeTrack>> tracks;
   for (std::size_t c = 0; c < signals.size(); ++c) {
     const auto& [label, signal] = signals[c];
-    transform.Compute(signal, step_s, &sg);
+    tracks.emplace_back();
+    if (streamed) {
+      tracks.back().push_back(estimator->Estimate(signal, step_s));
+    } else {
+      transform->Compute(signal, step_s, &whole);
+      for (const Eigen::VectorXi& path : wavelet::FindRidges(whole, options.ridge)) {
+        tracks.back().push_back(wavelet::TrackRidge(whole, path, options.ridge, transform.get()));
+      }
+    }
+    // The grid (times, frequencies, decimation, cone) of either path.
+    const wavelet::Scalogram& sg = streamed ? estimator->scalogram() : whole;
+    // Record time, not time from the first sample: the data's t0 (a window
+    // or a file whose time column does not start at 0).
+    for (wavelet::RidgeTrack& track : tracks.back()) track.time_s.array() += t0_s;
     if (c == 0) {
       // Every channel's ridges are kept for the CSV: bound them too (about 64
       // bytes per channel, ridge and output time: the track and its CSV columns).
@@ -175,10 +202,6 @@ void Run(const CwtArguments& a) {
                          " ridges x " + ToText(sg.times()) + " output times",
                      ToText(a.max_memory_MB) + " MB (fewer channels or ridges; --band-limited has fewer output times)");
       }
-    }
-    tracks.emplace_back();
-    for (const Eigen::VectorXi& path : wavelet::FindRidges(sg, options.ridge)) {
-      tracks.back().push_back(wavelet::TrackRidge(sg, path, options.ridge, &transform));
     }
     if (c == 0) {
       std::printf("podid cwt: %s of %s: %ld samples, step %.6g s (fs %.6g Hz)\n",
@@ -239,9 +262,10 @@ void Run(const CwtArguments& a) {
   }
   const std::string& label = signals.front().first;
   const wavelet::RidgeTrack& track = tracks.front().front();
+  const wavelet::Scalogram& sg = whole;  // --scalogram and --plot: the whole path
   if (!a.scalogram.empty()) {
     TimeSeries magnitude;
-    magnitude.time_s = sg.time_s;
+    magnitude.time_s = whole.time_s.array() + t0_s;
     for (Eigen::Index k = 0; k < sg.frequencies(); ++k) {
       char name[32];
       std::snprintf(name, sizeof name, "%.6gHz", sg.frequencies_Hz(k));
@@ -258,10 +282,11 @@ void Run(const CwtArguments& a) {
     Eigen::VectorXd t(columns);
     Eigen::MatrixXd z(columns, sg.frequencies());
     for (Eigen::Index i = 0; i < columns; ++i) {
-      t(i) = sg.time_s(i * stride);
+      t(i) = t0_s + sg.time_s(i * stride);
       z.row(i) = sg.coefficients.row(i * stride).cwiseAbs() * sg.coefficient_scale;
     }
     Eigen::VectorXd coi = sg.coi_frequency_Hz;
+    const Eigen::VectorXd coi_time_s = sg.time_s.array() + t0_s;
     for (Eigen::Index j = 0; j < coi.size(); ++j) {
       if (!(coi(j) <= sg.frequencies_Hz(sg.frequencies() - 1))) coi(j) = NAN;
     }
@@ -276,7 +301,7 @@ void Run(const CwtArguments& a) {
     axes.log_y = a.bins == 0;
     const PlotOutcome outcome = PlotHeatMap(
         a.plot, axes, "|W|", t, sg.frequencies_Hz, z,
-        {{"ridge IF (inside cone)", track.time_s, ridge_f}, {"cone of influence", sg.time_s, coi}});
+        {{"ridge IF (inside cone)", track.time_s, ridge_f}, {"cone of influence", coi_time_s, coi}});
     if (outcome == PlotOutcome::kWritten) std::printf("plot -> %s\n", a.plot.c_str());
   }
 }

@@ -58,7 +58,7 @@ kResponseMedianRelative = 0.005
 force = mat["Signal_1"][0, 0]["y_values"][0, 0]["values"].ravel()  # one channel
 phase = np.unwrap(np.angle(scipy.signal.hilbert(force - force.mean())))
 inst = np.gradient(phase, step) / (2 * np.pi)
-t = np.arange(force.size) * step
+t = start + np.arange(force.size) * step  # record time, as the ridge CSVs give it
 force_name = [n for n in summary["median_if_Hz"] if n not in live]
 assert len(force_name) == 1, summary["median_if_Hz"].keys()
 for name, slices in summary["median_if_Hz"].items():

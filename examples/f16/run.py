@@ -38,7 +38,7 @@ def run(command):
 
 
 def ridge_stats(csv, prefix=""):
-    """Median IF (Hz) inside the cone over 10 s slices, from a cwt -o CSV."""
+    """Median IF (Hz) inside the cone over 10 s slices of record time, from a cwt -o CSV."""
     with open(csv) as handle:
         header = handle.readline().rstrip("\n").split(",")
     table = np.loadtxt(csv, delimiter=",", skiprows=1)
@@ -109,7 +109,7 @@ def main():
         axes[0].set_ylabel("acceleration (m/s^2)")
         axes[0].legend(loc="upper right")
         for name, (tr, f, inside, _) in ridges.items():
-            axes[1].plot(t0 + tr[inside], f[inside], ".", ms=1, label=f"IF of {name}")
+            axes[1].plot(tr[inside], f[inside], ".", ms=1, label=f"IF of {name}")  # record time
         axes[1].set_ylabel("ridge IF (Hz)")
         axes[1].set_xlabel("t (s)")
         axes[1].set_ylim(0, 20)

@@ -17,6 +17,23 @@ awk -v m="$mean" 'BEGIN { exit !(m > 33 && m < 40) }' || fail "mean IF $mean not
 [ "$(head -1 "$out/ridge.csv")" = "t,f_Hz,amplitude,inside_coi" ] || fail "ridge header"
 [ "$(wc -l <"$out/ridge.csv")" -eq 5002 ] || fail "ridge rows"
 head -1 "$out/s.csv" | grep -q '^t,10Hz,' || fail "scalogram header"
+# Without --scalogram the ridge is streamed in blocks: the same ridge as the
+# whole transform's, to 1e-9 relative (the blocks' W agree to the band
+# tolerance 1e-12 of the peak; the IF's phase derivative amplifies that where
+# |W| is small, far from the 1e-9 this allows).
+"$podid" cwt "$data" --channel w6 -o "$out/streamed.csv" >/dev/null || fail "streamed cwt exited $?"
+paste -d, "$out/ridge.csv" "$out/streamed.csv" | tail -n +2 | awk -F, '
+  function d(a, b) { return (a == b) ? 0 : (a - b < 0 ? b - a : a - b) / ((a < 0 ? -a : a) + 1e-300) }
+  { for (c = 1; c <= 4; c++) if (d($c, $(c + 4)) > 1e-9) { print "row " NR " column " c ": " $c " vs " $(c + 4); bad = 1; exit } }
+  END { exit bad }' || fail "streamed ridge differs from the whole transform's"
+# The ridge CSV's time is the record's: a record starting at t = 0.25 s gives
+# the same ridge, 0.25 s later.
+awk -F, 'NR == 1 { print; next } { printf "%.10f", $1 + 0.25; for (c = 2; c <= NF; c++) printf ",%s", $c; print "" }' \
+  "$data" >"$out/late.csv"
+"$podid" cwt "$out/late.csv" --channel w6 -o "$out/late_ridge.csv" >/dev/null || fail "late cwt exited $?"
+paste -d, "$out/streamed.csv" "$out/late_ridge.csv" | tail -n +2 | awk -F, '
+  { dt = $5 - $1 - 0.25; if (dt < -1e-9 || dt > 1e-9 || $2 != $6) { print "row " NR ": " $0; bad = 1; exit } }
+  END { exit bad }' || fail "a record starting at 0.25 s: ridge time not shifted by 0.25 s"
 
 # The first POD time mode, band-limited, max ridge, linear grid.
 "$podid" cwt "$data" --pom 1 --band-limited --ridge max --bins 50 -o "$out/pom.csv" >"$out/stdout" \

@@ -46,7 +46,12 @@ done
 start=$(date +%s)
 "$podid" cwt "$data" --channel w6 --bins 100000 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--bins 100000 not exit 1"
-grep -q "Cwt: memory: expected at most 2147483648 bytes" "$out/stderr" || fail "memory message"
+# (the streamed ridge's estimate: 4-byte back-pointers beyond 65535 frequencies)
+grep -q "RidgeFrequency: memory: expected at most 2147483648 bytes" "$out/stderr" || fail "memory message"
+"$podid" cwt "$data" --channel w6 --bins 100000 --scalogram "$out/big.csv" 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--bins 100000 --scalogram not exit 1"
+grep -q "Cwt: memory: expected at most 1431655765 bytes" "$out/stderr" || fail "whole-transform memory message"
+[ -e "$out/big.csv" ] && fail "a refused transform wrote --scalogram"
 [ $(( $(date +%s) - start )) -le 5 ] || fail "--bins 100000 took more than 5 s"
 "$podid" cwt "$data" --channel w6 --bins 2000 --max-memory 100 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--max-memory 100 not exit 1"
