@@ -126,8 +126,9 @@ void WritePlots(const std::string& dir, const ident::ObjectiveFunction& objectiv
   signals.channel_names = {name + "_measured", name + "_start", name + "_optimum"};
   signals.values.resize(measured.samples(), 3);
   signals.values.col(0) = measured.values.col(channel);
-  const SimulationResult at_start = objective.SimulateAt(s.initial_parameters);
-  const SimulationResult at_optimum = objective.SimulateAt(s.parameters);
+  ident::EvaluationWorkspace workspace;  // one cached simulator for both
+  const SimulationResult at_start = objective.SimulateAt(s.initial_parameters, &workspace);
+  const SimulationResult at_optimum = objective.SimulateAt(s.parameters, &workspace);
   for (const auto& [col, sim] : {std::pair{1, &at_start}, std::pair{2, &at_optimum}}) {
     signals.values.col(col).setConstant(std::numeric_limits<double>::quiet_NaN());
     const Eigen::Index rows = std::min(sim->sensors.samples(), measured.samples());

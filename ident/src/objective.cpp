@@ -367,6 +367,17 @@ SimulationResult ObjectiveFunction::SimulateAt(const Eigen::VectorXd& values) co
   return result;
 }
 
+SimulationResult ObjectiveFunction::SimulateAt(const Eigen::VectorXd& values, EvaluationWorkspace* workspace) const {
+  if (workspace == nullptr) return SimulateAt(values);
+  if (values.size() != parameter_count()) {
+    ThrowInvalid("parameter values", ToText(parameter_count()) + " values", ToText(values.size()));
+  }
+  if (std::string why; !PrepareSimulator(values, workspace, &why)) throw std::invalid_argument(why);
+  SimulationResult result = workspace->simulator->Run();
+  if (result.summary.IsSolutionUsable()) result.sensors = ConditionSimulated(base_spec_, result.sensors);
+  return result;
+}
+
 Evaluation ObjectiveFunction::Evaluate(const Eigen::VectorXd& values) const noexcept {
   return Evaluate(values, nullptr);
 }
@@ -412,17 +423,10 @@ Evaluation ObjectiveFunction::Evaluate(const Eigen::VectorXd& values,
   return result;
 }
 
-void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, EvaluationWorkspace* workspace,
-                                        Evaluation* result) const {
-  TermValues& terms = result->terms;
-  auto fail = [&terms](std::string why) {
-    terms.failed = true;
-    terms.failure = std::move(why);
-  };
-  if (values.size() != parameter_count()) {
-    return fail("parameter values: expected " + ToText(parameter_count()) + " values, got " +
-                ToText(values.size()));
-  }
+// The workspace's simulator at `values`: a kDocument parameter rebuilds the
+// case, a typed one invalidates only what it changes (Simulator::Set).
+bool ObjectiveFunction::PrepareSimulator(const Eigen::VectorXd& values, EvaluationWorkspace* workspace,
+                                         std::string* why) const {
   EvaluationWorkspace& w = *workspace;
   if (w.owner != id_) {  // a workspace of another objective: start afresh
     w = EvaluationWorkspace{};
@@ -449,9 +453,24 @@ void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, Evaluatio
   }
   for (int i = 0; i < parameter_count(); ++i) {
     if (!bindings_[i].typed()) continue;
-    std::string why;
-    if (!w.simulator->Set(bindings_[i], parameters_[i].scale * values[i], &why)) return fail(why);
+    if (!w.simulator->Set(bindings_[i], parameters_[i].scale * values[i], why)) return false;
   }
+  return true;
+}
+
+void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, EvaluationWorkspace* workspace,
+                                        Evaluation* result) const {
+  TermValues& terms = result->terms;
+  auto fail = [&terms](std::string why) {
+    terms.failed = true;
+    terms.failure = std::move(why);
+  };
+  if (values.size() != parameter_count()) {
+    return fail("parameter values: expected " + ToText(parameter_count()) + " values, got " +
+                ToText(values.size()));
+  }
+  EvaluationWorkspace& w = *workspace;
+  if (std::string why; !PrepareSimulator(values, &w, &why)) return fail(std::move(why));
   // The measured record's conditioning ([data] detrend, filter), applied alike
   // to the simulated one (recording.hpp). Without it the POD reads the
   // simulator's recording in place (RunInPlace: no copy of the record).

@@ -109,9 +109,13 @@ ParameterUncertainty ObjectiveUncertainty(const ObjectiveFunction& objective, co
     upper[i] = objective.parameters()[i].upper;
   }
   FeatureMap map(objective, weighting);
+  // One cached simulator for the fit and its 2p perturbations: a typed
+  // parameter rebuilds only what it invalidates (a file force is not
+  // interpolated again for each one).
+  EvaluationWorkspace workspace;
   const FeatureFunction features = [&](const Eigen::VectorXd& theta, Eigen::VectorXd* f, std::string* why) {
     return NoThrow(why, [&] {
-      const SimulationResult sim = objective.SimulateAt(theta);
+      const SimulationResult sim = objective.SimulateAt(theta, &workspace);
       if (!sim.summary.IsSolutionUsable()) {
         *why = sim.summary.message;
         return false;
@@ -126,7 +130,7 @@ ParameterUncertainty ObjectiveUncertainty(const ObjectiveFunction& objective, co
   SimulationResult fit;
   Eigen::VectorXd fit_features;
   const bool ok = NoThrow(&why, [&] {
-    fit = objective.SimulateAt(values);
+    fit = objective.SimulateAt(values, &workspace);
     if (!fit.summary.IsSolutionUsable()) {
       why = fit.summary.message;
       return false;

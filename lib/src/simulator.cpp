@@ -57,7 +57,7 @@ void Simulator::Rebuild() {
     nonlinear_dirty_ = false;
   }
   if (load_dirty_) {
-    load_ = BuildLoad(spec_, *model_);
+    load_ = BuildLoad(spec_, *model_, &load_cache_);
     load_dirty_ = false;
   }
   if (initial_dirty_) {

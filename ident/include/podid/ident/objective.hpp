@@ -227,8 +227,13 @@ class ObjectiveFunction {
   /// The case at `values` (for reports and plots). Throws
   /// std::invalid_argument for a value the case rejects.
   CaseSpec SpecAt(const Eigen::VectorXd& values) const;
-  /// The noise-free simulation at `values`.
+  /// The noise-free simulation at `values`, built afresh.
   SimulationResult SimulateAt(const Eigen::VectorXd& values) const;
+  /// The same from the workspace's cached simulator (as Evaluate: a typed
+  /// parameter rebuilds only what it invalidates; a file force is not
+  /// interpolated again). Null workspace: built afresh. Throws
+  /// std::invalid_argument for a value the case rejects.
+  SimulationResult SimulateAt(const Eigen::VectorXd& values, EvaluationWorkspace* workspace) const;
   /// The POD of a simulated response as Evaluate computes it: mean removed,
   /// time modes, all modes (for the MAC matching of swapped modes), the
   /// compared ones accurate.
@@ -240,6 +245,7 @@ class ObjectiveFunction {
  private:
   void EvaluateOrThrow(const Eigen::VectorXd& values, EvaluationWorkspace* workspace,
                        Evaluation* result) const;
+  bool PrepareSimulator(const Eigen::VectorXd& values, EvaluationWorkspace* workspace, std::string* why) const;
   /// The base case with the kDocument parameters set from `values`.
   CaseSpec DocumentSpecAt(const Eigen::VectorXd& values) const;
 

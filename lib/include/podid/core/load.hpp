@@ -15,6 +15,7 @@
 // case's influence vector and the load is -M r a_g.
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "podid/core/beam_model.hpp"
 #include "podid/core/case_spec.hpp"
@@ -32,6 +33,35 @@ namespace podid {
 /// `model` gives M for the base's column. Throws std::invalid_argument for a
 /// node or dof the model does not have.
 ExternalLoad BuildLoad(const CaseSpec& spec, const BeamModel& model);
+
+/// Interpolated file and channel histories kept between BuildLoad calls. A
+/// sampled history is gain (u 1_in) + offset 1_in (1_in: where the record's
+/// time is inside the file), and the band-limited interpolation is linear, so
+/// it is kept as the interpolations of u 1_in and of 1_in: a change of gain or
+/// offset (identification's force.gain, force.offset) rescales them instead
+/// of interpolating again (an FFT of the whole record per force). An entry is
+/// reused only when the column, its time and the grid are equal to the
+/// bit; entries a build does not use are dropped.
+class LoadCache {
+ public:
+  struct Entry;
+  LoadCache();
+  ~LoadCache();
+  LoadCache(LoadCache&&) noexcept;
+  LoadCache& operator=(LoadCache&&) noexcept;
+  /// Interpolations computed (not found) since construction: for tests.
+  int misses() const { return misses_; }
+
+ private:
+  friend struct LoadCacheAccess;
+  std::vector<Entry> entries_;
+  int misses_ = 0;
+};
+/// Same as BuildLoad(spec, model), reusing (and filling) `cache`. With
+/// integrator.substeps = 1 the result is the same to the bit; with sub-steps
+/// it differs from interpolating gain u + offset by rounding only (the
+/// interpolation is linear).
+ExternalLoad BuildLoad(const CaseSpec& spec, const BeamModel& model, LoadCache* cache);
 /// Same; builds the model when the case has [base] (its M is needed).
 ExternalLoad BuildLoad(const CaseSpec& spec);
 

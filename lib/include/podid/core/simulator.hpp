@@ -16,6 +16,7 @@
 
 #include "podid/core/beam_model.hpp"
 #include "podid/core/case_spec.hpp"
+#include "podid/core/load.hpp"
 #include "podid/core/model_parameter.hpp"
 #include "podid/core/newmark.hpp"
 #include "podid/core/simulate.hpp"
@@ -54,6 +55,8 @@ class Simulator {
   /// The sensors' samples of the last RunInPlace() (summary().rows_recorded x
   /// sensors, the layout of TimeSeries::values, the case's sensor quantity).
   Eigen::Block<const Eigen::MatrixXd> sensor_values() const;
+  /// The interpolated file and channel forces kept between runs.
+  const LoadCache& load_cache() const { return load_cache_; }
 
  private:
   void Rebuild();
@@ -67,6 +70,7 @@ class Simulator {
   State initial_;
   StaticSolveSummary static_solve_;
   ExternalLoad load_;
+  LoadCache load_cache_;  // interpolated file and channel forces (a gain change rescales them)
   Recording recording_;
   SimulationSummary summary_;
   std::vector<std::string> channel_names_;
