@@ -29,7 +29,9 @@ class RidgeProgramme {
 
  private:
   std::int64_t Back(Eigen::Index k, Eigen::Index j) const;
-  void StoreColumn(Eigen::Index j);  // column_back_ into back_
+  void FillColumn(Eigen::Index j, std::uint32_t value);  // every back-pointer of column j
+  template <typename Index>
+  void Relax(const double* cost, Eigen::Index stride, Index* back);
 
   Eigen::VectorXd x_, x2_;
   double lambda_;
@@ -37,12 +39,14 @@ class RidgeProgramme {
   int width_;  // bytes per back-pointer
   std::int64_t none_;  // the back-pointer meaning "restart": all bits set
   Eigen::Index times_ = 0, pushed_ = 0;
-  std::vector<unsigned char> back_;  // (freq, time) frequency-fastest
+  // (freq, time) frequency-fastest, in the one of width_ bytes.
+  std::vector<std::uint8_t> back8_;
+  std::vector<std::uint16_t> back16_;
+  std::vector<std::uint32_t> back32_;
   std::vector<int> best_;            // argmin of the totals after each column, -1: none
-  Eigen::VectorXd prev_, next_, h_all_;
+  Eigen::VectorXd prev_, next_;
   std::vector<Eigen::Index> v_;        // the envelope's parabolas
   std::vector<double> h_, xv_, zn_, zd_;  // their prev + lambda x^2, x; intersections zn / zd
-  std::vector<std::uint32_t> column_back_;
 };
 
 }  // namespace podid::wavelet::internal

@@ -1,0 +1,152 @@
+// The ridge's dynamic programme (internal RidgeProgramme: the lower envelope
+// of parabolas per column, Felzenszwalb & Huttenlocher) against an
+// independent O(n_freq^2) minimisation over every predecessor.
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "../../wavelet/src/ridge_programme.hpp"  // internal: the dynamic programme
+
+namespace podid::wavelet {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Column-major cost (freqs x times); the same rules as RidgeProgramme:
+// total(q) = cost(q) + min_p prev(p) + lambda (x_q - x_p)^2, the smallest p
+// among equal minima; a column after one with no finite total starts afresh
+// (back-pointer -1); the path ends at the smallest argmin of the last column.
+Eigen::VectorXi BruteForcePath(const Eigen::VectorXd& x, double lambda, const Eigen::MatrixXd& cost) {
+  const Eigen::Index freqs = cost.rows(), times = cost.cols();
+  Eigen::MatrixXi back = Eigen::MatrixXi::Constant(freqs, times, -1);
+  std::vector<int> best(static_cast<std::size_t>(times), -1);
+  Eigen::VectorXd prev(freqs), next(freqs);
+  for (Eigen::Index j = 0; j < times; ++j) {
+    if (j == 0 || best[static_cast<std::size_t>(j - 1)] < 0) {
+      next = cost.col(j);
+    } else {
+      for (Eigen::Index q = 0; q < freqs; ++q) {
+        double low = kInf;
+        int arg = -1;
+        for (Eigen::Index p = 0; p < freqs; ++p) {
+          const double dx = x(q) - x(p);
+          const double value = prev(p) + lambda * dx * dx;
+          if (value < low) {
+            low = value;
+            arg = static_cast<int>(p);
+          }
+        }
+        next(q) = cost(q, j) + low;
+        back(q, j) = arg;
+      }
+    }
+    prev = next;
+    double low = kInf;
+    for (Eigen::Index q = 0; q < freqs; ++q) {
+      if (prev(q) < low) {
+        low = prev(q);
+        best[static_cast<std::size_t>(j)] = static_cast<int>(q);
+      }
+    }
+  }
+  Eigen::VectorXi path(times);
+  int k = best[static_cast<std::size_t>(times - 1)];
+  for (Eigen::Index j = times - 1; j >= 0; --j) {
+    path(j) = k;
+    if (j > 0) k = k >= 0 ? back(k, j) : best[static_cast<std::size_t>(j - 1)];
+  }
+  return path;
+}
+
+Eigen::VectorXi ProgrammePath(const Eigen::VectorXd& x, double lambda, const Eigen::MatrixXd& cost) {
+  internal::RidgeProgramme programme(x, lambda, false);
+  programme.Reset(cost.cols());
+  for (Eigen::Index j = 0; j < cost.cols(); ++j) programme.Push(cost.col(j).data());
+  return programme.Path();
+}
+
+// The path's objective, sum cost + lambda sum dx^2, restarting at -1.
+double PathTotal(const Eigen::VectorXd& x, double lambda, const Eigen::MatrixXd& cost, const Eigen::VectorXi& path) {
+  double total = 0.0;
+  for (Eigen::Index j = 0; j < cost.cols(); ++j) {
+    if (path(j) < 0) continue;
+    total += cost(path(j), j);
+    if (j > 0 && path(j - 1) >= 0) {
+      const double dx = x(path(j)) - x(path(j - 1));
+      total += lambda * dx * dx;
+    }
+  }
+  return total;
+}
+
+TEST(RidgeProgramme, EqualsEveryPredecessorMinimisationExactlyWithTiesAndForbiddenCells) {
+  // Integer positions, lambda a power of 2 and small integer costs: every
+  // sum and product is exact, so the envelope's intersections decide exactly
+  // as the brute force's comparisons, ties (frequent here) included: the
+  // paths must be identical. Forbidden (+inf) cells, whole forbidden columns
+  // (restarts) and 1- and 2-byte back-pointers (300 frequencies).
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 300; ++trial) {
+    const Eigen::Index freqs = trial % 10 == 0 ? 300 : 1 + static_cast<Eigen::Index>(rng() % 40);
+    const Eigen::Index times = 1 + static_cast<Eigen::Index>(rng() % 30);
+    Eigen::VectorXd x(freqs);
+    double position = static_cast<double>(rng() % 5) - 2.0;
+    for (Eigen::Index k = 0; k < freqs; ++k) {
+      x(k) = position;
+      position += 1.0 + static_cast<double>(rng() % (trial % 2 == 0 ? 1 : 3));  // uniform or not
+    }
+    const double lambda = std::ldexp(1.0, static_cast<int>(rng() % 7) - 4);  // 1/16 .. 4
+    Eigen::MatrixXd cost(freqs, times);
+    const unsigned levels = 1 + rng() % 12;  // few levels: many ties
+    const unsigned forbidden = rng() % 4;    // 0, 1/8, 1/4, 3/8 of the cells
+    for (Eigen::Index j = 0; j < times; ++j) {
+      const bool dead = rng() % 15 == 0;
+      for (Eigen::Index k = 0; k < freqs; ++k) {
+        cost(k, j) = dead || rng() % 8 < forbidden ? kInf : static_cast<double>(rng() % levels);
+      }
+    }
+    const Eigen::VectorXi expected = BruteForcePath(x, lambda, cost);
+    const Eigen::VectorXi path = ProgrammePath(x, lambda, cost);
+    ASSERT_EQ(path, expected) << "trial " << trial << ", " << freqs << " frequencies, " << times
+                              << " times, lambda " << lambda;
+  }
+}
+
+TEST(RidgeProgramme, ReachesTheBruteForceOptimumOnRandomRealCosts) {
+  // Log-spaced frequencies and real costs as the ridge has them: the path's
+  // objective equals the optimum within rounding (kRelative: the totals are
+  // sums of a few hundred terms of order 1-10, each rounded to 1e-16
+  // relative; near-ties may pick another path of the same total).
+  constexpr double kRelative = 1e-12;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    const Eigen::Index freqs = 20 + static_cast<Eigen::Index>(rng() % 140), times = 200;
+    const Eigen::VectorXd x =
+        (Eigen::VectorXd::LinSpaced(freqs, 0.0, static_cast<double>(freqs - 1)) * (std::log(2.0) / 32.0))
+            .array() +
+        std::log(10.0);
+    const double lambda = 5.0 + 30.0 * uniform(rng);
+    Eigen::MatrixXd cost(freqs, times);
+    double centre = static_cast<double>(freqs) / 2.0;
+    for (Eigen::Index j = 0; j < times; ++j) {
+      centre = std::clamp(centre + 2.0 * (uniform(rng) - 0.5), 0.0, static_cast<double>(freqs - 1));
+      for (Eigen::Index k = 0; k < freqs; ++k) {
+        const double d = (static_cast<double>(k) - centre) / 8.0;
+        cost(k, j) = d * d + 3.0 * uniform(rng) + (uniform(rng) < 0.02 ? kInf : 0.0);
+      }
+    }
+    const double optimum = PathTotal(x, lambda, cost, BruteForcePath(x, lambda, cost));
+    const double total = PathTotal(x, lambda, cost, ProgrammePath(x, lambda, cost));
+    ASSERT_TRUE(std::isfinite(optimum));
+    EXPECT_NEAR(total, optimum, kRelative * optimum) << "trial " << trial;
+  }
+}
+
+}  // namespace
+}  // namespace podid::wavelet
