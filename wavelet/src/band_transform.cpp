@@ -111,13 +111,13 @@ double BandTransform::PlannedBytes(Eigen::Index samples,
   *times = z.times;
   *block_times = z.block_times;
   return 8.0 * static_cast<double>(z.filter_bins) + 24.0 * static_cast<double>(z.pb) +
-         16.0 * static_cast<double>(z.mb) + (z.blocks > 1 ? 8.0 * static_cast<double>(samples) : 0.0);
+         32.0 * static_cast<double>(z.mb) + (z.blocks > 1 ? 8.0 * static_cast<double>(samples) : 0.0);
 }
 
 double BandTransform::Bytes() const {
   Eigen::Index bins = 0;
   for (const auto& f : filters_) bins += static_cast<Eigen::Index>(f.size());
-  return 8.0 * static_cast<double>(bins) + 24.0 * static_cast<double>(pb_) + 16.0 * static_cast<double>(mb_) +
+  return 8.0 * static_cast<double>(bins) + 24.0 * static_cast<double>(pb_) + 32.0 * static_cast<double>(mb_) +
          8.0 * static_cast<double>(signal_.size());
 }
 
@@ -158,10 +158,12 @@ bool BandTransform::Layout(Eigen::Index samples, double step_s, double max_block
   }
   const bool measure = options_.planning == FftPlanning::kMeasure;
   forward_ = RealForwardPlan(static_cast<int>(pb_), measure);
-  backward_ = ComplexBackwardPlan(static_cast<int>(mb_), measure);
+  // Out of place (a batch of one): FFTW's in-place plans copy through a buffer.
+  backward_ = BatchedBackwardPlan(static_cast<int>(mb_), 1, measure);
   segment_ = AllocateReal(static_cast<std::size_t>(pb_));
   spectrum_ = AllocateComplex(static_cast<std::size_t>(pb_ / 2 + 1));
   work_ = AllocateComplex(static_cast<std::size_t>(mb_));
+  inverse_ = AllocateComplex(static_cast<std::size_t>(mb_));
   signal_.resize(blocks_ > 1 ? n_ : 0);
   return true;
 }
@@ -186,7 +188,11 @@ void BandTransform::SetSignal(const Eigen::Ref<const Eigen::VectorXd>& signal) {
   }
   if (blocks_ > 1) return;
   const Eigen::Index r = (p_ - n_ + 1) / 2;
-  if (options_.padding == Padding::kReflect) {
+  if (options_.padding == Padding::kReflect && r <= n_ - 2 && p_ - n_ - r <= n_ - 2) {
+    // Mirror's values without its modulo: one reflection at each end.
+    for (Eigen::Index i = n_; i < n_ + r; ++i) x[i] = x[2 * n_ - 2 - i];
+    for (Eigen::Index i = n_ + r; i < p_; ++i) x[i] = x[p_ - i];
+  } else if (options_.padding == Padding::kReflect) {
     for (Eigen::Index i = n_; i < n_ + r; ++i) x[i] = x[Mirror(i, n_)];
     for (Eigen::Index i = n_ + r; i < p_; ++i) x[i] = x[Mirror(i - p_, n_)];
   } else if (options_.padding == Padding::kZero) {
@@ -222,7 +228,7 @@ void BandTransform::LoadBlock(Eigen::Index b) {
   loaded_ = b;
 }
 
-void BandTransform::Synthesise(Eigen::Index k, bool derivative, Complex* out) const {
+const Complex* BandTransform::Synthesise(Eigen::Index k, bool derivative) const {
   PODID_CHECK(loaded_ >= 0 && k >= 0 && k < scales_s_.size());
   Complex* w = work_.get();
   const auto& filter = filters_[static_cast<std::size_t>(k)];
@@ -260,8 +266,8 @@ void BandTransform::Synthesise(Eigen::Index k, bool derivative, Complex* out) co
       for (Eigen::Index i = negative; i < size; ++i) w[slot(i)] = x[a + i] * gain[i];
     }
   }
-  fftw_execute_dft(backward_, AsFftw(w), AsFftw(w));
-  std::copy(w + h_ / d_, w + h_ / d_ + block_times(loaded_), out);
+  fftw_execute_dft(backward_, AsFftw(w), AsFftw(inverse_.get()));
+  return inverse_.get() + h_ / d_;
 }
 
 }  // namespace podid::wavelet::internal

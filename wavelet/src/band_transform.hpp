@@ -45,8 +45,9 @@ class BandTransform {
   /// Forward FFT of block b's segment (blocks() of them).
   void LoadBlock(Eigen::Index b);
   /// W (derivative: dW/dt in 1/s) of scale k at the loaded block's output
-  /// times, in the scaled signal's units: (dim block_times(b)) written to out.
-  void Synthesise(Eigen::Index k, bool derivative, std::complex<double>* out) const;
+  /// times, in the scaled signal's units: (dim block_times(b)), read in place
+  /// from the inverse FFT's buffer (no copy), valid until the next call.
+  const std::complex<double>* Synthesise(Eigen::Index k, bool derivative) const;
 
   Eigen::Index blocks() const { return blocks_; }
   Eigen::Index block_first(Eigen::Index b) const { return b * block_times_; }
@@ -107,7 +108,7 @@ class BandTransform {
   fftw_plan forward_ = nullptr, backward_ = nullptr;
   RealBuffer segment_;
   ComplexBuffer spectrum_;
-  mutable ComplexBuffer work_;
+  mutable ComplexBuffer work_, inverse_;  // the inverse FFT's input and output
 };
 
 }  // namespace podid::wavelet::internal

@@ -10,7 +10,7 @@ namespace podid::wavelet::internal {
 namespace {
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define PODID_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define PODID_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define PODID_CLONES
 #endif

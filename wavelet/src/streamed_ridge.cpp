@@ -41,11 +41,10 @@ struct RidgeFrequencyEstimator::Impl {
   // streamed
   std::unique_ptr<internal::BandTransform> band;
   std::unique_ptr<internal::RidgeProgramme> programme;
-  Eigen::MatrixXcd kept;      // one block: W of every scale (block times x freqs)
+  Eigen::MatrixXcd kept;      // one block: W of every scale (block times x freqs), unscaled
   Eigen::MatrixXd cost;       // -log|W| of a block (block times x freqs)
   Eigen::MatrixXd tile;       // kTile times of cost, frequency-major
-  Eigen::VectorXcd column;    // one scale's W over a block
-  Eigen::MatrixXcd cache_w, cache_d;  // pass 2: W and dW/dt at the path's scales
+  Eigen::MatrixXcd cache_w, cache_d;  // pass 2: W (unscaled) and dW/dt at the path's scales
   std::vector<int> slot_w, slot_d;    // scale -> column of cache_w / cache_d, -1: absent
   std::vector<internal::RidgeSample> samples;
   Eigen::VectorXd path_magnitude;  // |W| on the path, coefficient units
@@ -105,7 +104,6 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
   const Eigen::Index block = b.max_block_times();
   cost.resize(block, freqs);
   tile.resize(freqs, kTile);
-  column.resize(block);
   if (b.blocks() == 1) {
     kept.resize(block, freqs);
   } else {
@@ -127,9 +125,10 @@ void RidgeFrequencyEstimator::Impl::Streamed(const Eigen::Ref<const Eigen::Vecto
     b.LoadBlock(block);
     const Eigen::Index count = b.block_times(block);
     for (Eigen::Index k = 0; k < freqs; ++k) {
-      b.Synthesise(k, false, column.data());
-      internal::RidgeCost(column.data(), count, 1.0, cost.col(k).data());
-      if (b.blocks() == 1) kept.col(k).head(count) = column.head(count) * output_scale;
+      const Complex* w = b.Synthesise(k, false);
+      internal::RidgeCost(w, count, 1.0, cost.col(k).data());
+      // Unscaled: Track multiplies by output_scale (a power of 2, exact).
+      if (b.blocks() == 1) std::copy(w, w + count, kept.col(k).data());
     }
     // The programme reads a time column: transpose tiles of kTile times into
     // frequency-major order (a strided read of a large block would miss the
@@ -162,8 +161,8 @@ void RidgeFrequencyEstimator::Impl::BlockScales(Eigen::Index first, Eigen::Index
   for (int k = 0; k < freqs; ++k) {
     const int u = slot_w[static_cast<std::size_t>(k)];
     if (u < 0) continue;
-    b.Synthesise(k, false, column.data());
-    cache_w.col(u) = column.head(count) * output_scale;
+    const Complex* w = b.Synthesise(k, false);
+    std::copy(w, w + count, cache_w.col(u).data());
   }
 }
 
@@ -194,7 +193,7 @@ void RidgeFrequencyEstimator::Impl::Track(const Eigen::VectorXi& path) {
     }
     const Eigen::MatrixXcd& w = b.blocks() > 1 ? cache_w : kept;
     const auto at = [&](Eigen::Index i, int k) -> Complex {
-      return b.blocks() > 1 ? w(i, slot_w[static_cast<std::size_t>(k)]) : w(i, k);
+      return (b.blocks() > 1 ? w(i, slot_w[static_cast<std::size_t>(k)]) : w(i, k)) * output_scale;
     };
     // Refined samples, and the scales whose dW/dt the phase IF needs.
     std::fill(slot_d.begin(), slot_d.end(), -1);
@@ -223,8 +222,8 @@ void RidgeFrequencyEstimator::Impl::Track(const Eigen::VectorXi& path) {
     for (int k = 0; k < freqs; ++k) {
       const int u = slot_d[static_cast<std::size_t>(k)];
       if (u < 0) continue;
-      b.Synthesise(k, true, column.data());
-      cache_d.col(u) = column.head(count) * output_scale;
+      const Complex* w = b.Synthesise(k, true);
+      cache_d.col(u) = Eigen::Map<const Eigen::VectorXcd>(w, count) * output_scale;
     }
     for (Eigen::Index i = 0; i < count; ++i) {
       const Eigen::Index j = first + i;
