@@ -8,10 +8,15 @@
 //    all cores OpenMP gives it (both cores of the reference machine): <= 2 s.
 #include <benchmark/benchmark.h>
 
+#include <sys/resource.h>
+
+#include <cmath>
 #include <ctime>
+#include <fstream>
 #include <string>
 
 #include "podid/core/case_file.hpp"
+#include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
 #include "podid/ident/landscape.hpp"
 #include "podid/ident/objective.hpp"
@@ -89,6 +94,54 @@ void BM_EvaluateWaveletChanging1s(benchmark::State& state) {
   if (failed) state.SkipWithError("an evaluation failed");
 }
 BENCHMARK(BM_EvaluateWaveletChanging1s)->Unit(benchmark::kMillisecond);
+
+// Issue 13 item 3: one `wavelet` evaluation (dU + dS + dIF) on the whole
+// Silverbox record (../shared/realdata/silverbox/SNLS80mV.mat: V2 measured,
+// V1 the force; 131,072 samples at 610.35 Hz), examples/silverbox's 1x1
+// Duffing model at its start values with data.window widened to the whole
+// record, the ridge over 10-300 Hz (157 frequencies, as BM_SilverboxRidge).
+// Argument: Newmark sub-steps per sample (16 as the example, 1). Steady
+// state: the measured ridge and the workspace are built before the loop.
+void BM_EvaluateWaveletSilverbox(benchmark::State& state) {
+  const std::string mat = std::string(PODID_TEST_DATA_DIR) + "/../../../shared/realdata/silverbox/SNLS80mV.mat";
+  if (!std::ifstream(mat).good()) {
+    state.SkipWithError("no ../shared/realdata/silverbox/SNLS80mV.mat");
+    return;
+  }
+  CaseDocument document = CaseDocument::Load(std::string(PODID_EXAMPLES_DIR) + "/silverbox/silverbox.toml");
+  const double step_s = std::ldexp(1.0, 14) / 1e7;
+  document.Set("data.file", "\"" + mat + "\"");
+  document.Set("integrator.substeps", ToText(state.range(0)));
+  MatReadOptions read;
+  read.variable = "V2";
+  read.step_s = step_s;
+  TimeSeries measured = ReadMat(mat, read);
+  measured.channel_names = {"y"};  // the sensor [data] channels = ["V2"] names
+  const double last_s = measured.time_s[measured.samples() - 1];
+  document.Set("data.window", "[" + ToText(-0.5 * step_s) + ", " + ToText(last_s + 0.5 * step_s) + "]");
+  const ident::ObjectiveWeights weights = ident::ObjectiveWeights::Preset("wavelet");
+  ident::ObjectiveOptions options;
+  options.SetWeights(weights);
+  options.ridge.cwt.frequencies.max_frequency_Hz = 300.0;
+  const ident::ObjectiveFunction objective(document, measured, options);
+  ident::EvaluationWorkspace workspace;
+  const Eigen::VectorXd values = objective.StartValues();
+  ident::Evaluation e = objective.Evaluate(values, &workspace);  // buffers, plans
+  for (auto _ : state) {
+    e = objective.Evaluate(values, &workspace);
+    benchmark::ClobberMemory();
+  }
+  if (e.failed()) {
+    state.SkipWithError(e.terms.failure.c_str());
+    return;
+  }
+  state.counters["samples"] = static_cast<double>(measured.samples());
+  state.counters["objective"] = e.terms.Combine(weights, objective.options().failure_value);
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  state.counters["peak_RSS_MB"] = static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+BENCHMARK(BM_EvaluateWaveletSilverbox)->Arg(16)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // How often the simulated POD falls back from the Gram (direct) method to
 // the SVD (issue 11 item 5): over 201 values of knl in [0, 200], the case's
