@@ -128,29 +128,36 @@ void RidgeProgramme::Relax(const double* cost, Eigen::Index stride, Index* back)
   double* zn = zn_.data();
   double* zd = zd_.data();
   const double lambda = lambda_;
-  Eigen::Index top = -1;
-  for (Eigen::Index p = 0; p < freqs; ++p) {
+  // The first finite parabola is the stack's bottom, zn = -inf: no later
+  // one pops it (num * 1 <= -inf is false for finite num), so the pop loop
+  // needs no bound check.
+  Eigen::Index first = 0;
+  while (first < freqs && !std::isfinite(pv[first])) ++first;
+  PODID_CHECK(first < freqs);  // before >= 0: prev has a finite entry
+  Eigen::Index top = 0;
+  v[0] = first;
+  xv[0] = xs[first];
+  hs[0] = pv[first] + x2[first];
+  zn[0] = -kInf;
+  zd[0] = 1.0;
+  for (Eigen::Index p = first + 1; p < freqs; ++p) {
     if (!std::isfinite(pv[p])) continue;  // forbidden or unreachable
     const double hp = pv[p] + x2[p];
     const double tx = xs[p];
-    double num = -kInf, den = 1.0;
-    while (top >= 0) {
+    double num = hp - hs[top];
+    double den = 2.0 * lambda * (tx - xv[top]);
+    while (num * zd[top] <= zn[top] * den) {
+      --top;
       num = hp - hs[top];
       den = 2.0 * lambda * (tx - xv[top]);
-      if (num * zd[top] <= zn[top] * den) {
-        --top;
-      } else {
-        break;
-      }
     }
     ++top;
     v[top] = p;
     xv[top] = tx;
     hs[top] = hp;
-    zn[top] = top == 0 ? -kInf : num;
-    zd[top] = top == 0 ? 1.0 : den;
+    zn[top] = num;
+    zd[top] = den;
   }
-  PODID_CHECK(top >= 0);  // before >= 0: prev has a finite entry
   zn[top + 1] = kInf;
   zd[top + 1] = 1.0;
   double* out = next_.data();
