@@ -107,7 +107,7 @@ double StatusMB(const std::string& field) {
 // Silverbox record (../shared/realdata/silverbox/SNLS80mV.mat: V2 measured,
 // V1 the force; 131,072 samples at 610.35 Hz), examples/silverbox's 1x1
 // Duffing model at its start values with data.window widened to the whole
-// record, the ridge over 10-300 Hz (157 frequencies, as BM_SilverboxRidge).
+// record, the ridge over 10-300 Hz (158 frequencies, as BM_SilverboxRidge).
 // Argument: Newmark sub-steps per sample (16 as the example, 1). Steady
 // state: the measured ridge and the workspace are built before the loop.
 // evaluation_peak_MB: run each argument alone (--benchmark_filter), since a

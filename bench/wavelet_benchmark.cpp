@@ -104,7 +104,7 @@ BENCHMARK(BM_LongRecordRidgeFirstCall)
 
 // Issue 13 item 3: the wavelet objective's ridge on the Silverbox record
 // (../shared/realdata/silverbox/SNLS80mV.mat, V2: 131,072 samples at
-// 10^7 / 2^14 Hz = 610.35 Hz), 10-300 Hz at 32 voices (157 frequencies),
+// 10^7 / 2^14 Hz = 610.35 Hz), 10-300 Hz at 32 voices (158 frequencies),
 // the objective's reflect padding and coi 1. The band reaches Nyquist: no
 // decimation, 20.6 M output cells. Steady state (the estimator reused, as
 // the objective reuses it per evaluation); second argument as above.
