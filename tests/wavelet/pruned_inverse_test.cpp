@@ -64,7 +64,8 @@ TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
   // that make the band wrap around the end of a block.
   const std::vector<std::pair<Eigen::Index, Eigen::Index>> bands = {
       {-40, 100}, {7, 60}, {2400, 121}, {-2519, 80}, {300, 1200}, {-1000, 2500}, {1, 1}};
-  std::vector<Complex> work(static_cast<std::size_t>(p)), out(static_cast<std::size_t>(p)),
+  std::vector<Complex> work(static_cast<std::size_t>(PrunedInverse::WorkSize(p))),
+      out(static_cast<std::size_t>(p)),
       column(static_cast<std::size_t>(p));
   std::vector<float> magnitude(static_cast<std::size_t>(p));
   for (const auto& [first, bins] : bands) {
@@ -83,23 +84,31 @@ TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
     int tried = 0;
     for (Eigen::Index d = 1; d <= PrunedInverse::kMaxDecimation; ++d) {
       if (p % d != 0 || p / d < bins) continue;
-      ++tried;
-      inverse.Execute(spectrum.data(), filter.data(), first, bins, d, inverse.Plan(d),
-                      work.data(), out.data());
-      // times = P - 3: a last row of blocks only partly used.
-      const Eigen::Index times = p - 3;
-      inverse.Gather(out.data(), d, times, 1.0, column.data());
-      inverse.GatherMagnitude(out.data(), d, times, 1.0, magnitude.data());
-      double worst = 0.0, worst_magnitude = 0.0;
-      for (Eigen::Index j = 0; j < times; ++j) {
-        const auto u = static_cast<std::size_t>(j);
-        worst = std::max(worst, std::abs(column[u] - direct[u]));
-        worst_magnitude = std::max(
-            worst_magnitude, std::abs(static_cast<double>(magnitude[u]) - std::abs(direct[u])));
+      // Every batch size G dividing D: the blocks transformed G at a time.
+      for (Eigen::Index batch = 1; batch <= d; ++batch) {
+        if (d % batch != 0) continue;
+        ++tried;
+        std::fill(out.begin(), out.end(),
+                  Complex(std::nan(""), 0.0));  // every entry must be written
+        inverse.Execute(spectrum.data(), filter.data(), first, bins, d, batch,
+                        inverse.Plan(d, batch), work.data(), out.data());
+        // times = P - 3: a last row of blocks only partly used.
+        const Eigen::Index times = p - 3;
+        inverse.Gather(out.data(), first, d, times, 1.0, column.data());
+        inverse.GatherMagnitude(out.data(), d, times, 1.0, magnitude.data());
+        double worst = 0.0, worst_magnitude = 0.0;
+        for (Eigen::Index j = 0; j < times; ++j) {
+          const auto u = static_cast<std::size_t>(j);
+          worst = std::max(worst, std::abs(column[u] - direct[u]));
+          worst_magnitude = std::max(
+              worst_magnitude, std::abs(static_cast<double>(magnitude[u]) - std::abs(direct[u])));
+        }
+        EXPECT_LE(worst, kRelativeTolerance * l1)
+            << "band " << first << "+" << bins << " D " << d << " G " << batch;
+        // float rounding: 2^-24 of |y| <= sum |Y_b|.
+        EXPECT_LE(worst_magnitude, 6e-8 * l1)
+            << "band " << first << "+" << bins << " D " << d << " G " << batch;
       }
-      EXPECT_LE(worst, kRelativeTolerance * l1) << "band " << first << "+" << bins << " D " << d;
-      // float rounding: 2^-24 of |y| <= sum |Y_b|.
-      EXPECT_LE(worst_magnitude, 6e-8 * l1) << "band " << first << "+" << bins << " D " << d;
     }
     EXPECT_GE(tried, 1);
     const Eigen::Index chosen = PrunedInverse::Decimation(p, bins);
@@ -113,6 +122,11 @@ TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
   EXPECT_EQ(PrunedInverse::Decimation(1 << 20, 3), 64);
   EXPECT_EQ(PrunedInverse::Decimation(p, 2521), 1);
   EXPECT_EQ(PrunedInverse::Decimation(p, 2520), 2);
+  // The batch: the largest divisor of D whose G M points fit kBatchPoints.
+  EXPECT_EQ(PrunedInverse::Batch(p, 16), 16);
+  EXPECT_EQ(PrunedInverse::Batch(102400, 16), 2);  // M = 6400: 2 x 6400 <= 16384 < 4 x 6400
+  EXPECT_EQ(PrunedInverse::Batch(102400, 2), 1);
+  EXPECT_EQ(PrunedInverse::Batch(102400, 1), 1);
 }
 
 TEST(PrunedInverse, FullRateCwtAtLargeDecimationsEqualsTheDirectSum) {

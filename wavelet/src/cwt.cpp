@@ -385,13 +385,15 @@ FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
   if (z.p > (1 << 27)) ThrowInvalid("FFT lengths", "at most 2^27 points", ToText(z.p));
   FftLengths lengths{{static_cast<int>(z.p)}, {static_cast<int>(z.m)}, {}};
   if (!impl_->options.band_limited) {
-    // The full-rate path's pruned inverses, one plan per distinct D.
+    // The full-rate path's pruned inverses, one plan per distinct D: batches
+    // of G inverses of length M = P / D.
     for (Eigen::Index k = 0; k < impl_->scales_s.size(); ++k) {
       Eigen::Index a = 0, b = 0;
       impl_->Band(k, z.p, step_s, &a, &b);
       const Eigen::Index d =
           internal::PrunedInverse::Decimation(z.p, std::max<Eigen::Index>(b - a + 1, 1));
-      const std::pair<int, int> pair(static_cast<int>(z.p / d), static_cast<int>(d));
+      const std::pair<int, int> pair(static_cast<int>(z.p / d),
+                                     static_cast<int>(internal::PrunedInverse::Batch(z.p, d)));
       auto& list = lengths.interleaved_backward;
       if (std::find(list.begin(), list.end(), pair) == list.end()) list.push_back(pair);
     }

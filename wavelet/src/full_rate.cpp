@@ -9,7 +9,8 @@
 namespace podid::wavelet::internal {
 
 double FullRateCwt::Bytes(Eigen::Index p, int threads) {
-  return 16.0 * static_cast<double>(p) * (1.0 + 2.0 * static_cast<double>(threads));
+  const auto work = static_cast<double>(PrunedInverse::WorkSize(p));
+  return 16.0 * (static_cast<double>(p) + (work + static_cast<double>(p)) * threads);
 }
 
 void FullRateCwt::Layout(Eigen::Index p,
@@ -23,13 +24,15 @@ void FullRateCwt::Layout(Eigen::Index p,
   filters_ = &filters;
   const std::size_t scales = filters.size();
   decimation_.resize(scales);
+  batch_.resize(scales);
   plans_.resize(scales);
   std::vector<double> cost(scales);
   for (std::size_t k = 0; k < scales; ++k) {
     const auto bins = static_cast<Eigen::Index>(filters[k].size());
     const Eigen::Index d = PrunedInverse::Decimation(p, std::max<Eigen::Index>(bins, 1));
     decimation_[k] = d;
-    plans_[k] = inverse_.Plan(d);
+    batch_[k] = PrunedInverse::Batch(p, d);
+    plans_[k] = inverse_.Plan(d, batch_[k]);
     // FFT flops plus the twiddle pass, in units of complex products.
     cost[k] = static_cast<double>(p) * std::log2(static_cast<double>(p / d) + 1.0) +
               2.0 * static_cast<double>(d * bins);
@@ -51,7 +54,7 @@ void FullRateCwt::Layout(Eigen::Index p,
   input_.clear();
   output_.clear();
   for (int t = 0; t < threads; ++t) {
-    input_.push_back(AllocateComplex(static_cast<std::size_t>(p)));
+    input_.push_back(AllocateComplex(static_cast<std::size_t>(PrunedInverse::WorkSize(p))));
     output_.push_back(AllocateComplex(static_cast<std::size_t>(p)));
   }
   plan_alignment_ = fftw_alignment_of(reinterpret_cast<double*>(output_.front().get()));
@@ -108,12 +111,12 @@ void FullRateCwt::RunScales(int thread,
     const bool direct = d == 1 && column != nullptr && (end - k) * times >= p &&
                         fftw_alignment_of(reinterpret_cast<double*>(column)) == plan_alignment_;
     Complex* out = direct ? column : own_output;
-    inverse_.Execute(spectrum, filter.data(), a, bins, d, plans_[static_cast<std::size_t>(k)], input,
-                     out);
+    inverse_.Execute(spectrum, filter.data(), a, bins, d, batch_[static_cast<std::size_t>(k)],
+                     plans_[static_cast<std::size_t>(k)], input, out);
     if (magnitude != nullptr) {
       inverse_.GatherMagnitude(out, d, times, output_scale, magnitude + k * times);
     } else if (!direct) {
-      inverse_.Gather(out, d, times, output_scale, column);
+      inverse_.Gather(out, a, d, times, output_scale, column);
     } else if (output_scale != 1.0) {
       for (Eigen::Index j = 0; j < times; ++j) column[j] *= output_scale;
     }

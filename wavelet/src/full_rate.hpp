@@ -18,7 +18,7 @@ class FullRateCwt {
   using Complex = std::complex<double>;
 
   /// Bytes Layout() allocates: the twiddle table and, per thread, the pruned
-  /// inverse's input and output (P each).
+  /// inverse's scratch (PrunedInverse::WorkSize) and output (P).
   static double Bytes(Eigen::Index p, int threads);
 
   /// Plans (one per distinct D) and buffers for padded length p and the
@@ -53,6 +53,7 @@ class FullRateCwt {
   const std::vector<Eigen::Index>* band_first_ = nullptr;
   const std::vector<std::vector<double>>* filters_ = nullptr;
   std::vector<Eigen::Index> decimation_;   // per scale
+  std::vector<Eigen::Index> batch_;        // per scale: blocks per FFTW call
   std::vector<fftw_plan> plans_;           // per scale
   std::vector<Eigen::Index> chunk_begin_;  // threads + 1: thread t runs [begin_t, begin_t+1)
   int plan_alignment_ = 0;                 // fftw_alignment_of the planned arrays

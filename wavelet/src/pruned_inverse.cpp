@@ -13,11 +13,6 @@
 namespace podid::wavelet::internal {
 namespace {
 
-// Twiddle products per exact table look-up: within a run of kRun bins the
-// twiddle is w^(t0) w^(j r), two table values (one rounding each) and one
-// product, so the error stays at a few ulp however long the band.
-constexpr Eigen::Index kRun = 16;
-
 // a * b written out: std::complex's operator* checks for NaN (a call to
 // __muldc3 on the slow path) and does not vectorise.
 inline void Multiply(const double* a, const double* b, double* out) {
@@ -51,9 +46,19 @@ Eigen::Index PrunedInverse::Decimation(Eigen::Index p, Eigen::Index bins) {
   return d;
 }
 
-fftw_plan PrunedInverse::Plan(Eigen::Index d) const {
-  PODID_CHECK(d >= 1 && p_ % d == 0);
-  return BatchedBackwardPlan(static_cast<int>(p_ / d), static_cast<int>(d), measure_);
+Eigen::Index PrunedInverse::Batch(Eigen::Index p, Eigen::Index d) {
+  PODID_CHECK(p >= 1 && d >= 1 && p % d == 0);
+  const Eigen::Index m = p / d;
+  Eigen::Index best = 1;
+  for (Eigen::Index g = 2; g <= d; ++g) {
+    if (d % g == 0 && g * m <= kBatchPoints) best = g;
+  }
+  return best;
+}
+
+fftw_plan PrunedInverse::Plan(Eigen::Index d, Eigen::Index batch) const {
+  PODID_CHECK(d >= 1 && p_ % d == 0 && batch >= 1 && d % batch == 0);
+  return BatchedBackwardPlan(static_cast<int>(p_ / d), static_cast<int>(batch), measure_);
 }
 
 void PrunedInverse::Execute(const Complex* spectrum,
@@ -61,18 +66,18 @@ void PrunedInverse::Execute(const Complex* spectrum,
                             Eigen::Index first_bin,
                             Eigen::Index bins,
                             Eigen::Index d,
+                            Eigen::Index batch,
                             fftw_plan plan,
                             Complex* work,
                             Complex* out) const {
   const Eigen::Index m = p_ / d;
-  PODID_CHECK(d >= 1 && p_ % d == 0 && bins >= 1 && bins <= m);
+  PODID_CHECK(d >= 1 && p_ % d == 0 && bins >= 1 && bins <= m && batch >= 1 && d % batch == 0);
   PODID_CHECK(first_bin >= -((p_ - 1) / 2) && first_bin + bins - 1 <= p_ / 2);
   // The band lies at slots [slot0, slot0 + head) and [0, tail) of each block.
   const Eigen::Index slot0 = ((first_bin % m) + m) % m;
   const Eigen::Index head = std::min(bins, m - slot0);
   const Eigen::Index tail = bins - head;
-  const Eigen::Index a = ((first_bin % p_) + p_) % p_;  // first bin mod P
-  // Block 0 (r = 0, no twiddle): Y_b = X_b filter, X_-b = conj X_b.
+  // Y_b = X_b filter (X_-b = conj X_b) for bins i_begin .. i_begin + count - 1.
   const auto fill = [&](Eigen::Index i_begin, Eigen::Index count, Complex* dest) {
     const Eigen::Index first = first_bin + i_begin;
     const Eigen::Index negative = std::clamp<Eigen::Index>(-first, 0, count);
@@ -87,48 +92,58 @@ void PrunedInverse::Execute(const Complex* spectrum,
       to[2 * i + 1] = x[2 * i + 1] * g[i];
     }
   };
-  std::fill(work + tail, work + slot0, Complex(0.0, 0.0));
-  std::fill(work + slot0 + head, work + m, Complex(0.0, 0.0));
-  fill(0, head, work + slot0);
-  if (tail > 0) fill(head, tail, work);
-  const auto* tw = reinterpret_cast<const double*>(twiddle_.data());
-  double powers[2 * kRun];  // w^(j r), j < kRun
-  for (Eigen::Index r = 1; r < d; ++r) {
-    Complex* block = work + r * m;
+  const auto clear = [&](Complex* block) {
     std::fill(block + tail, block + slot0, Complex(0.0, 0.0));
     std::fill(block + slot0 + head, block + m, Complex(0.0, 0.0));
-    for (Eigen::Index j = 0; j < kRun; ++j) {
-      const Complex w = twiddle_[static_cast<std::size_t>((j * r) % p_)];
-      powers[2 * j] = w.real();
-      powers[2 * j + 1] = w.imag();
-    }
-    // Block r's slot of bin a + i is block 0's times w^((a + i) r).
-    const auto run = [&](Eigen::Index i_begin, Eigen::Index count, Eigen::Index slot) {
-      const auto* in = reinterpret_cast<const double*>(work + slot);
-      auto* to = reinterpret_cast<double*>(block + slot);
-      Eigen::Index t = ((a + i_begin) % p_) * r % p_;
-      const Eigen::Index stride = kRun * r % p_;
-      for (Eigen::Index i0 = 0; i0 < count; i0 += kRun) {
-        const double* base = tw + 2 * t;
-        const Eigen::Index n = std::min(kRun, count - i0);
-        for (Eigen::Index j = 0; j < n; ++j) {
-          double twiddle[2];
-          Multiply(base, powers + 2 * j, twiddle);
-          Multiply(in + 2 * (i0 + j), twiddle, to + 2 * (i0 + j));
-        }
-        t += stride;
-        if (t >= p_) t -= p_;
-      }
-    };
-    run(0, head, slot0);
-    if (tail > 0) run(head, tail, 0);
+  };
+  if (d == 1) {  // no twiddle: the band straight into its slots
+    clear(work);
+    fill(0, head, work + slot0);
+    if (tail > 0) fill(head, tail, work);
+    fftw_execute_dft(plan, AsFftw(work), AsFftw(out));
+    return;
   }
-  fftw_execute_dft(plan, AsFftw(work), AsFftw(out));
+  // The untwiddled band, kept apart: the batches overwrite the blocks.
+  Complex* band = work + batch * m;
+  fill(0, bins, band);
+  const auto* tw = reinterpret_cast<const double*>(twiddle_.data());
+  for (Eigen::Index r0 = 0; r0 < d; r0 += batch) {
+    for (Eigen::Index r = r0; r < r0 + batch; ++r) {
+      Complex* block = work + (r - r0) * m;
+      clear(block);
+      if (r == 0) {
+        std::copy(band, band + head, block + slot0);
+        std::copy(band + head, band + bins, block);
+        continue;
+      }
+      // Block r's slot of bin a + i is Y_(a+i) w^(i r); Gather applies the
+      // common factor w^(a r). i r < M D = P: one exact table value each.
+      const auto run = [&](Eigen::Index i_begin, Eigen::Index count, Eigen::Index slot) {
+        const auto* in = reinterpret_cast<const double*>(band + i_begin);
+        auto* to = reinterpret_cast<double*>(block + slot);
+        const double* w = tw + 2 * i_begin * r;
+        for (Eigen::Index i = 0; i < count; ++i) Multiply(in + 2 * i, w + 2 * i * r, to + 2 * i);
+      };
+      run(0, head, slot0);
+      if (tail > 0) run(head, tail, 0);
+    }
+    fftw_execute_dft(plan, AsFftw(work), AsFftw(out + r0 * m));
+  }
 }
 
-void PrunedInverse::Gather(const Complex* blocks, Eigen::Index d, Eigen::Index times,
-                           double scale, Complex* column) const {
+void PrunedInverse::Gather(const Complex* blocks, Eigen::Index first_bin, Eigen::Index d,
+                           Eigen::Index times, double scale, Complex* column) const {
+  PODID_CHECK(d >= 1 && d <= kMaxDecimation && p_ % d == 0);
   const Eigen::Index m = p_ / d;
+  const Eigen::Index a = ((first_bin % p_) + p_) % p_;
+  // Block r's factor scale w^(a r) (Execute leaves it out), as
+  // (re, re) and (-im, im) for the product v c = v re + swap(v) (-im, im).
+  double factor_re[kMaxDecimation], factor_im[kMaxDecimation];
+  for (Eigen::Index r = 0; r < d; ++r) {
+    const Complex c = scale * twiddle_[static_cast<std::size_t>(a * r % p_)];
+    factor_re[r] = c.real();
+    factor_im[r] = c.imag();
+  }
   const auto* in = reinterpret_cast<const double*>(blocks);
   auto* out = reinterpret_cast<double*>(column);
   // The output (16 bytes per value, 300 x 10^5 values in fCWT's case) is far
@@ -140,10 +155,15 @@ void PrunedInverse::Gather(const Complex* blocks, Eigen::Index d, Eigen::Index t
     for (Eigen::Index r = 0; r < count; ++r) {
       const double* v = in + 2 * (r * m + q);
 #if defined(__SSE2__)
-      _mm_stream_pd(out + 2 * (j0 + r), _mm_mul_pd(_mm_loadu_pd(v), _mm_set1_pd(scale)));
+      const __m128d x = _mm_loadu_pd(v);
+      const __m128d swapped = _mm_shuffle_pd(x, x, 1);
+      const __m128d product =
+          _mm_add_pd(_mm_mul_pd(x, _mm_set1_pd(factor_re[r])),
+                     _mm_mul_pd(swapped, _mm_set_pd(factor_im[r], -factor_im[r])));
+      _mm_stream_pd(out + 2 * (j0 + r), product);
 #else
-      out[2 * (j0 + r)] = v[0] * scale;
-      out[2 * (j0 + r) + 1] = v[1] * scale;
+      out[2 * (j0 + r)] = v[0] * factor_re[r] - v[1] * factor_im[r];
+      out[2 * (j0 + r) + 1] = v[1] * factor_re[r] + v[0] * factor_im[r];
 #endif
     }
   }

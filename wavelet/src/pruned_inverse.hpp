@@ -9,12 +9,16 @@
 // (q < M, r < D): w^(b (q D + r)) = exp(2 pi i b q / M) w^(b r), so
 //   y_(q D + r) = sum_b [Y_b w^(b r)] exp(2 pi i b q / M),
 // D inverse DFTs of length M, the r-th of the band twiddled by w^(b r) and
-// laid at slots b mod M (K <= M: no two bins share a slot). One FFTW plan
-// does all D into contiguous blocks (block r holds y_r, y_(D+r), ..), and a
-// gather pass interleaves them into the output. Cost: D M log M + D K
-// complex products + one pass over P values instead of P log P, with
-// transforms of length M that stay in cache. Exact: no approximation beyond
-// rounding (each twiddle is a product of two table values, about 2 ulp).
+// laid at slots b mod M (K <= M: no two bins share a slot); with b = a + i
+// the factor w^(a r) is common to block r, so the block is twiddled by w^(i r)
+// (one table value, i r < P) and w^(a r) applied as it is gathered. The blocks are
+// twiddled and transformed a batch of G at a time (one FFTW plan of G
+// inverses, G M points small enough to stay in the L2 cache with their
+// outputs) into contiguous blocks of the output (block r holds y_r, y_(D+r),
+// ..), and a gather pass interleaves them into the column. Cost: D M log M +
+// D K complex products + one pass over P values instead of P log P. Exact:
+// no approximation beyond rounding (two exact-to-1-ulp table values per
+// output: w^(i r) and w^(a r)).
 
 #include <Eigen/Core>
 #include <complex>
@@ -30,6 +34,10 @@ class PrunedInverse {
   /// Largest decimation tried; beyond it the per-transform overhead of
   /// inverse DFTs shorter than P / 64 outweighs the shorter log factor.
   static constexpr Eigen::Index kMaxDecimation = 64;
+  /// Points (complex doubles) of one batch of blocks: 16384 is 256 KiB, so a
+  /// batch's input and output stay in a 2 MiB L2 cache beside the rest of
+  /// the output buffer instead of making a round trip through memory.
+  static constexpr Eigen::Index kBatchPoints = 16384;
 
   /// For length p >= 1 (<= 2^27): fills the twiddle table, plans nothing.
   void Reset(Eigen::Index p, bool measure);
@@ -40,27 +48,36 @@ class PrunedInverse {
   /// Powers of 2 only: at most 7 plans per length (other divisors would add a
   /// plan for nearly every scale, each measured by `podid plan`).
   static Eigen::Index Decimation(Eigen::Index p, Eigen::Index bins);
-  /// The plan of D inverses of length P / D (cached process-wide).
-  fftw_plan Plan(Eigen::Index d) const;
+  /// G for decimation d at length p: the largest divisor of d with
+  /// G p / d <= kBatchPoints, at least 1 (so at D = 1 the whole length).
+  static Eigen::Index Batch(Eigen::Index p, Eigen::Index d);
+  /// Complex entries of Execute's scratch: a batch (<= P) and the band (<= P / 2).
+  static Eigen::Index WorkSize(Eigen::Index p) { return p + p / 2 + 1; }
+  /// The plan of `batch` inverses of length P / d (cached process-wide).
+  fftw_plan Plan(Eigen::Index d, Eigen::Index batch) const;
 
   /// y_0 .. y_(P-1) of the band Y_(a+i) = X_(a+i) filter[i], i < bins, into
-  /// out (P entries) as D blocks of M: y_(q D + r) at out[r M + q] (for D = 1
-  /// simply y in order). spectrum: X_0 .. X_(P/2) of a real signal (X_-b =
-  /// conj X_b), a >= -(P - 1) / 2, a + bins - 1 <= P / 2. work: P entries of
-  /// scratch (overwritten). `plan` is Plan(d); out and work must have
-  /// fftw_malloc's alignment modulo 16 (any std::complex<double> array has it).
+  /// out (P entries) as D blocks of M: w^(-a r) y_(q D + r) at out[r M + q]
+  /// (block r twiddled by w^(i r) only; Gather applies w^(a r), which
+  /// GatherMagnitude need not; for D = 1 simply y in order). spectrum: X_0 .. X_(P/2) of a real signal (X_-b =
+  /// conj X_b), a >= -(P - 1) / 2, a + bins - 1 <= P / 2. work: WorkSize(P)
+  /// entries of scratch (overwritten). `batch` divides d; `plan` is
+  /// Plan(d, batch); out and work must have fftw_malloc's alignment modulo 16
+  /// (any std::complex<double> array has it).
   void Execute(const Complex* spectrum,
                const double* filter,
                Eigen::Index first_bin,
                Eigen::Index bins,
                Eigen::Index d,
+               Eigen::Index batch,
                fftw_plan plan,
                Complex* work,
                Complex* out) const;
 
-  /// column[j] = scale * y_j, j < times (<= P), from Execute's blocks at decimation d.
-  void Gather(const Complex* blocks, Eigen::Index d, Eigen::Index times, double scale,
-              Complex* column) const;
+  /// column[j] = scale * y_j, j < times (<= P), from Execute's blocks of the
+  /// band starting at first_bin at decimation d.
+  void Gather(const Complex* blocks, Eigen::Index first_bin, Eigen::Index d, Eigen::Index times,
+              double scale, Complex* column) const;
   /// magnitude[j] = float(scale |y_j|), j < times, from Execute's blocks.
   void GatherMagnitude(const Complex* blocks, Eigen::Index d, Eigen::Index times, double scale,
                        float* magnitude) const;

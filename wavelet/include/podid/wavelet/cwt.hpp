@@ -273,8 +273,9 @@ struct Scalogram {
 };
 
 /// FFT lengths of a transform: the real forward length P, the complex
-/// inverse length(s) and, at full rate, the (M, D) pairs of the pruned
-/// inverse: D interleaved inverses of length M = P / D (see podid/wavelet/plans.hpp).
+/// inverse length(s) and, at full rate, the (M, G) pairs of the pruned
+/// inverse: batches of G inverses of length M = P / D, G dividing the
+/// decimation D (see podid/wavelet/plans.hpp).
 struct FftLengths {
   std::vector<int> real_forward;
   std::vector<int> complex_backward;
