@@ -1,7 +1,9 @@
 #include "full_rate.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <system_error>
 #include <thread>
 
 #include "podid/core/error.hpp"
@@ -35,22 +37,28 @@ void FullRateCwt::Layout(Eigen::Index p,
     plans_[k] = inverse_.Plan(d, batch_[k]);
     // FFT flops plus the twiddle pass, in units of complex products.
     cost[k] = static_cast<double>(p) * std::log2(static_cast<double>(p / d) + 1.0) +
-              2.0 * static_cast<double>(d * bins);
+              static_cast<double>(d * bins);
   }
-  // Contiguous runs of about equal cost (each thread writes its columns in
-  // order, so a column may spill into the next ones of the same run).
-  chunk_begin_.assign(static_cast<std::size_t>(threads) + 1, static_cast<Eigen::Index>(scales));
+  // Contiguous chunks of about equal cost (a thread writes a chunk's columns
+  // in order, so a column may spill into the next ones of the same chunk).
+  // With several threads, kChunksPerThread chunks each, taken in turn from a
+  // counter: a thread slowed down (a busy core, an expensive scale) takes
+  // fewer chunks instead of making the others wait.
+  const std::size_t chunks =
+      threads == 1 ? 1 : std::min(scales, static_cast<std::size_t>(threads) * kChunksPerThread);
+  chunk_begin_.assign(chunks + 1, static_cast<Eigen::Index>(scales));
   chunk_begin_[0] = 0;
   double total = 0.0;
   for (double c : cost) total += c;
   double sum = 0.0;
-  int next = 1;
-  for (std::size_t k = 0; k < scales && next < threads; ++k) {
+  std::size_t next = 1;
+  for (std::size_t k = 0; k < scales && next < chunks; ++k) {
     sum += cost[k];
-    while (next < threads && sum >= total * next / threads) {
-      chunk_begin_[static_cast<std::size_t>(next++)] = static_cast<Eigen::Index>(k) + 1;
+    while (next < chunks && sum >= total * static_cast<double>(next) / static_cast<double>(chunks)) {
+      chunk_begin_[next++] = static_cast<Eigen::Index>(k) + 1;
     }
   }
+  threads_ = threads;
   input_.clear();
   output_.clear();
   for (int t = 0; t < threads; ++t) {
@@ -66,21 +74,28 @@ void FullRateCwt::Compute(const Complex* spectrum,
                           Complex* coefficients,
                           float* magnitude) const {
   PODID_CHECK(times >= 1 && times <= inverse_.length());
-  const int threads = static_cast<int>(chunk_begin_.size()) - 1;
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) {
-    if (chunk_begin_[static_cast<std::size_t>(t)] == chunk_begin_[static_cast<std::size_t>(t) + 1]) {
-      continue;
+  const auto chunks = static_cast<int>(chunk_begin_.size()) - 1;
+  std::atomic<int> next_chunk{0};
+  const auto work = [&](int thread) {
+    for (int c = next_chunk++; c < chunks; c = next_chunk++) {
+      RunScales(thread, c, spectrum, times, output_scale, coefficients, magnitude);
     }
-    pool.emplace_back(
-        [=, this] { RunScales(t, spectrum, times, output_scale, coefficients, magnitude); });
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::min(threads_, chunks); ++t) {
+    try {
+      pool.emplace_back(work, t);
+    } catch (const std::system_error&) {
+      break;  // no more threads: the running ones take the remaining chunks
+    }
   }
-  RunScales(0, spectrum, times, output_scale, coefficients, magnitude);
+  work(0);
   for (auto& thread : pool) thread.join();
 }
 
 // Nothing here throws: PODID_CHECK aborts, and the buffers exist already.
 void FullRateCwt::RunScales(int thread,
+                            int chunk,
                             const Complex* spectrum,
                             Eigen::Index times,
                             double output_scale,
@@ -88,10 +103,11 @@ void FullRateCwt::RunScales(int thread,
                             float* magnitude) const {
   const auto t = static_cast<std::size_t>(thread);
   const Eigen::Index p = inverse_.length();
-  const Eigen::Index end = chunk_begin_[t + 1];
+  const auto c = static_cast<std::size_t>(chunk);
+  const Eigen::Index end = chunk_begin_[c + 1];
   Complex* input = input_[t].get();
   Complex* own_output = output_[t].get();
-  for (Eigen::Index k = chunk_begin_[t]; k < end; ++k) {
+  for (Eigen::Index k = chunk_begin_[c]; k < end; ++k) {
     const auto& filter = (*filters_)[static_cast<std::size_t>(k)];
     const Eigen::Index a = (*band_first_)[static_cast<std::size_t>(k)];
     const auto bins = static_cast<Eigen::Index>(filter.size());
@@ -104,7 +120,7 @@ void FullRateCwt::RunScales(int thread,
       continue;
     }
     // At D = 1 the column itself takes all P outputs when P values from its
-    // start stay inside this thread's later columns (overwritten when their
+    // start stay inside this chunk's later columns (overwritten when their
     // turn comes): no copy.
     const Eigen::Index d = decimation_[static_cast<std::size_t>(k)];
     Complex* column = coefficients == nullptr ? nullptr : coefficients + k * times;

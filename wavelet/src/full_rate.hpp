@@ -16,6 +16,10 @@ namespace podid::wavelet::internal {
 class FullRateCwt {
  public:
   using Complex = std::complex<double>;
+  /// Chunks per thread when threads > 1: enough to even out unequal threads,
+  /// few enough that the chunk ends (whose last column cannot spill into the
+  /// next chunk, so it is gathered instead of written in place) cost little.
+  static constexpr std::size_t kChunksPerThread = 8;
 
   /// Bytes Layout() allocates: the twiddle table and, per thread, the pruned
   /// inverse's scratch (PrunedInverse::WorkSize) and output (P).
@@ -24,7 +28,8 @@ class FullRateCwt {
   /// Plans (one per distinct D) and buffers for padded length p and the
   /// scales' bands: band_first[k] the signed first bin, filters[k] the filter
   /// over the band (its length is the band's). Scales are split into
-  /// `threads` contiguous runs of about equal cost.
+  /// contiguous chunks of about equal cost (kChunksPerThread per thread),
+  /// which `threads` threads take in turn.
   void Layout(Eigen::Index p,
               const std::vector<Eigen::Index>& band_first,
               const std::vector<std::vector<double>>& filters,
@@ -43,6 +48,7 @@ class FullRateCwt {
 
  private:
   void RunScales(int thread,
+                 int chunk,
                  const Complex* spectrum,
                  Eigen::Index times,
                  double output_scale,
@@ -55,7 +61,8 @@ class FullRateCwt {
   std::vector<Eigen::Index> decimation_;   // per scale
   std::vector<Eigen::Index> batch_;        // per scale: blocks per FFTW call
   std::vector<fftw_plan> plans_;           // per scale
-  std::vector<Eigen::Index> chunk_begin_;  // threads + 1: thread t runs [begin_t, begin_t+1)
+  std::vector<Eigen::Index> chunk_begin_;  // chunks + 1: chunk c is [begin_c, begin_c+1)
+  int threads_ = 1;
   int plan_alignment_ = 0;                 // fftw_alignment_of the planned arrays
   // Per thread.
   mutable std::vector<ComplexBuffer> input_, output_;
