@@ -54,7 +54,7 @@ void Run(const PlanArguments& a) {
   }
   // The lengths of the full-rate transform (podid cwt) and of the
   // band-limited one (identification, cwt --band-limited).
-  std::set<int> forward, backward;
+  std::set<int> forward, backward, complex_forward;
   std::set<std::pair<int, int>> interleaved;
   for (const auto& [n, step] : records) {
     std::vector<std::string> paddings = {a.padding};
@@ -73,6 +73,7 @@ void Run(const PlanArguments& a) {
         const wavelet::FftLengths lengths = wavelet::CwtFftLengths(options, n, step);
         forward.insert(lengths.real_forward.begin(), lengths.real_forward.end());
         backward.insert(lengths.complex_backward.begin(), lengths.complex_backward.end());
+        complex_forward.insert(lengths.complex_forward.begin(), lengths.complex_forward.end());
         interleaved.insert(lengths.interleaved_backward.begin(),
                            lengths.interleaved_backward.end());
       }
@@ -81,10 +82,12 @@ void Run(const PlanArguments& a) {
   wavelet::FftLengths lengths;
   lengths.real_forward.assign(forward.begin(), forward.end());
   lengths.complex_backward.assign(backward.begin(), backward.end());
+  lengths.complex_forward.assign(complex_forward.begin(), complex_forward.end());
   lengths.interleaved_backward.assign(interleaved.begin(), interleaved.end());
   const wavelet::PlanSummary summary = wavelet::MeasureFftPlans(lengths);
   std::string list;
   for (int n : lengths.real_forward) list += (list.empty() ? "" : ", ") + ToText(n) + " real";
+  for (int n : lengths.complex_forward) list += ", " + ToText(n) + " complex forward";
   for (int n : lengths.complex_backward) list += ", " + ToText(n) + " complex";
   for (const auto& [m, d] : lengths.interleaved_backward) {
     list += ", " + ToText(d) + " x " + ToText(m) + " complex";

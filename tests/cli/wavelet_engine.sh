@@ -14,12 +14,12 @@ export XDG_CACHE_HOME="$out/cache"  # never the user's real cache
 "$podid" plan "$data" >"$out/plan1" || fail "plan exited $?"
 # By default both paddings: cwt's zero (9216) and identification's reflect (10240),
 # and the full-rate pruned inverses (D x P / D, D a power of 2 up to 64).
-grep -q "FFT lengths 9216 real, 10240 real, 576 complex, 640 complex, 9216 complex, 10240 complex, 64 x 144 complex, 64 x 160 complex, 32 x 288 complex, 32 x 320 complex, 16 x 576 complex, 16 x 640 complex" \
+grep -q "FFT lengths 9216 real, 10240 real, 9216 complex forward, 10240 complex forward, 576 complex, 640 complex, 9216 complex, 10240 complex, 64 x 144 complex, 64 x 160 complex, 32 x 288 complex, 32 x 320 complex, 16 x 576 complex, 16 x 640 complex" \
   "$out/plan1" || fail "plan lengths"
-grep -q "measured 12 plan(s)" "$out/plan1" || fail "first plan did not measure 12"
+grep -q "measured 14 plan(s)" "$out/plan1" || fail "first plan did not measure 14"
 [ -s "$out/cache/podid/fftw3-wisdom" ] || fail "no wisdom file"
 "$podid" plan "$data" >"$out/plan2" || fail "second plan exited $?"
-grep -q "measured 0 plan(s) .* 12 already measured" "$out/plan2" || fail "second plan measured again"
+grep -q "measured 0 plan(s) .* 14 already measured" "$out/plan2" || fail "second plan measured again"
 ls "$out/cache/podid" | grep -qv '^fftw3-wisdom$' && fail "temporary files left in the cache"
 "$podid" cwt "$data" --channel w6 >/dev/null || fail "cwt with wisdom exited $?"
 "$podid" plan --samples 5001 2>"$out/stderr"

@@ -65,9 +65,11 @@ TEST(FftWisdom, PathFollowsXdgThenHome) {
 
 TEST(FftWisdom, MeasuringSavesWisdomOnceAndItIsReused) {
   ScopedCache cache("measure");
-  const FftLengths lengths{{1176}, {1350}, {}};  // lengths no other test plans
+  // Lengths no other test plans, one of each kind (the complex forward 1176
+  // is a different plan from the real forward of the same length).
+  const FftLengths lengths{{1176}, {1350}, {{49, 6}}, {1176}};
   const PlanSummary first = MeasureFftPlans(lengths);
-  EXPECT_EQ(first.measured, 2);
+  EXPECT_EQ(first.measured, 4);
   EXPECT_EQ(first.known, 0);
   EXPECT_TRUE(first.saved) << first.message;
   EXPECT_EQ(first.wisdom_path, cache.folder + "/podid/fftw3-wisdom");
@@ -78,7 +80,7 @@ TEST(FftWisdom, MeasuringSavesWisdomOnceAndItIsReused) {
   EXPECT_EQ(fftw_import_wisdom_from_filename(first.wisdom_path.c_str()), 1);
   const PlanSummary second = MeasureFftPlans(lengths);
   EXPECT_EQ(second.measured, 0);
-  EXPECT_EQ(second.known, 2);
+  EXPECT_EQ(second.known, 4);
   EXPECT_FALSE(second.saved);  // nothing new to write
 }
 
@@ -106,7 +108,7 @@ TEST(FftWisdom, ConcurrentProcessesLeaveAReadableFileAndNoTemporaries) {
     const pid_t pid = ::fork();
     ASSERT_GE(pid, 0);
     if (pid == 0) {
-      const PlanSummary s = MeasureFftPlans({{202 + 2 * c}, {333 + 3 * c}, {}});
+      const PlanSummary s = MeasureFftPlans({{202 + 2 * c}, {333 + 3 * c}, {}, {}});
       if (!(s.saved && s.measured == 2))
         std::fprintf(stderr, "child %d: measured %d known %d saved %d %s\n", c, s.measured, s.known,
                      s.saved, s.message.c_str());
@@ -132,7 +134,7 @@ TEST(FftWisdom, AnUnwritableCacheIsReportedNotFatal) {
   std::ofstream(blocker) << "not a folder\n";
   ::setenv("XDG_CACHE_HOME", blocker.c_str(), 1);  // .../file/podid cannot be made
   PlanSummary s;
-  ASSERT_NO_THROW(s = MeasureFftPlans({{1456}, {}, {}}));
+  ASSERT_NO_THROW(s = MeasureFftPlans({{1456}, {}, {}, {}}));
   EXPECT_EQ(s.measured, 1);
   EXPECT_FALSE(s.saved);
   EXPECT_NE(s.message.find("cannot create " + blocker + "/podid"), std::string::npos) << s.message;
@@ -146,7 +148,7 @@ TEST(FftWisdom, AnUnwritableCacheIsReportedNotFatal) {
 
 TEST(FftWisdom, BadLengthsAreRejectedBeforeMeasuring) {
   ScopedCache cache("bad");
-  PODID_EXPECT_THROW_WITH(MeasureFftPlans({{1024, 0}, {}, {}}), std::invalid_argument,
+  PODID_EXPECT_THROW_WITH(MeasureFftPlans({{1024, 0}, {}, {}, {}}), std::invalid_argument,
                           "FFT length: expected 1..134217728, got 0");
   EXPECT_FALSE(fs::exists(cache.folder + "/podid"));
 }

@@ -98,7 +98,7 @@ struct CwtTransform::Impl {
   fftw_plan forward = nullptr;
   fftw_plan backward = nullptr;
   internal::RealBuffer padded;
-  internal::ComplexBuffer spectrum;                   // P / 2 + 1 bins of the last signal
+  internal::ComplexBuffer spectrum;  // P bins of the last signal (bins 0 .. P / 2 used)
   mutable std::vector<internal::ComplexBuffer> work;  // M each, one per thread
   internal::FullRateCwt full_rate;                    // the full-rate path's plans and buffers
   Eigen::VectorXd coi_frequency_Hz;
@@ -167,7 +167,7 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   const double bytes =
       per_coefficient * static_cast<double>(z.times) * static_cast<double>(scales_s.size()) +
       8.0 * static_cast<double>(z.filter_bins) + 8.0 * static_cast<double>(z.p) +
-      16.0 * static_cast<double>(z.p / 2 + 1) + 16.0 * static_cast<double>(z.m) * options.threads +
+      16.0 * static_cast<double>(z.p) + 16.0 * static_cast<double>(z.m) * options.threads +
       (options.band_limited ? 0.0 : internal::FullRateCwt::Bytes(z.p, options.threads));
   if (bytes > options.memory_budget_bytes) {
     ThrowInvalid("Cwt: memory",
@@ -204,10 +204,10 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
     band_first[static_cast<std::size_t>(k)] = a;
   }
   const bool measure = options.planning == FftPlanning::kMeasure;
-  forward = internal::RealForwardPlan(static_cast<int>(p), measure);
+  forward = internal::ComplexForwardPlan(static_cast<int>(p), measure);
   backward = internal::ComplexBackwardPlan(static_cast<int>(m), measure);
   padded = internal::AllocateReal(static_cast<std::size_t>(p));
-  spectrum = internal::AllocateComplex(static_cast<std::size_t>(p / 2 + 1));
+  spectrum = internal::AllocateComplex(static_cast<std::size_t>(p));
   work.clear();
   for (int t = 0; t < options.threads; ++t) {
     work.push_back(internal::AllocateComplex(static_cast<std::size_t>(m)));
@@ -297,7 +297,10 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
   } else if (s.options.padding == Padding::kZero) {
     std::fill(x + n, x + s.p, 0.0);
   }
-  fftw_execute_dft_r2c(s.forward, x, internal::AsFftw(s.spectrum.get()));
+  // A complex FFT of the real sequence (plans far faster than r2c; fftw_plans.hpp).
+  Complex* spectrum = s.spectrum.get();
+  for (Eigen::Index i = 0; i < s.p; ++i) spectrum[i] = Complex(x[i], 0.0);
+  fftw_execute_dft(s.forward, internal::AsFftw(spectrum), internal::AsFftw(spectrum));
   const bool unscaled = std::abs(exponent) <= kMaxUnscaledExponent;
   s.output_scale = unscaled ? std::ldexp(1.0, exponent) : 1.0;
 
@@ -383,7 +386,7 @@ FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
   }
   const Sizes z = impl_->Plan(samples, step_s);
   if (z.p > (1 << 27)) ThrowInvalid("FFT lengths", "at most 2^27 points", ToText(z.p));
-  FftLengths lengths{{static_cast<int>(z.p)}, {static_cast<int>(z.m)}, {}};
+  FftLengths lengths{{static_cast<int>(z.p)}, {static_cast<int>(z.m)}, {}, {static_cast<int>(z.p)}};
   if (!impl_->options.band_limited) {
     // The full-rate path's pruned inverses, one plan per distinct D: batches
     // of G inverses of length M = P / D.

@@ -27,7 +27,7 @@ namespace podid::wavelet {
 namespace internal {
 namespace {
 
-enum class Kind { kRealForward, kComplexBackward, kBatchedBackward };
+enum class Kind { kRealForward, kComplexBackward, kBatchedBackward, kComplexForward };
 constexpr int kMaxPlanLength = 1 << 27;  // 2 GiB of complex doubles
 
 struct Entry {
@@ -110,7 +110,8 @@ fftw_plan MakePlan(Kind kind, int n, int howmany, unsigned flags) {
     return fftw_plan_dft_r2c_1d(n, in.get(), AsFftw(out.get()), flags);
   }
   ComplexBuffer data = AllocateComplex(static_cast<std::size_t>(n));
-  return fftw_plan_dft_1d(n, AsFftw(data.get()), AsFftw(data.get()), FFTW_BACKWARD, flags);
+  return fftw_plan_dft_1d(n, AsFftw(data.get()), AsFftw(data.get()),
+                          kind == Kind::kComplexForward ? FFTW_FORWARD : FFTW_BACKWARD, flags);
 }
 
 // Returns the plan, measuring it when `measure` and it is not measured yet.
@@ -164,6 +165,9 @@ ComplexBuffer AllocateComplex(std::size_t n) {
 
 fftw_plan RealForwardPlan(int n, bool measure) {
   return GetPlan(Kind::kRealForward, n, 1, measure);
+}
+fftw_plan ComplexForwardPlan(int n, bool measure) {
+  return GetPlan(Kind::kComplexForward, n, 1, measure);
 }
 fftw_plan ComplexBackwardPlan(int n, bool measure) {
   return GetPlan(Kind::kComplexBackward, n, 1, measure);
@@ -224,7 +228,8 @@ std::string FftWisdomPath() {
 }
 
 PlanSummary MeasureFftPlans(const FftLengths& lengths) {
-  for (const std::vector<int>* list : {&lengths.real_forward, &lengths.complex_backward}) {
+  for (const std::vector<int>* list :
+       {&lengths.real_forward, &lengths.complex_backward, &lengths.complex_forward}) {
     for (int n : *list) {
       if (n < 1 || n > internal::kMaxPlanLength) {
         ThrowInvalid("FFT length", "1.." + ToText(internal::kMaxPlanLength), ToText(n));
@@ -250,6 +255,7 @@ PlanSummary MeasureFftPlans(const FftLengths& lengths) {
   };
   for (int n : lengths.real_forward) plan(internal::Kind::kRealForward, n, 1);
   for (int n : lengths.complex_backward) plan(internal::Kind::kComplexBackward, n, 1);
+  for (int n : lengths.complex_forward) plan(internal::Kind::kComplexForward, n, 1);
   for (const auto& [m, d] : lengths.interleaved_backward) {
     plan(internal::Kind::kBatchedBackward, m, d);
   }

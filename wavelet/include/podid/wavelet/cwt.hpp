@@ -280,6 +280,10 @@ struct FftLengths {
   std::vector<int> real_forward;
   std::vector<int> complex_backward;
   std::vector<std::pair<int, int>> interleaved_backward;
+  /// The CwtTransform's forward FFT: a complex transform of length P of the
+  /// real signal (cheaper to plan than real_forward's; the band-limited ridge
+  /// estimator still plans real_forward).
+  std::vector<int> complex_forward;
 };
 
 /// Reusable transform state: plans, the padded signal's spectrum, the filters
