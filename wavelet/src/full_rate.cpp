@@ -59,6 +59,7 @@ void FullRateCwt::Layout(Eigen::Index p,
     }
   }
   threads_ = threads;
+  in_place_ = p >= kInPlaceLength ? ComplexBackwardPlan(static_cast<int>(p), measure) : nullptr;
   input_.clear();
   output_.clear();
   for (int t = 0; t < threads; ++t) {
@@ -127,8 +128,12 @@ void FullRateCwt::RunScales(int thread,
     const bool direct = d == 1 && column != nullptr && (end - k) * times >= p &&
                         fftw_alignment_of(reinterpret_cast<double*>(column)) == plan_alignment_;
     Complex* out = direct ? column : own_output;
-    inverse_.Execute(spectrum, filter.data(), a, bins, d, batch_[static_cast<std::size_t>(k)],
-                     plans_[static_cast<std::size_t>(k)], input, out);
+    if (direct && in_place_ != nullptr) {
+      inverse_.Execute(spectrum, filter.data(), a, bins, 1, 1, in_place_, column, column);
+    } else {
+      inverse_.Execute(spectrum, filter.data(), a, bins, d, batch_[static_cast<std::size_t>(k)],
+                       plans_[static_cast<std::size_t>(k)], input, out);
+    }
     if (magnitude != nullptr) {
       inverse_.GatherMagnitude(out, d, times, output_scale, magnitude + k * times);
     } else if (!direct) {

@@ -62,8 +62,9 @@ class PrunedInverse {
   /// GatherMagnitude need not; for D = 1 simply y in order). spectrum: X_0 .. X_(P/2) of a real signal (X_-b =
   /// conj X_b), a >= -(P - 1) / 2, a + bins - 1 <= P / 2. work: WorkSize(P)
   /// entries of scratch (overwritten). `batch` divides d; `plan` is
-  /// Plan(d, batch); out and work must have fftw_malloc's alignment modulo 16
-  /// (any std::complex<double> array has it).
+  /// Plan(d, batch), or at d = 1 an in-place plan of length P with work ==
+  /// out (then P entries suffice); out and work must have fftw_malloc's
+  /// alignment modulo 16 (any std::complex<double> array has it).
   void Execute(const Complex* spectrum,
                const double* filter,
                Eigen::Index first_bin,
