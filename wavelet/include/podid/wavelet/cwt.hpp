@@ -227,7 +227,8 @@ struct CwtOptions {
   /// (both modes), in (0, 1e-3]. 1e-12 keeps W to about 1e-12 relative.
   double band_tolerance = 1e-12;
   /// Threads over scales in Compute(), 1..256 (each with its own work buffers;
-  /// at full rate each thread takes a contiguous run of scales of about equal cost).
+  /// at full rate the threads take contiguous chunks of scales of about equal
+  /// cost, 8 per thread, in turn).
   int threads = 1;
   FftPlanning planning = FftPlanning::kEstimate;
   CwtOutput output = CwtOutput::kComplex;
