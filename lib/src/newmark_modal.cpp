@@ -32,6 +32,13 @@ namespace {
 
 int PadToFour(int n) { return (n + 3) / 4 * 4; }
 
+// 4 doubles (GCC vector extension): one AVX register in the AVX2 build of the
+// loop, two SSE2 ones in the portable build; the same operations either way.
+// Loaded and stored with memcpy (no alignment needed); never a parameter or
+// a return value (their ABI differs between the two builds).
+using V4 = double __attribute__((vector_size(32)));
+using V4Bits = unsigned long long __attribute__((vector_size(32)));
+
 // Whether every |x_j| = |(phi q)_j| is within the bound (the exact test,
 // when the cheap sum_i bound_i |q_i| is not); *finite = false for NaN or inf.
 bool StateWithinBound(const ModalStep& m, const double* q, double max_displacement, bool* finite) {
@@ -207,12 +214,12 @@ template <int kNa>
   double* __restrict const out = w.modal_out.data();
   auto record = [&](const double* v, double* column0, int row) {
     for (int r = 0; r < sensor_rows; r += 4) {
-      double acc[4] = {0.0, 0.0, 0.0, 0.0};
+      V4 acc = {0.0, 0.0, 0.0, 0.0}, column;
       for (int i = 0; i < n; ++i) {
-        const double vi = v[i];
-        for (int l = 0; l < 4; ++l) acc[l] += sensors[static_cast<std::ptrdiff_t>(i) * sensor_rows + r + l] * vi;
+        __builtin_memcpy(&column, sensors + static_cast<std::ptrdiff_t>(i) * sensor_rows + r, sizeof column);
+        acc += column * v[i];
       }
-      for (int l = 0; l < 4; ++l) out[r + l] = acc[l];
+      __builtin_memcpy(out + r, &acc, sizeof acc);
     }
     for (int k = 0; k < n_recorded; ++k) column0[static_cast<std::ptrdiff_t>(k) * rows + row] = out[k];
   };
@@ -288,49 +295,73 @@ template <int kNa>
     // The modes, 4 at a time: the new state (eq. 28 in modal form and the
     // Newmark relations), d' = P + Q delta + the load's share, the next P,
     // its image on the `a` dofs and the displacement bound.
-    double bound_lanes[4] = {0.0, 0.0, 0.0, 0.0};
-    double pa_lanes[4] = {0.0, 0.0, 0.0, 0.0};
-    for (int k = 0; k < 4 * na; ++k) lanes[k] = 0.0;
-    const double d0 = kNa == 1 ? delta[0] : 0.0;
-    for (int b = 0; b < np; b += 4) {
-      for (int l = 0; l < 4; ++l) {
-        const int i = b + l;
-        double dq = d[i], dn = p[i];
-        if constexpr (kNa == 1) {
-          dq += e[i] * d0;
-          dn += q_gain[i] * d0;
-        } else {
+    double x_bound = 0.0;
+    if constexpr (kNa == 1) {
+      const V4 sign_off = (V4)(V4Bits{} + 0x7fffffffffffffffULL);
+      V4 bound_sum = {0.0, 0.0, 0.0, 0.0}, pa_sum = {0.0, 0.0, 0.0, 0.0};
+      const double d0 = delta[0];
+      for (int b = 0; b < np; b += 4) {
+        V4 vd, vp, ve, vq_gain, vload, vq, vqd, vqdd, vnext_d, vnext_x, vnext_v, vnext_a, vphi_a, vbound;
+        __builtin_memcpy(&vd, d + b, sizeof vd);
+        __builtin_memcpy(&vp, p + b, sizeof vp);
+        __builtin_memcpy(&ve, e + b, sizeof ve);
+        __builtin_memcpy(&vq_gain, q_gain + b, sizeof vq_gain);
+        __builtin_memcpy(&vload, load_next + b, sizeof vload);
+        __builtin_memcpy(&vq, q + b, sizeof vq);
+        __builtin_memcpy(&vqd, qd + b, sizeof vqd);
+        __builtin_memcpy(&vqdd, qdd + b, sizeof vqdd);
+        __builtin_memcpy(&vnext_d, next_d + b, sizeof vnext_d);
+        __builtin_memcpy(&vnext_x, next_x + b, sizeof vnext_x);
+        __builtin_memcpy(&vnext_v, next_v + b, sizeof vnext_v);
+        __builtin_memcpy(&vnext_a, next_a + b, sizeof vnext_a);
+        __builtin_memcpy(&vphi_a, phi_a + b, sizeof vphi_a);
+        __builtin_memcpy(&vbound, bound + b, sizeof vbound);
+        const V4 dq = vd + ve * d0;
+        const V4 dn = (vp + vq_gain * d0) + vload;
+        const V4 qn = vq + dq;
+        const V4 an = a0 * dq - a2 * vqd - a3 * vqdd;
+        const V4 vn = vqd + dt * (one_minus_g * vqdd + g * an);
+        const V4 pn = vnext_d * dn + vnext_x * qn + vnext_v * vn + vnext_a * an;
+        pa_sum += vphi_a * pn;
+        bound_sum += vbound * (V4)((V4Bits)qn & (V4Bits)sign_off);  // |q_n|
+        __builtin_memcpy(q + b, &qn, sizeof qn);
+        __builtin_memcpy(qd + b, &vn, sizeof vn);
+        __builtin_memcpy(qdd + b, &an, sizeof an);
+        __builtin_memcpy(d + b, &dn, sizeof dn);
+        __builtin_memcpy(p + b, &pn, sizeof pn);
+      }
+      pa = (pa_sum[0] + pa_sum[1]) + (pa_sum[2] + pa_sum[3]);
+      x_bound = (bound_sum[0] + bound_sum[1]) + (bound_sum[2] + bound_sum[3]);
+    } else {
+      double bound_lanes[4] = {0.0, 0.0, 0.0, 0.0};
+      for (int k = 0; k < 4 * na; ++k) lanes[k] = 0.0;
+      for (int b = 0; b < np; b += 4) {
+        for (int l = 0; l < 4; ++l) {
+          const int i = b + l;
+          double dq = d[i], dn = p[i];
           for (int j = 0; j < na; ++j) {
             dq += e[static_cast<std::ptrdiff_t>(j) * np + i] * delta[j];
             dn += q_gain[static_cast<std::ptrdiff_t>(j) * np + i] * delta[j];
           }
-        }
-        dn += load_next[i];
-        const double qn = q[i] + dq;
-        const double an = a0 * dq - a2 * qd[i] - a3 * qdd[i];
-        const double vn = qd[i] + dt * (one_minus_g * qdd[i] + g * an);
-        const double pn = next_d[i] * dn + next_x[i] * qn + next_v[i] * vn + next_a[i] * an;
-        if constexpr (kNa == 1) {
-          pa_lanes[l] += phi_a[i] * pn;
-        } else {
+          dn += load_next[i];
+          const double qn = q[i] + dq;
+          const double an = a0 * dq - a2 * qd[i] - a3 * qdd[i];
+          const double vn = qd[i] + dt * (one_minus_g * qdd[i] + g * an);
+          const double pn = next_d[i] * dn + next_x[i] * qn + next_v[i] * vn + next_a[i] * an;
           for (int j = 0; j < na; ++j) lanes[4 * j + l] += phi_a[static_cast<std::ptrdiff_t>(j) * np + i] * pn;
+          bound_lanes[l] += bound[i] * std::abs(qn);
+          q[i] = qn;
+          qd[i] = vn;
+          qdd[i] = an;
+          d[i] = dn;
+          p[i] = pn;
         }
-        bound_lanes[l] += bound[i] * std::abs(qn);
-        q[i] = qn;
-        qd[i] = vn;
-        qdd[i] = an;
-        d[i] = dn;
-        p[i] = pn;
       }
-    }
-    if constexpr (kNa == 1) {
-      pa = (pa_lanes[0] + pa_lanes[1]) + (pa_lanes[2] + pa_lanes[3]);
-    } else {
       for (int j = 0; j < na; ++j)
         w.pa[j] = (lanes[4 * j] + lanes[4 * j + 1]) + (lanes[4 * j + 2] + lanes[4 * j + 3]);
+      x_bound = (bound_lanes[0] + bound_lanes[1]) + (bound_lanes[2] + bound_lanes[3]);
     }
     // max_j |x_j| <= sum_i bound_i |q_i|: the exact test only when this fails.
-    const double x_bound = (bound_lanes[0] + bound_lanes[1]) + (bound_lanes[2] + bound_lanes[3]);
     if (!(x_bound <= max_displacement)) {
       bool finite = true;
       if (!StateWithinBound(m, q, max_displacement, &finite)) {
