@@ -82,9 +82,10 @@ struct ModalRunner {
   static void Run(const NewmarkIntegrator& integrator, const ExternalLoad& load,
                   const std::vector<int>& recorded, int rows, Recording* recording, NewmarkWorkspace& w,
                   SimulationSummary* summary);
-  /// The loop for kNa nonlinear dofs (0: any number), inlined into a
-  /// portable and an AVX2 version (newmark_modal.cpp).
-  template <int kNa>
+  /// The loop for kNa nonlinear dofs (0: any number); kVector: the pass over
+  /// the modes in 4-wide vectors (the AVX2 build; the portable build keeps
+  /// scalar lanes, faster in SSE2), the same operations and bits.
+  template <int kNa, bool kVector>
   static void Steps(const NewmarkIntegrator& integrator, const ExternalLoad& load, int n_recorded, int rows, Recording* recording, NewmarkWorkspace& w,
                     SimulationSummary* summary);
 };
