@@ -23,10 +23,13 @@ CaseSpec Reference(const std::vector<std::string>& overrides) {
 
 // The time loop only: model, integrator and workspace are built once.
 // per_step = CPU time per Newmark step (issue 11: <= 60 ns for the 12-dof case).
-void RunLoop(benchmark::State& state, const CaseSpec& spec, bool cpu_dispatch = true) {
+// modal = false: the dense condensation (the reference beam is Rayleigh-damped,
+// so it steps in modal coordinates by default).
+void RunLoop(benchmark::State& state, const CaseSpec& spec, bool cpu_dispatch = true, bool modal = true) {
   const BeamModel model = BeamModel::Build(spec);
   NewmarkOptions options = NewmarkOptions::FromCase(spec);
   options.cpu_dispatch = cpu_dispatch;
+  options.modal = modal;
   const NewmarkIntegrator integrator(model, options);
   NewmarkWorkspace workspace(integrator);
   const State initial = InitialState(spec, model);
@@ -41,6 +44,7 @@ void RunLoop(benchmark::State& state, const CaseSpec& spec, bool cpu_dispatch = 
   if (!summary.IsSolutionUsable()) state.SkipWithError(summary.message.c_str());
   const double steps = integrator.options().steps;
   state.counters["steps"] = steps;
+  state.counters["modal"] = integrator.modal() ? 1.0 : 0.0;
   state.counters["newton_per_step"] = static_cast<double>(summary.newton_iterations) / steps;
   state.counters["per_step"] = benchmark::Counter(steps, benchmark::Counter::kIsIterationInvariantRate |
                                                              benchmark::Counter::kInvert);
@@ -51,11 +55,36 @@ void BM_Reference1sCondensed(benchmark::State& state) {
 }
 BENCHMARK(BM_Reference1sCondensed)->Unit(benchmark::kMicrosecond);
 
-// The same with the portable (SSE2) product kernel, for the SIMD kernel's share.
+// The same with the portable (SSE2) kernels, for the SIMD kernels' share.
 void BM_Reference1sCondensedPortable(benchmark::State& state) {
   RunLoop(state, Reference({"time.duration=1.0"}), false);
 }
 BENCHMARK(BM_Reference1sCondensedPortable)->Unit(benchmark::kMicrosecond);
+
+// The dense condensation (NewmarkOptions::modal = false), AVX2 and portable.
+void BM_Reference1sCondensedDense(benchmark::State& state) {
+  RunLoop(state, Reference({"time.duration=1.0"}), true, false);
+}
+BENCHMARK(BM_Reference1sCondensedDense)->Unit(benchmark::kMicrosecond);
+
+void BM_Reference1sCondensedDensePortable(benchmark::State& state) {
+  RunLoop(state, Reference({"time.duration=1.0"}), false, false);
+}
+BENCHMARK(BM_Reference1sCondensedDensePortable)->Unit(benchmark::kMicrosecond);
+
+// Integrator set-up alone (first-call cost: dense condensation and, for the
+// modal path, the generalised eigenproblem and the modal maps).
+void BM_ReferenceIntegratorSetup(benchmark::State& state) {
+  const CaseSpec spec = Reference({"time.duration=1.0"});
+  const BeamModel model = BeamModel::Build(spec);
+  NewmarkOptions options = NewmarkOptions::FromCase(spec);
+  options.modal = state.range(0) != 0;
+  for (auto _ : state) {
+    NewmarkIntegrator integrator(model, options);
+    benchmark::DoNotOptimize(&integrator);
+  }
+}
+BENCHMARK(BM_ReferenceIntegratorSetup)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 void BM_Reference1sFullNewton(benchmark::State& state) {
   RunLoop(state, Reference({"time.duration=1.0", "integrator.type=\"newmark\""}));

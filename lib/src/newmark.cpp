@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "newmark_kernels.hpp"
+#include "newmark_modal.hpp"
 #include "podid/core/error.hpp"
 
 namespace podid {
@@ -24,87 +25,6 @@ void SetMallocAllowed([[maybe_unused]] bool allowed) {
 }
 
 }  // namespace
-
-const char* ToString(SimulationTermination termination) {
-  switch (termination) {
-    case SimulationTermination::kNotRun: return "not run";
-    case SimulationTermination::kCompleted: return "completed";
-    case SimulationTermination::kStaticSolveFailed: return "static solve failed";
-    case SimulationTermination::kNewtonFailed: return "Newton failed";
-    case SimulationTermination::kNonFinite: return "non-finite state";
-    case SimulationTermination::kDiverged: return "diverged";
-  }
-  return "unknown";
-}
-
-bool NewmarkOptions::IsValid(std::string* why) const {
-  auto fail = [why](const std::string& text) {
-    if (why) *why = text;
-    return false;
-  };
-  if (!(gamma >= 0.5 && gamma <= 1.0)) return fail("gamma: expected a value in [0.5, 1], got " + ToText(gamma));
-  if (!(beta > 0.0 && beta <= 0.5)) return fail("beta: expected a value in (0, 0.5], got " + ToText(beta));
-  if (!(step_s > 0.0 && std::isfinite(step_s))) return fail("step: expected a step > 0 s, got " + ToText(step_s));
-  if (steps < 1) return fail("steps: expected at least 1 step, got " + ToText(steps));
-  if (!(tolerance > 0.0 && tolerance < 1.0))
-    return fail("tolerance: expected a value in (0, 1), got " + ToText(tolerance));
-  if (max_iterations < 1) return fail("max_iterations: expected >= 1, got " + ToText(max_iterations));
-  if (!(max_displacement > 0.0))
-    return fail("max_displacement: expected > 0, got " + ToText(max_displacement));
-  if (record_stride < 1 || steps % record_stride != 0)
-    return fail("record_stride: expected >= 1 dividing steps (" + ToText(steps) + "), got " +
-                ToText(record_stride));
-  if (dense_dof_limit < 0) return fail("dense_dof_limit: expected >= 0, got " + ToText(dense_dof_limit));
-  return true;
-}
-
-NewmarkOptions NewmarkOptions::FromCase(const CaseSpec& spec) {
-  NewmarkOptions o;
-  o.type = spec.integrator.type;
-  o.gamma = spec.integrator.gamma;
-  o.beta = spec.integrator.beta;
-  o.tolerance = spec.integrator.tolerance;
-  o.max_iterations = spec.integrator.max_iterations;
-  const int k = spec.integrator.substeps;
-  const long long fine_steps = static_cast<long long>(spec.time.samples() - 1) * k;
-  if (k < 1 || fine_steps > std::numeric_limits<int>::max()) {
-    ThrowInvalid("integrator.substeps",
-                 "1.." + ToText(kMaxSubsteps) + " with (samples - 1) substeps <= " +
-                     ToText(std::numeric_limits<int>::max()),
-                 ToText(k) + " (" + ToText(fine_steps) + " steps)");
-  }
-  o.step_s = spec.time.step_s / k;
-  o.steps = static_cast<int>(fine_steps);
-  o.record_stride = k;
-  return o;
-}
-
-std::string SimulationSummary::BriefReport() const {
-  std::ostringstream os;
-  os.precision(4);
-  os << (integrator == IntegratorType::kModifiedNewmark ? "modified Newmark" : "Newmark (full Newton)")
-     << ": " << ToString(termination) << ", " << steps_completed << "/" << steps_requested
-     << " steps, " << newton_iterations << " Newton iterations (max " << max_step_iterations
-     << " in a step), " << wall_time_s * 1e3 << " ms";
-  return os.str();
-}
-
-std::string SimulationSummary::FullReport() const {
-  std::ostringstream os;
-  os.precision(6);
-  os << "Simulation summary\n"
-     << "  integrator:         "
-     << (integrator == IntegratorType::kModifiedNewmark ? "modified Newmark (condensed, eq. 29)"
-                                                        : "Newmark, Newton on all dofs")
-     << "\n  dofs:               " << dofs << " (" << nonlinear_dofs << " nonlinear)"
-     << "\n  steps:              " << steps_completed << " of " << steps_requested
-     << "\n  Newton iterations:  " << newton_iterations << " total, worst step " << max_step_iterations
-     << " at t = " << worst_step_time_s << " s"
-     << "\n  wall time:          " << wall_time_s << " s"
-     << "\n  termination:        " << ToString(termination) << "\n  message:            " << message
-     << "\n";
-  return os.str();
-}
 
 NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOptions& options)
     : options_(options) {
@@ -161,6 +81,7 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     PODID_CHECK_MSG(sbb_ldlt_.info() == Eigen::Success, "S_b must be positive definite");
     sbb_diagonal_ = sbb_ldlt_.vectorD();
     sbb_permutation_ = sbb_ldlt_.permutationP().indices();
+    modal_status_ = "not used: sparse path";
     sab_sparse_ = s.topRightCorner(na_, nb_);
     const Eigen::MatrixXd sba = Eigen::MatrixXd(s.bottomLeftCorner(nb_, na_));
     h_ = sbb_ldlt_.solve(sba);
@@ -209,6 +130,13 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
   coefficients_ = {a0_, a1_, a2_, a3_, a4_, a5_, dt, g, options.max_displacement};
   v0_velocity_ = 1.0 - g / b;
   v0_acceleration_ = dt * (1.0 - g / (2.0 * b));
+  if (options.type != IntegratorType::kModifiedNewmark) {
+    modal_status_ = "not used: full Newton";
+  } else if (!options.modal) {
+    modal_status_ = "not used: NewmarkOptions::modal is false";
+  } else {
+    modal_ = internal::BuildModalStep(mass_, damping_, stiffness_, na_, coefficients_, &modal_status_);
+  }
 }
 
 NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
@@ -217,6 +145,13 @@ NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
   for (Eigen::VectorXd* v : {&x_new, &rhs, &r, &dx}) v->setZero(n);
   if (!integrator.sparse_ && integrator.options_.type == IntegratorType::kModifiedNewmark)
     u.setZero(2 * n);
+  if (integrator.modal_) {
+    const int n_pad = integrator.modal_->n_pad;
+    modal_state.setZero(3 * n_pad);
+    for (Eigen::VectorXd* v : {&modal_d, &modal_p, &modal_load_next}) v->setZero(n_pad);
+    modal_pa_lanes.setZero(4 * na);
+    for (Eigen::VectorXd* v : {&da, &pa, &delta, &load_a}) v->setZero(na);
+  }
   if (integrator.sparse_) {
     u1.setZero(n);
     u2.setZero(n);
@@ -291,38 +226,45 @@ bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, bool has_load, int* it
       for (Eigen::Index k = 0; k < w.load_now.size(); ++k)
         if (w.load_now[k] != 0.0) w.ra += w.load_now[k] * w.load_bhat.col(k);
     if (na_ == 1) return SolveScalar(w, iterations, residual);
-    w.xa_n = w.z.head(na_);
-    w.xa = w.xa_n;
-    bool converged = false;
-    for (int it = 0; it <= options_.max_iterations; ++it) {
-      NonlinearVelocity(w);
-      nonlinear_.Evaluate(w.xa, w.va, w.fa, w.ka, w.ca);
-      // Condensed residual R = Shat x_a - bhat - f_a (eq. 29 with r_b = 0 kept by eq. 28).
-      w.dxa.noalias() = shat_ * w.xa;
-      const double scale = std::max({w.dxa.lpNorm<Eigen::Infinity>(), w.ra.lpNorm<Eigen::Infinity>(),
-                                     w.fa.lpNorm<Eigen::Infinity>(), 1e-300});
-      w.dxa -= w.ra + w.fa;
-      *residual = w.dxa.lpNorm<Eigen::Infinity>() / scale;
-      if (!std::isfinite(*residual)) return false;
-      if (*residual <= options_.tolerance) {
-        converged = true;
-        break;
-      }
-      if (it == options_.max_iterations) break;
-      // Tangent of eq. 29: Shat + K_t + a1 C_t on the `a` dofs.
-      w.jac_a = shat_ + w.ka + a1_ * w.ca;
-      w.lu_a.compute(w.jac_a);
-      w.xa_trial = w.lu_a.solve(w.dxa);
-      w.xa -= w.xa_trial;
-      ++*iterations;
-    }
-    if (!converged) return false;
+    if (!SolveCondensed(w, shat_, iterations, residual)) return false;
     w.x_new.head(na_) = w.xa;
   }
   // eq. 28: x_b = S_b^-1 (rhs_b - S_ba x_a) = y - H x_a.
   w.x_new.tail(nb_) = w.rhs.tail(nb_);
   if (na_ > 0) w.x_new.tail(nb_).noalias() -= h_ * w.xa;
   return true;
+}
+
+// eq. 29 on the `a` dofs (n_a >= 2) by Newton from x_a = x_n (w.z's `a`
+// entries), bhat in w.ra; the solution in w.xa.
+bool NewmarkIntegrator::SolveCondensed(NewmarkWorkspace& w, const Eigen::MatrixXd& shat, int* iterations,
+                                       double* residual) const {
+  w.xa_n = w.z.head(na_);
+  w.xa = w.xa_n;
+  bool converged = false;
+  for (int it = 0; it <= options_.max_iterations; ++it) {
+    NonlinearVelocity(w);
+    nonlinear_.Evaluate(w.xa, w.va, w.fa, w.ka, w.ca);
+    // Condensed residual R = Shat x_a - bhat - f_a (eq. 29 with r_b = 0 kept by eq. 28).
+    w.dxa.noalias() = shat * w.xa;
+    const double scale = std::max({w.dxa.lpNorm<Eigen::Infinity>(), w.ra.lpNorm<Eigen::Infinity>(),
+                                   w.fa.lpNorm<Eigen::Infinity>(), 1e-300});
+    w.dxa -= w.ra + w.fa;
+    *residual = w.dxa.lpNorm<Eigen::Infinity>() / scale;
+    if (!std::isfinite(*residual)) return false;
+    if (*residual <= options_.tolerance) {
+      converged = true;
+      break;
+    }
+    if (it == options_.max_iterations) break;
+    // Tangent of eq. 29: Shat + K_t + a1 C_t on the `a` dofs.
+    w.jac_a = shat + w.ka + a1_ * w.ca;
+    w.lu_a.compute(w.jac_a);
+    w.xa_trial = w.lu_a.solve(w.dxa);
+    w.xa -= w.xa_trial;
+    ++*iterations;
+  }
+  return converged;
 }
 
 // eq. 29 for a single nonlinear dof, in scalars; then eq. 28 for x_b.
@@ -378,25 +320,9 @@ bool NewmarkIntegrator::StepDenseScalar(NewmarkWorkspace& w, bool has_load, int*
   // (Newmark relations), from the Taylor predictor x_n + dt x'_n + dt^2 x''_n / 2.
   const double v0 = v0_velocity_ * v_n + v0_acceleration_ * a_n;
   double x = x_n + dt * (v_n + 0.5 * dt * a_n);
-  int it = 0;
-  for (;; ++it) {
-    double f = 0.0, k = 0.0, c = 0.0;
-    nonlinear_.EvaluateScalar(x, a1 * (x - x_n) + v0, &f, &k, &c);
-    const double sx = shat * x;
-    const double scale = std::max({std::abs(sx), std::abs(bhat), std::abs(f), 1e-300});
-    const double r = sx - bhat - f;
-    // |r| <= tol scale: the relative residual test without a division on
-    // the critical path; a non-finite r fails it and ends the step.
-    if (std::abs(r) <= tolerance * scale) break;
-    if (!std::isfinite(r) || it == max_iterations) {
-      *iterations = it;
-      *residual = std::abs(r) / scale;
-      return false;
-    }
-    x -= r / (shat + k + a1 * c);
-  }
-  *iterations = it;
-  *residual = 0.0;
+  if (!internal::SolveScalarNewton(nonlinear_, shat, bhat, a1, x_n, v0, tolerance, max_iterations, &x,
+                                   iterations, residual))
+    return false;
   rhs[0] = x;  // y[0] = x_a: x_new = y - h x_a for every dof (h[0] = 0)
   *bounded = update_(coefficients_, n_, rhs, h_padded_.data(), x, w.x_new.data(), w.z.data(), w.u.data());
   return true;
@@ -533,10 +459,14 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
     w.u.head(n_) = a0_ * x + a2_ * v + a3_ * acc;
     w.u.tail(n_) = a1_ * x + a4_ * v + a5_ * acc;
   }
+  // The modal path (newmark_modal.cpp) runs its own loop; the dense one below is then skipped.
+  if (modal_) internal::ModalRunner::Prepare(*this, load, rec, w);
   summary.termination = SimulationTermination::kCompleted;
   int since_record = 0;
   SetMallocAllowed(false);
-  for (int step = 1; step <= steps; ++step) {
+  if (modal_) internal::ModalRunner::Run(*this, load, rec, rows, recording, w, &summary);
+  const int dense_steps = modal_ ? 0 : steps;
+  for (int step = 1; step <= dense_steps; ++step) {
     int iterations = 0;
     double residual = 0.0;
     bool bounded = true;

@@ -4,6 +4,9 @@
 // (the build stays baseline x86-64; NewmarkOptions::cpu_dispatch = false
 // forces the portable ones).
 
+#include <algorithm>
+#include <cmath>
+
 #include "podid/core/newmark.hpp"
 
 namespace podid::internal {
@@ -25,6 +28,40 @@ using UpdateKernel = bool (*)(const NewmarkCoefficients& c, int n, const double*
                               double x_a, double* x_new, double* z, double* u);
 
 MultiplyKernel SelectMultiplyKernel(bool cpu_dispatch);
+
+/// eq. 29 for one nonlinear dof: R(x) = shat x - bhat - f(x, v(x)) with the
+/// velocity v(x) = a1 (x - x_n) + v0 that the Newmark relations imply, by
+/// Newton from *x (in: the start, out: the solution). Converged when |R| <=
+/// tolerance max(|shat x|, |bhat|, |f|) (*residual = 0); false with the
+/// relative residual when R is not finite or max_iterations pass. `forces`
+/// is a NonlinearForces (EvaluateScalar); shared by the dense and modal steps.
+template <class Forces>
+inline bool SolveScalarNewton(const Forces& forces, double shat, double bhat, double a1, double x_n,
+                              double v0, double tolerance, int max_iterations, double* x,
+                              int* iterations, double* residual) {
+  double xi = *x;
+  int it = 0;
+  for (;; ++it) {
+    double f = 0.0, k = 0.0, c = 0.0;
+    forces.EvaluateScalar(xi, a1 * (xi - x_n) + v0, &f, &k, &c);
+    const double sx = shat * xi;
+    const double scale = std::max({std::abs(sx), std::abs(bhat), std::abs(f), 1e-300});
+    const double r = sx - bhat - f;
+    // |r| <= tol scale: the relative residual test without a division on
+    // the critical path; a non-finite r fails it and ends the step.
+    if (std::abs(r) <= tolerance * scale) break;
+    if (!std::isfinite(r) || it == max_iterations) {
+      *iterations = it;
+      *residual = std::abs(r) / scale;
+      return false;
+    }
+    xi -= r / (shat + k + a1 * c);
+  }
+  *iterations = it;
+  *residual = 0.0;
+  *x = xi;
+  return true;
+}
 UpdateKernel SelectUpdateKernel(bool cpu_dispatch);
 
 }  // namespace podid::internal

@@ -106,6 +106,7 @@ TEST(NewmarkAgreementTest, SimdKernelEqualsPortableKernel) {
     Recording simd, portable;
     simd.dofs = portable.dofs = SensorDofs(spec);
     NewmarkOptions options = NewmarkOptions::FromCase(spec);
+    options.modal = false;  // the dense condensation's kernels (the modal path: newmark_modal_test.cpp)
     const SimulationSummary a = NewmarkIntegrator(model, options).Run(initial, BuildLoad(spec), &simd);
     options.cpu_dispatch = false;
     const SimulationSummary b =
@@ -134,6 +135,7 @@ TEST(NewmarkAgreementTest, FusedOneDofStepEqualsTheSparseCondensedPath) {
   for (const bool cpu_dispatch : {true, false}) {
     NewmarkOptions options = NewmarkOptions::FromCase(spec);
     options.cpu_dispatch = cpu_dispatch;
+    options.modal = false;  // the dense fused step (the modal path: newmark_modal_test.cpp)
     const NewmarkIntegrator fused(model, options);
     options.dense_dof_limit = 0;
     const NewmarkIntegrator sparse(model, options);

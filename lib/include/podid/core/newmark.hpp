@@ -22,6 +22,11 @@
 //    ordering): no dense n x n matrix is formed, set-up and a step cost
 //    O(nnz(M) + nnz(C) + nnz(L)), linear in n for banded models.
 //  The full-Newton reference integrator is dense (n x n jacobian) at any size.
+//  On the dense condensed path, when the undamped modes also diagonalise C
+//  (proportional damping: Rayleigh, or none), the linear part is integrated
+//  in modal coordinates instead (NewmarkOptions::modal, lib/src/newmark_modal.hpp):
+//  each mode a scalar recurrence, the nonlinear dofs through their rows of the
+//  mode shapes: the same equations, O(n n_a) per step plus the recorded dofs.
 //
 // Model/workspace split: a NewmarkIntegrator holds constant precomputed
 // matrices; a NewmarkWorkspace holds every buffer the time loop uses, so Run()
@@ -33,6 +38,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -64,6 +70,11 @@ struct NewmarkOptions {
   /// when it has them (run-time check; the build targets baseline x86-64). false forces the
   /// portable kernels (tests compare: products round-off apart, updates bit for bit).
   bool cpu_dispatch = true;
+  /// The dense condensed path steps in modal coordinates when the undamped
+  /// modes diagonalise M, C and K to internal::kModalCouplingTolerance
+  /// (NewmarkIntegrator::modal()); false keeps the dense condensation (tests
+  /// compare the two). No effect on full Newton or the sparse path.
+  bool modal = true;
   /// Run() records every record_stride-th step (sub-stepping: step_s is the
   /// sampling step / record_stride): rows 0..steps / record_stride. >= 1 and
   /// divides steps.
@@ -144,6 +155,8 @@ struct Recording {
 class NewmarkIntegrator;
 
 namespace internal {
+struct ModalStep;
+struct ModalRunner;
 /// The Newmark relations' coefficients (above) and the divergence bound, as
 /// the dense condensed path's update kernel takes them (newmark_kernels.hpp).
 struct NewmarkCoefficients {
@@ -160,6 +173,7 @@ class NewmarkWorkspace {
 
  private:
   friend class NewmarkIntegrator;
+  friend struct internal::ModalRunner;
   Eigen::VectorXd z;  ///< state (dim 3 n): x, x', x'' in the permuted order
   Eigen::VectorXd x_new, rhs, r, dx;
   Eigen::VectorXd xa, xa_n, va, fa, ra, dxa, xa_trial;
@@ -174,6 +188,15 @@ class NewmarkWorkspace {
   Eigen::MatrixXd ka, ca;  ///< tangents of the nonlinear forces (n_a x n_a)
   Eigen::MatrixXd jac, jac_a;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu, lu_a;
+  // Modal path (dim n_pad, newmark_modal.hpp): the modes' q, q', q'' (3 n_pad),
+  // the step's predicted increment d, the next one's part P known before the
+  // Newton iterations, the load's share of the next d; per Run(): the
+  // recorded dofs' rows of phi (padded to 4, column-major) and the load's
+  // modal images.
+  Eigen::VectorXd modal_state, modal_d, modal_p, modal_load_next, modal_out;
+  Eigen::VectorXd modal_pa_lanes;         ///< dim 4 n_a: P's image on the `a` dofs, per lane
+  Eigen::VectorXd da, pa, delta, load_a;  ///< dim n_a: images on the `a` dofs
+  Eigen::MatrixXd modal_sensors, modal_load, modal_load_a;
 };
 
 class NewmarkIntegrator {
@@ -186,6 +209,10 @@ class NewmarkIntegrator {
   int dofs() const { return n_; }
   /// True when the condensed steps use sparse matrices (dofs() > options().dense_dof_limit).
   bool sparse() const { return sparse_; }
+  /// True when the steps are taken in modal coordinates (NewmarkOptions::modal);
+  /// modal_status() says why or why not.
+  bool modal() const { return modal_ != nullptr; }
+  const std::string& modal_status() const { return modal_status_; }
   int nonlinear_dofs() const { return na_; }
   /// New coefficients of the nonlinear elements (NonlinearForces::
   /// SetCoefficients): no matrix depends on them, nothing is refactored.
@@ -203,6 +230,7 @@ class NewmarkIntegrator {
 
  private:
   friend class NewmarkWorkspace;
+  friend struct internal::ModalRunner;
   bool StepModified(NewmarkWorkspace& w, bool has_load, int* iterations, double* residual) const;
   /// rhs += the load's pattern times w.load_now (allocation-free; newmark_load.cpp).
   static void AddLoad(NewmarkWorkspace& w, Eigen::VectorXd& rhs);
@@ -210,6 +238,9 @@ class NewmarkIntegrator {
   /// images load_y and load_bhat, load_now at t = 0).
   void PrepareLoad(const ExternalLoad& load, NewmarkWorkspace& w) const;
   bool SolveScalar(NewmarkWorkspace& w, int* iterations, double* residual) const;
+  /// eq. 29 on n_a >= 2 dofs by Newton from x_a = the `a` entries of w.z, bhat in w.ra.
+  bool SolveCondensed(NewmarkWorkspace& w, const Eigen::MatrixXd& shat, int* iterations,
+                      double* residual) const;
   /// The dense condensed step with one nonlinear dof, product, Newton (eq. 29),
   /// eq. 28 and the Newmark update fused; *bounded = false (state untouched)
   /// when x_new exceeds max_displacement or is not finite.
@@ -258,6 +289,9 @@ class NewmarkIntegrator {
   Eigen::VectorXd sbb_diagonal_;    ///< D of S_bb's factor
   Eigen::VectorXi sbb_permutation_;  ///< its fill-reducing permutation (may be empty)
   NonlinearForces nonlinear_;  ///< with `local` indices = permuted indices
+  /// The modal path (dense condensed, proportional damping), or null.
+  std::shared_ptr<const internal::ModalStep> modal_;
+  std::string modal_status_;
 };
 
 }  // namespace podid
