@@ -116,7 +116,7 @@ void WriteJson(const std::string& path, const ident::IdentifySummary& s) {
 // The paper's fig. 2: measured vs simulated signals at the start and at the
 // optimum, the convergence history, and with a wavelet term the ridges.
 void WritePlots(const std::string& dir, const ident::ObjectiveFunction& objective,
-                const ident::IdentifySummary& s, bool ridges) {
+                const ident::IdentifySummary& s, bool ridges, ident::EvaluationWorkspace* workspace) {
   std::filesystem::create_directories(dir);
   const TimeSeries& measured = objective.measured();
   const int channel = static_cast<int>(measured.channels()) - 1;
@@ -126,9 +126,8 @@ void WritePlots(const std::string& dir, const ident::ObjectiveFunction& objectiv
   signals.channel_names = {name + "_measured", name + "_start", name + "_optimum"};
   signals.values.resize(measured.samples(), 3);
   signals.values.col(0) = measured.values.col(channel);
-  ident::EvaluationWorkspace workspace;  // one cached simulator for both
-  const SimulationResult at_start = objective.SimulateAt(s.initial_parameters, &workspace);
-  const SimulationResult at_optimum = objective.SimulateAt(s.parameters, &workspace);
+  const SimulationResult at_start = objective.SimulateAt(s.initial_parameters, workspace);
+  const SimulationResult at_optimum = objective.SimulateAt(s.parameters, workspace);
   for (const auto& [col, sim] : {std::pair{1, &at_start}, std::pair{2, &at_optimum}}) {
     signals.values.col(col).setConstant(std::numeric_limits<double>::quiet_NaN());
     const Eigen::Index rows = std::min(sim->sensors.samples(), measured.samples());
@@ -349,10 +348,13 @@ void AddIdentifyCommand(CLI::App& app) {
       }
     }
     std::printf("%s\n", summary.BriefReport().c_str());
+    // One cached simulator for the reports' simulations (the quantity check,
+    // the plots): the model and its load are built once, not per report.
+    ident::EvaluationWorkspace reports;
     // Measured accelerations declared as displacements (or the reverse):
     // the spectra of the record and of the simulation at the result tell.
     if (summary.parameters.size() == objective->parameter_count()) {
-      const SimulationResult at = objective->SimulateAt(summary.parameters);
+      const SimulationResult at = objective->SimulateAt(summary.parameters, &reports);
       if (at.summary.IsSolutionUsable() &&
           at.sensors.channels() == objective->measured().channels()) {
         const QuantityCheck q = CheckMeasuredQuantity(
@@ -381,7 +383,7 @@ void AddIdentifyCommand(CLI::App& app) {
     if (args->report) std::printf("%s", summary.FullReport().c_str());
     if (!args->json.empty()) WriteJson(args->json, summary);
     if (!args->plot_dir.empty()) {
-      WritePlots(args->plot_dir, *objective, summary, weights.NeedsRidges());
+      WritePlots(args->plot_dir, *objective, summary, weights.NeedsRidges(), &reports);
       std::printf("plots and signals.csv written to %s/\n", args->plot_dir.c_str());
     }
     if (!summary.IsSolutionUsable()) throw CommandFailed("identify: " + summary.message);
