@@ -370,9 +370,11 @@ void AddCwtCommand(CLI::App& app) {
       ->capture_default_str();
   command
       ->add_option("--max-memory", a->max_memory_MB,
-                   "Refuse transforms needing more than this many MB (1..16777216; the\n"
-                   "coefficients take n_times x n_frequencies x 16 bytes, 24 with --scalogram;\n"
-                   "the ridges kept for -o about 64 bytes per channel, ridge and time)")
+                   "Refuse transforms needing more than this many MB (1..16777216). One ridge on\n"
+                   "one thread without --scalogram/--plot is streamed: about 1 byte per cell plus\n"
+                   "~43 per cell of a block; otherwise the coefficients take n_times x\n"
+                   "n_frequencies x 16 bytes, 24 with --scalogram; the ridges kept for -o about\n"
+                   "64 bytes per channel, ridge and time)")
       ->capture_default_str();
   command->add_flag("--band-limited", a->band_limited,
                     "Decimated output (what identification uses); IF values are unchanged");
