@@ -3,9 +3,8 @@
 set -u
 podid="$1"
 data=tests/data/measured_knl50_T1.0.csv
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. tests/support/cli.sh
+cli_scratch
 
 # A channel: IF statistics, the ridge CSV and the scalogram CSV.
 "$podid" cwt "$data" --channel w6 -o "$out/ridge.csv" --scalogram "$out/s.csv" >"$out/stdout" \

@@ -4,7 +4,7 @@
 # with a point mass measured in acceleration (tests/beam_dop853.py).
 # Usage: bash tests/cli/dop853.sh PODID (from the repo root).
 set -eu
-py=python3
-python3 -c "import scipy" 2>/dev/null || py=/usr/bin/python3
+. tests/support/cli.sh
+cli_python "for the DOP853 references (Debian's python3-scipy)" numpy scipy.integrate
 "$py" tests/duffing_dop853.py "$1"
 "$py" tests/beam_dop853.py "$1"

@@ -7,19 +7,10 @@
 # Usage: bash tests/cli/f16_example.sh PODID (from the repo root).
 set -eu
 podid=$1
-real="${PODID_REALDATA:-../shared/realdata}"
+. tests/support/cli.sh
+cli_realdata testlab/F16_Data.mat "the F-16 example"
 file="$real/testlab/F16_Data.mat"
-if [ ! -f "$file" ]; then
-  echo "SKIP: $file is absent (the shared real data): the F-16 example is not run"
-  exit 77
-fi
-py=/usr/bin/python3
-[ -x "$py" ] || py=python3
-if ! "$py" -c "import numpy, scipy.io, scipy.signal" 2>/dev/null; then
-  echo "SKIP: no Python with NumPy and SciPy (Debian's python3-scipy) to check the example"
-  exit 77
-fi
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
+cli_python "to check the example (Debian's python3-scipy)" numpy scipy.io scipy.signal
+cli_scratch
 "$py" examples/f16/run.py "$podid" "$file" "$out"
 "$py" tests/f16_example_check.py "$file" "$out/summary.json"

@@ -9,9 +9,8 @@ set -u
 podid="$1"
 case_file=examples/beam.toml
 measured=tests/data/measured_knl50_T1.0.csv
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. tests/support/cli.sh
+cli_scratch
 # expect CODE NEEDLE -- ARGS...: podid exits CODE and stderr contains NEEDLE.
 expect() {
   local code="$1" needle="$2"

@@ -10,9 +10,8 @@
 set -u
 podid="$(realpath "$1")"
 root="$PWD"
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. tests/support/cli.sh
+cli_scratch
 cd "$out"
 cp "$root/examples/beam.toml" case.toml
 cp "$root/tests/data/measured_knl50_T0.1.csv" data.csv

@@ -10,9 +10,8 @@
 set -u
 podid="$(realpath "$1")"
 root="$PWD"
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. tests/support/cli.sh
+cli_scratch
 if ! command -v gnuplot >/dev/null && [ -z "${PODID_GNUPLOT:-}" ]; then
   echo "hostile plot: skipped (no gnuplot)"
   exit 0

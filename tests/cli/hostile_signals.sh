@@ -8,9 +8,8 @@
 set -u
 podid="$(realpath "$1")"
 root="$PWD"
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. tests/support/cli.sh
+cli_scratch
 cd "$out"
 printf 'precious\n' >sim.csv
 for signal in TERM HUP; do

@@ -7,9 +7,8 @@
 # Usage: bash tests/cli/model_identify.sh PODID (from the repo root).
 set -u
 podid="$1"
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. tests/support/cli.sh
+cli_scratch
 py=python3  # any python3 with json
 
 # Checks that the JSON's parameter $2 is within $3 (relative) of $4.

@@ -7,9 +7,8 @@
 # Usage: bash tests/cli/mpi.sh PODID (from the repo root).
 set -u
 podid="$1"
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. tests/support/cli.sh
+cli_scratch
 command -v mpirun >/dev/null || { echo "mpi: mpirun not found, skipped"; exit 0; }
 # CI runs as root; 2 ranks on any number of cores.
 mpi() { OMPI_MCA_rmaps_base_oversubscribe=1 mpirun --allow-run-as-root --oversubscribe -n 2 "$@"; }

@@ -3,9 +3,8 @@
 set -u
 podid="$1"
 data=tests/data/measured_knl50_T0.1.csv
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. tests/support/cli.sh
+cli_scratch
 
 # Full decomposition: table, JSON and time modes.
 "$podid" pod "$data" --json "$out/pod.json" -o "$out/v.csv" >"$out/stdout" \

@@ -6,9 +6,8 @@
 set -u
 podid="$1"
 data=tests/data/readers
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. tests/support/cli.sh
+cli_scratch
 
 "$podid" pod "$data/testsystem_export.mat" --json "$out/ts.json" >/dev/null 2>"$out/ts.err" \
   || fail "pod testsystem_export.mat exited $?"

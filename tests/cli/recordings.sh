@@ -5,9 +5,8 @@
 # and the refusals. Usage: bash tests/cli/recordings.sh PODID (from the repo root).
 set -u
 podid="$1"
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. tests/support/cli.sh
+cli_scratch
 py=/usr/bin/python3
 
 # --- 1. pod with a window, a linear detrend, a band-pass and decimation.

@@ -8,20 +8,11 @@
 # Usage: bash tests/cli/silverbox_example.sh PODID (from the repo root).
 set -eu
 podid=$1
-real="${PODID_REALDATA:-../shared/realdata}"
+. tests/support/cli.sh
+cli_realdata silverbox/SNLS80mV.mat "the Silverbox example"
 file="$real/silverbox/SNLS80mV.mat"
-if [ ! -f "$file" ]; then
-  echo "SKIP: $file is absent (the shared real data): the Silverbox example is not run"
-  exit 77
-fi
-py=/usr/bin/python3
-[ -x "$py" ] || py=python3
-if ! "$py" -c "import numpy, scipy.io" 2>/dev/null; then
-  echo "SKIP: no Python with NumPy and SciPy (Debian's python3-scipy) to run the example"
-  exit 77
-fi
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
+cli_python "to run the example (Debian's python3-scipy)" numpy scipy.io
+cli_scratch
 "$py" examples/silverbox/run.py "$podid" "$file" "$out"
 "$py" - "$out/summary.json" <<'PY'
 import json, sys

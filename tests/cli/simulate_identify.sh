@@ -3,9 +3,8 @@
 # Usage: bash tests/cli/simulate_identify.sh PODID (from the repo root).
 set -u
 podid="$1"
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. tests/support/cli.sh
+cli_scratch
 
 # modes: the reference frequencies.
 "$podid" modes examples/beam.toml >"$out/modes" || fail "modes exited $?"

@@ -5,9 +5,8 @@
 set -u
 podid="$1"
 data=tests/data/measured_knl50_T1.0.csv
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. tests/support/cli.sh
+cli_scratch
 export XDG_CACHE_HOME="$out/cache"  # never the user's real cache
 
 # plan: measures once into $XDG_CACHE_HOME/podid, then finds the wisdom.
