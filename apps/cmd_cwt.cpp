@@ -224,6 +224,19 @@ void Run(const CwtArguments& a) {
                       ? (" (penalty " + ToText(a.penalty_s) + " s)").c_str()
                       : "",
                   a.ridges > 1 ? (", up to " + ToText(a.ridges) + " ridges").c_str() : "");
+      // Below the lowest frequency whose cone holds a sample (the record's
+      // middle) every coefficient is within an e-folding time of an edge:
+      // |W| there is the padding's step, and a penalised ridge drawn to it
+      // can stay at those frequencies well into the record.
+      const double useful_Hz = sg.coi_frequency_Hz.size() > 0 ? sg.coi_frequency_Hz.minCoeff() : 0.0;
+      if (a.coi_factor > 0.0 && sg.frequencies_Hz(0) < useful_Hz) {
+        std::fprintf(stderr,
+                     "podid: note: below %.4g Hz no coefficient of this %.4g s record is inside the "
+                     "cone of influence (coi_factor %.4g): the ridge may follow the record's edges "
+                     "there; --fmin %.4g or a longer record avoids it\n",
+                     useful_Hz, static_cast<double>(signal.size() - 1) * step_s, a.coi_factor,
+                     useful_Hz);
+      }
     }
     for (std::size_t r = 0; r < tracks.back().size(); ++r) {
       std::string prefix;

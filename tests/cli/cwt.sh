@@ -128,4 +128,11 @@ PATH=/nonexistent "$podid" cwt "$data" --channel w6 --plot "$out/n.png" -o "$out
 grep -q "gnuplot not found" "$out/stderr" || fail "no gnuplot message"
 [ -s "$out/n.png.gp" ] && [ -s "$out/n.png.data0.txt" ] && [ -s "$out/r2.csv" ] \
   || fail "data not kept without gnuplot"
+# A grid reaching below the frequencies whose cone holds a sample of this 1 s
+# record (5.4 Hz at coi_factor 2): a note names that frequency; none at the default fmin.
+"$podid" cwt "$data" --channel w6 --fmin 1 >/dev/null 2>"$out/low" || fail "cwt --fmin 1 exited $?"
+grep -q "note: below 5.40[0-9] Hz no coefficient of this 1 s record is inside the cone" "$out/low" \
+  || fail "no low-frequency note: $(cat "$out/low")"
+"$podid" cwt "$data" --channel w6 >/dev/null 2>"$out/default" || fail "cwt exited $?"
+[ ! -s "$out/default" ] || fail "unexpected stderr at the default band: $(cat "$out/default")"
 echo "cli.cwt: ok"
