@@ -1,16 +1,12 @@
 #include "podid/core/interpolate.hpp"
 
-#include <complex>
-#include <unsupported/Eigen/FFT>
-#include <vector>
-
+#include "fftw_util.hpp"
 #include "podid/core/error.hpp"
 
 namespace podid {
 namespace {
 
-/// Smallest length >= n with prime factors 2, 3, 5 only: kissfft (Eigen's
-/// FFT) costs O(n p) for a prime factor p.
+/// Smallest length >= n with prime factors 2, 3, 5 only (fast FFT lengths).
 Eigen::Index SmoothLength(Eigen::Index n) {
   for (Eigen::Index p = n;; ++p) {
     Eigen::Index m = p;
@@ -31,27 +27,37 @@ Eigen::VectorXd InterpolateBandLimited(const Eigen::VectorXd& x, int factor) {
   // The line through the end samples, removed and added back.
   const double x0 = x[0], slope = (x[n - 1] - x[0]) / static_cast<double>(n - 1);
   const Eigen::Index p = SmoothLength(n);
-  std::vector<std::complex<double>> in(static_cast<std::size_t>(p), 0.0), spectrum;
-  for (Eigen::Index i = 0; i < n; ++i) in[i] = x[i] - (x0 + slope * static_cast<double>(i));
-  Eigen::FFT<double> fft;
-  fft.fwd(spectrum, in);
   const Eigen::Index m = p * factor;
-  std::vector<std::complex<double>> padded(static_cast<std::size_t>(m), 0.0), fine;
+  if (m > (Eigen::Index{1} << 31) - 1) {  // FFTW's lengths are ints
+    ThrowInvalid("band-limited interpolation of a sampled force (integrator.substeps)",
+                 "at most 2^31 - 1 fine points", ToText(m) + " (fewer substeps or a shorter record)");
+  }
+  auto in = internal::FftwAllocate<double>(p);
+  auto spectrum = internal::FftwAllocate<fftw_complex>(p / 2 + 1);
+  auto padded = internal::FftwAllocate<fftw_complex>(m / 2 + 1);
+  auto fine = internal::FftwAllocate<double>(m);
+  const auto forward = internal::FftwRealPlan::Forward(p, in.get(), spectrum.get());
+  const auto inverse = internal::FftwRealPlan::Inverse(m, padded.get(), fine.get());
+  for (Eigen::Index i = 0; i < n; ++i) in[i] = x[i] - (x0 + slope * static_cast<double>(i));
+  for (Eigen::Index i = n; i < p; ++i) in[i] = 0.0;
+  forward.Execute();
+  // Bins 0 .. P/2 of the real sequence into bins 0 .. M/2 of the fine one
+  // (the negative bins are implied by the c2r transform's Hermitian symmetry).
+  for (Eigen::Index k = 0; k <= m / 2; ++k) padded[k][0] = padded[k][1] = 0.0;
   const Eigen::Index half = (p - 1) / 2;  // bins strictly below Nyquist
-  padded[0] = spectrum[0];
-  for (Eigen::Index k = 1; k <= half; ++k) {
-    padded[k] = spectrum[k];
-    padded[m - k] = spectrum[p - k];
+  for (Eigen::Index k = 0; k <= half; ++k) {
+    padded[k][0] = spectrum[k][0];
+    padded[k][1] = spectrum[k][1];
   }
-  if (p % 2 == 0) {  // Nyquist: split so that the interpolant stays real
-    padded[p / 2] = 0.5 * spectrum[p / 2];
-    padded[m - p / 2] = 0.5 * spectrum[p / 2];
+  if (p % 2 == 0) {  // Nyquist: split between +- Nyquist so that the interpolant stays real
+    padded[p / 2][0] = 0.5 * spectrum[p / 2][0];
+    padded[p / 2][1] = 0.5 * spectrum[p / 2][1];
   }
-  fft.inv(fine, padded);  // scaled by 1 / m; the samples need 1 / p
+  inverse.Execute();  // unnormalised: the samples need 1 / P
   Eigen::VectorXd y(out);
+  const double scale = 1.0 / static_cast<double>(p);
   for (Eigen::Index j = 0; j < out; ++j) {
-    y[j] = static_cast<double>(factor) * fine[j].real() +
-           x0 + slope * static_cast<double>(j) / static_cast<double>(factor);
+    y[j] = scale * fine[j] + x0 + slope * static_cast<double>(j) / static_cast<double>(factor);
   }
   return y;
 }

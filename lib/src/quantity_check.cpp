@@ -7,9 +7,9 @@
 #include <limits>
 #include <numbers>
 #include <string>
-#include <unsupported/Eigen/FFT>
 #include <vector>
 
+#include "fftw_util.hpp"
 #include "podid/core/error.hpp"
 
 namespace podid {
@@ -17,20 +17,21 @@ namespace {
 
 // Power per bin 0..n/2, summed over channels (Hann window, mean removed).
 Eigen::VectorXd Power(const TimeSeries& s, Eigen::Index n) {
-  Eigen::FFT<double> fft;
   Eigen::VectorXd power = Eigen::VectorXd::Zero(n / 2 + 1);
-  std::vector<double> x(static_cast<std::size_t>(n));
-  std::vector<std::complex<double>> spectrum;
+  auto x = internal::FftwAllocate<double>(n);
+  auto spectrum = internal::FftwAllocate<fftw_complex>(n / 2 + 1);
+  const auto fft = internal::FftwRealPlan::Forward(n, x.get(), spectrum.get());
   for (Eigen::Index c = 0; c < s.channels(); ++c) {
     const double mean = s.values.col(c).head(n).mean();
     for (Eigen::Index i = 0; i < n; ++i) {
       const double hann =
           0.5 - 0.5 * std::cos(2 * std::numbers::pi * i / static_cast<double>(n - 1));
-      x[static_cast<std::size_t>(i)] = hann * (s.values(i, c) - mean);
+      x[i] = hann * (s.values(i, c) - mean);
     }
-    fft.fwd(spectrum, x);
-    for (Eigen::Index k = 0; k <= n / 2; ++k)
-      power[k] += std::norm(spectrum[static_cast<std::size_t>(k)]);
+    fft.Execute();
+    for (Eigen::Index k = 0; k <= n / 2; ++k) {
+      power[k] += spectrum[k][0] * spectrum[k][0] + spectrum[k][1] * spectrum[k][1];
+    }
   }
   return power;
 }

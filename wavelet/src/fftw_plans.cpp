@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "podid/core/error.hpp"
+#include "podid/core/fftw_lock.hpp"
 #include "podid/wavelet/plans.hpp"
 
 namespace podid::wavelet {
@@ -39,7 +40,7 @@ struct Entry {
 // replacing an estimated one keeps the old one alive (another thread's
 // transform may still hold it).
 struct State {
-  std::mutex mutex;
+  std::mutex& mutex = podid::internal::FftwPlannerMutex();  // shared with the model module
   std::map<std::tuple<Kind, int, int>, Entry> plans;  // (kind, length, howmany)
   std::vector<fftw_plan> retired;
   std::set<std::string> loaded;  // cache files already imported

@@ -1,7 +1,9 @@
 #pragma once
 // Process-wide cache of FFTW plans, one per (kind, length). FFTW's planner is
-// not thread-safe, so plan creation is serialised by a mutex; executing a plan
-// with fftw_execute_dft*() on other (fftw_malloc-aligned) arrays is.
+// not thread-safe, so plan creation is serialised by a mutex (the one of
+// podid/core/fftw_lock.hpp, which the model module's interpolation takes
+// too); executing a plan with fftw_execute_dft*() on other
+// (fftw_malloc-aligned) arrays is.
 //
 // Planning effort (podid/wavelet/plans.hpp): a length with wisdom in the
 // on-disk cache (or measured earlier in this process) gets its measured plan;
