@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 #include <string>
@@ -50,12 +51,34 @@ struct CwtArguments {
 
 // The analysed signals and a label for each: one channel, every channel
 // (--channel all) or one POD time mode.
+// Channels named in the note on skipped constant channels.
+constexpr int kListedSkipped = 8;
+
 std::vector<std::pair<std::string, Eigen::VectorXd>> SelectSignals(const CwtArguments& a,
                                                                    const TimeSeries& series) {
   if (a.channel == "all") {
+    // A constant channel (a dead or unused one: the F-16 file has 113 of
+    // 115) has no ridge: skipped with a note instead of failing the call.
     std::vector<std::pair<std::string, Eigen::VectorXd>> all;
+    std::string skipped;
+    int constant = 0;
     for (Eigen::Index c = 0; c < series.values.cols(); ++c) {
-      all.emplace_back(series.channel_names[static_cast<std::size_t>(c)], series.values.col(c));
+      const std::string& name = series.channel_names[static_cast<std::size_t>(c)];
+      const auto column = series.values.col(c);
+      if (column.size() > 0 && column.minCoeff() == column.maxCoeff()) {
+        if (++constant <= kListedSkipped) skipped += (skipped.empty() ? "" : ", ") + name;
+        continue;
+      }
+      all.emplace_back(name, column);
+    }
+    if (all.empty()) {
+      ThrowInvalid("cwt --channel all of " + a.data, "at least one non-constant channel",
+                   "all " + ToText(series.values.cols()) + " channels constant");
+    }
+    if (constant > 0) {
+      std::fprintf(stderr, "podid: note: --channel all: %d constant channel%s skipped (no ridge): %s%s\n",
+                   constant, constant > 1 ? "s" : "", skipped.c_str(),
+                   constant > kListedSkipped ? ", ..." : "");
     }
     return all;
   }
@@ -177,13 +200,17 @@ void Run(const CwtArguments& a) {
   for (std::size_t c = 0; c < signals.size(); ++c) {
     const auto& [label, signal] = signals[c];
     tracks.emplace_back();
-    if (streamed) {
-      tracks.back().push_back(estimator->Estimate(signal, step_s));
-    } else {
-      transform->Compute(signal, step_s, &whole);
-      for (const Eigen::VectorXi& path : wavelet::FindRidges(whole, options.ridge)) {
-        tracks.back().push_back(wavelet::TrackRidge(whole, path, options.ridge, transform.get()));
+    try {
+      if (streamed) {
+        tracks.back().push_back(estimator->Estimate(signal, step_s));
+      } else {
+        transform->Compute(signal, step_s, &whole);
+        for (const Eigen::VectorXi& path : wavelet::FindRidges(whole, options.ridge)) {
+          tracks.back().push_back(wavelet::TrackRidge(whole, path, options.ridge, transform.get()));
+        }
       }
+    } catch (const std::invalid_argument& e) {  // name the signal the error is about
+      throw std::invalid_argument(label + " of " + a.data + ": " + e.what());
     }
     // The grid (times, frequencies, decimation, cone) of either path.
     const wavelet::Scalogram& sg = streamed ? estimator->scalogram() : whole;
@@ -333,7 +360,7 @@ void AddCwtCommand(CLI::App& app) {
       ->check(CLI::ExistingFile);
   a->reading.AddTo(*command);
   auto* channel = command->add_option("--channel", a->channel,
-                                      "Channel name, e.g. w6, or all (every channel in one call)");
+                                      "Channel name, e.g. w6, or all (every channel in one call; constant channels are skipped with a note)");
   auto* pom =
       command->add_option("--pom", a->pom, "Analyse the k-th POD time mode (right-singular vector)")
           ->check(IntegerIn(1, kMaxPomOption));

@@ -135,4 +135,16 @@ grep -q "note: below 5.40[0-9] Hz no coefficient of this 1 s record is inside th
   || fail "no low-frequency note: $(cat "$out/low")"
 "$podid" cwt "$data" --channel w6 >/dev/null 2>"$out/default" || fail "cwt exited $?"
 [ ! -s "$out/default" ] || fail "unexpected stderr at the default band: $(cat "$out/default")"
+# --channel all skips a constant (dead) channel with a note naming it; a
+# single constant channel is an error naming the channel and the file.
+awk -F, 'NR == 1 { print $0 ",dead"; next } { print $0 ",0" }' "$data" >"$out/dead.csv"
+"$podid" cwt "$out/dead.csv" --channel all -o "$out/dead_r.csv" >/dev/null 2>"$out/dead_err" \
+  || fail "cwt --channel all with a dead channel exited $?"
+grep -q "note: --channel all: 1 constant channel skipped (no ridge): dead$" "$out/dead_err" \
+  || fail "no note on the dead channel: $(cat "$out/dead_err")"
+grep -q "dead" "$out/dead_r.csv" && fail "the dead channel is in the ridge CSV"
+"$podid" cwt "$out/dead.csv" --channel dead >/dev/null 2>"$out/dead_err"
+[ $? -eq 1 ] || fail "a constant --channel: expected exit 1"
+grep -q "^podid: error: dead of $out/dead.csv: .*non-constant" "$out/dead_err" \
+  || fail "the error does not name the channel and file: $(cat "$out/dead_err")"
 echo "cli.cwt: ok"
