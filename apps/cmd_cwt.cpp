@@ -49,11 +49,11 @@ struct CwtArguments {
   std::string plot;
 };
 
-// The analysed signals and a label for each: one channel, every channel
-// (--channel all) or one POD time mode.
 // Channels named in the note on skipped constant channels.
 constexpr int kListedSkipped = 8;
 
+// The analysed signals and a label for each: one channel, every channel
+// (--channel all) or one POD time mode.
 std::vector<std::pair<std::string, Eigen::VectorXd>> SelectSignals(const CwtArguments& a,
                                                                    const TimeSeries& series) {
   if (a.channel == "all") {
