@@ -23,13 +23,23 @@ CaseSpec Reference(const std::vector<std::string>& overrides) {
 
 // The time loop only: model, integrator and workspace are built once.
 // per_step = CPU time per Newmark step (issue 11: <= 60 ns for the 12-dof case).
-// modal = false: the dense condensation (the reference beam is Rayleigh-damped,
-// so it steps in modal coordinates by default).
-void RunLoop(benchmark::State& state, const CaseSpec& spec, bool cpu_dispatch = true, bool modal = true) {
+// The reference beam is Rayleigh-damped: it steps in modal coordinates by
+// default when the modal loop runs in AVX2, else in the dense condensation.
+enum class Path {
+  kDefault,
+  kDense,  ///< NewmarkOptions::modal = false
+  kModal,  ///< NewmarkOptions::modal_portable = true: modal even on its portable loop
+};
+
+void RunLoop(benchmark::State& state,
+             const CaseSpec& spec,
+             bool cpu_dispatch = true,
+             Path path = Path::kDefault) {
   const BeamModel model = BeamModel::Build(spec);
   NewmarkOptions options = NewmarkOptions::FromCase(spec);
   options.cpu_dispatch = cpu_dispatch;
-  options.modal = modal;
+  options.modal = path != Path::kDense;
+  options.modal_portable = path == Path::kModal;
   const NewmarkIntegrator integrator(model, options);
   NewmarkWorkspace workspace(integrator);
   const State initial = InitialState(spec, model);
@@ -55,7 +65,8 @@ void BM_Reference1sCondensed(benchmark::State& state) {
 }
 BENCHMARK(BM_Reference1sCondensed)->Unit(benchmark::kMicrosecond);
 
-// The same with the portable (SSE2) kernels, for the SIMD kernels' share.
+// The same with the portable (SSE2) kernels, for the SIMD kernels' share:
+// what a CPU without AVX2 runs (the dense condensation).
 void BM_Reference1sCondensedPortable(benchmark::State& state) {
   RunLoop(state, Reference({"time.duration=1.0"}), false);
 }
@@ -63,14 +74,61 @@ BENCHMARK(BM_Reference1sCondensedPortable)->Unit(benchmark::kMicrosecond);
 
 // The dense condensation (NewmarkOptions::modal = false), AVX2 and portable.
 void BM_Reference1sCondensedDense(benchmark::State& state) {
-  RunLoop(state, Reference({"time.duration=1.0"}), true, false);
+  RunLoop(state, Reference({"time.duration=1.0"}), true, Path::kDense);
 }
 BENCHMARK(BM_Reference1sCondensedDense)->Unit(benchmark::kMicrosecond);
 
 void BM_Reference1sCondensedDensePortable(benchmark::State& state) {
-  RunLoop(state, Reference({"time.duration=1.0"}), false, false);
+  RunLoop(state, Reference({"time.duration=1.0"}), false, Path::kDense);
 }
 BENCHMARK(BM_Reference1sCondensedDensePortable)->Unit(benchmark::kMicrosecond);
+
+// The modal path's portable loop (NewmarkOptions::modal_portable), the one
+// the default chose without AVX2 before it fell back to the dense step.
+void BM_Reference1sCondensedModalPortable(benchmark::State& state) {
+  RunLoop(state, Reference({"time.duration=1.0"}), false, Path::kModal);
+}
+BENCHMARK(BM_Reference1sCondensedModalPortable)->Unit(benchmark::kMicrosecond);
+
+// Two nonlinear dofs (the cubic tip and a gap at node 3), AVX2 dispatch:
+// range(0) = 0 the default (the dense condensation: the modal loop has no
+// AVX2 build for n_a != 1), 1 the modal path's generic loop (modal_portable).
+void BM_TwoNonlinearDofs1s(benchmark::State& state) {
+  RunLoop(state,
+          Reference({"time.duration=1.0", "nonlinearity.1.type=\"gap\"", "nonlinearity.1.node=3",
+                     "nonlinearity.1.gap=1e-5", "nonlinearity.1.stiffness=1e5"}),
+          true, state.range(0) != 0 ? Path::kModal : Path::kDefault);
+}
+BENCHMARK(BM_TwoNonlinearDofs1s)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// No nonlinear dof: the reference beam's M, K, C imported without its
+// element, released with a tip velocity, 1 s. range(0) as above; range(1) =
+// cpu_dispatch.
+void BM_Linear1s(benchmark::State& state) {
+  const CaseSpec spec = Reference({"time.duration=1.0"});
+  const BeamModel beam = BeamModel::Build(spec);
+  const BeamModel model =
+      BeamModel::FromMatrices(beam.DenseMass(), beam.DenseStiffness(), beam.DenseDamping(), {});
+  NewmarkOptions options = NewmarkOptions::FromCase(spec);
+  options.cpu_dispatch = state.range(1) != 0;
+  options.modal_portable = state.range(0) != 0;
+  const NewmarkIntegrator integrator(model, options);
+  NewmarkWorkspace workspace(integrator);
+  State initial{Eigen::VectorXd::Zero(model.dofs()), Eigen::VectorXd::Zero(model.dofs())};
+  initial.velocity[model.dofs() - 2] = 0.5;
+  Recording recording;
+  recording.dofs = SensorDofs(spec);
+  SimulationSummary summary;
+  for (auto _ : state) {
+    summary = integrator.Run(initial, ExternalLoad{}, &recording, &workspace);
+    benchmark::DoNotOptimize(recording.displacement.data());
+  }
+  if (!summary.IsSolutionUsable()) state.SkipWithError(summary.message.c_str());
+  state.counters["modal"] = integrator.modal() ? 1.0 : 0.0;
+  state.counters["per_step"] = benchmark::Counter(
+      options.steps, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_Linear1s)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMicrosecond);
 
 // Integrator set-up alone (first-call cost: dense condensation and, for the
 // modal path, the generalised eigenproblem and the modal maps).

@@ -134,6 +134,9 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     modal_status_ = "not used: full Newton";
   } else if (!options.modal) {
     modal_status_ = "not used: NewmarkOptions::modal is false";
+  } else if (!options.modal_portable &&
+             !internal::ModalLoopVectorised(na_, options.cpu_dispatch, &modal_status_)) {
+    // The dense condensation above is the faster step here (the status says why).
   } else {
     modal_ = internal::BuildModalStep(mass_, damping_, stiffness_, na_, coefficients_, &modal_status_);
   }

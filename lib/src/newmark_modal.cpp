@@ -437,16 +437,34 @@ __attribute__((target("avx2"))) void StepsOneAvx2(const NewmarkIntegrator& in, c
 }
 #endif
 
-StepsFunction SelectSteps(int na, bool cpu_dispatch) {
+StepsFunction SelectSteps(int na, [[maybe_unused]] bool cpu_dispatch) {
   if (na != 1) return StepsAnyPortable;
 #ifdef PODID_MODAL_AVX2
-  if (cpu_dispatch && __builtin_cpu_supports("avx2")) return StepsOneAvx2;
+  if (ModalLoopVectorised(na, cpu_dispatch, nullptr)) return StepsOneAvx2;
 #endif
-  (void)cpu_dispatch;
   return StepsOnePortable;
 }
 
 }  // namespace
+
+bool ModalLoopVectorised(int na, bool cpu_dispatch, std::string* why) {
+  const char* missing = nullptr;
+  if (na != 1) {
+    missing = "its AVX2 loop takes one nonlinear dof";
+  } else if (!cpu_dispatch) {
+    missing = "NewmarkOptions::cpu_dispatch is false";
+  } else {
+#ifdef PODID_MODAL_AVX2
+    if (!__builtin_cpu_supports("avx2")) missing = "the CPU has no AVX2";
+#else
+    missing = "no AVX2 build of its loop (not GCC or Clang on x86-64)";
+#endif
+  }
+  if (missing != nullptr && why != nullptr)
+    *why = std::string("not used: ") + missing +
+           ", and its portable loop is slower than the dense step";
+  return missing == nullptr;
+}
 
 void ModalRunner::Run(const NewmarkIntegrator& integrator, const ExternalLoad& load,
                       const std::vector<int>& recorded, int rows, Recording* recording, NewmarkWorkspace& w,

@@ -70,6 +70,13 @@ std::shared_ptr<const ModalStep> BuildModalStep(const Eigen::MatrixXd& mass, con
                                                 const Eigen::MatrixXd& stiffness, int na,
                                                 const NewmarkCoefficients& c, std::string* why);
 
+/// Whether the modal loop for na nonlinear dofs runs in its AVX2 build (one
+/// nonlinear dof, cpu_dispatch and a CPU with AVX2): the only build faster
+/// than the dense step, so the integrator takes the modal path only then
+/// (unless NewmarkOptions::modal_portable). Otherwise *why says which is
+/// missing.
+bool ModalLoopVectorised(int na, bool cpu_dispatch, std::string* why);
+
 /// The modal path's time loop, a friend of the integrator and its workspace.
 struct ModalRunner {
   /// Before the loop (may allocate): the modal state from w.z (the physical

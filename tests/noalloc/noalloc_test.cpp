@@ -24,12 +24,14 @@ TEST(NoAllocationDeathTest, ForbiddenAllocationAborts) {
 }
 
 // The reference beam is Rayleigh-damped: the modal path (newmark_modal.hpp)
-// by default, the dense condensation with modal = false.
+// with modal_portable (the default takes it with its AVX2 loop only), the
+// dense condensation with modal = false.
 void RunWithoutAllocation(const std::vector<std::string>& overrides, bool modal = true) {
   const CaseSpec spec = testing::ReferenceCase(overrides);
   const BeamModel model = BeamModel::Build(spec);
   NewmarkOptions options = NewmarkOptions::FromCase(spec);
   options.modal = modal;
+  options.modal_portable = modal;
   const NewmarkIntegrator integrator(model, options);
   EXPECT_EQ(integrator.modal(), modal && options.type == IntegratorType::kModifiedNewmark &&
                                     model.dofs() <= options.dense_dof_limit);
