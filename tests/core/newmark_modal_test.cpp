@@ -181,8 +181,8 @@ TEST(NewmarkModalTest, ReferenceBeamTakesTheModalPathAndOtherCasesDoNot) {
 }
 
 TEST(NewmarkModalTest, DefaultTakesTheModalPathOnlyWithItsAvx2Loop) {
-  // The portable modal loops are slower than the dense step (117.9 against
-  // 104.8 ns a reference step; 2 nonlinear dofs and none: bench/README.md),
+  // The portable modal loops are slower than the dense step (120 against
+  // 106 ns a reference step; 2 nonlinear dofs and none: docs/benchmarks.md),
   // so by default the modal path needs its AVX2 loop: one nonlinear dof,
   // cpu_dispatch and a CPU with AVX2. Otherwise the dense step runs, the
   // same bits as modal = false, and modal_status() says why.

@@ -76,9 +76,9 @@ struct NewmarkOptions {
   /// modes diagonalise M, C and K to internal::kModalCouplingTolerance and
   /// the modal loop runs in AVX2 (one nonlinear dof, cpu_dispatch and a CPU
   /// with AVX2; NewmarkIntegrator::modal() and modal_status() say which and
-  /// why). Its portable build is slower than the dense step (117.9 against
-  /// 104.8 ns a step of the reference case, bench/README.md), so the dense
-  /// condensation runs without AVX2. false keeps the dense condensation
+  /// why). Its portable loops are slower than the dense step (120 against
+  /// 106 ns a step of the reference case, docs/benchmarks.md), so the dense
+  /// condensation runs elsewhere. false keeps the dense condensation
   /// (tests compare the two). No effect on full Newton or the sparse path.
   bool modal = true;
   /// With `modal`: take the modal path with its portable loop too, where the
