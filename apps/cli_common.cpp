@@ -42,12 +42,12 @@ std::vector<NamedFile> CaseInputFiles(const CaseArguments& arguments) {
     if (path.is_relative()) path = std::filesystem::path(arguments.path).parent_path() / path;
     files.push_back({what, path.string()});
   };
-  if (spec.force.type == ForceType::kFile && !spec.force.file.empty()) {
-    add("force file", spec.force.file);
-  }
-  for (const ForceSpec& force : spec.forces)
-    if (force.type == ForceType::kFile && !force.file.empty()) add("force file", force.file);
-  if (spec.base.type == ForceType::kFile && !spec.base.file.empty()) add("base acceleration file", spec.base.file);
+  auto add_history = [&](const std::string& what, const ExcitationHistory& history) {
+    if (history.type == ForceType::kFile && !history.file.empty()) add(what, history.file);
+  };
+  add_history("force file", spec.force.history_N);
+  for (const ForceSpec& force : spec.forces) add_history("force file", force.history_N);
+  add_history("base acceleration file", spec.base.history_m_per_s2);
   if (!spec.base.influence_file.empty()) add("base influence file", spec.base.influence_file);
   // [data] file or -m: already resolved against the case's folder.
   if (!spec.data.file.empty()) files.push_back({"data file", spec.data.file});

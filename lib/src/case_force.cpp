@@ -38,63 +38,57 @@ std::string ChannelList(const TimeSeries& series) {
   return names.size() <= 200 ? names : names.substr(0, 200) + "...";
 }
 
-/// The time history shared by forces and the base: what a [force] or [base]
-/// table says about f(t), in the table's units (N or m/s^2).
-struct Signal {
-  ForceType type = ForceType::kNone;
-  double amplitude = 0.0, frequency_Hz = 0.0, start_frequency_Hz = 0.0, end_frequency_Hz = 0.0;
-  std::string file, column, channel;
-  double gain = 1.0, offset = 0.0;
-  Eigen::VectorXd file_time_s, file_values;  ///< the column, in its unit
-};
-
-/// Reads the type and its keys; `place` are the keys that say where the
+/// Reads the history a [force] or [base] table gives, in `unit` (N or
+/// m/s^2): the type and its keys; `place` are the keys that say where the
 /// excitation acts (node, dof or influence), allowed with every type.
-Signal ReadSignal(const CaseDocument::Impl& doc, const Section& s, const CaseSpec& spec,
-                  const std::vector<std::string_view>& place, std::string_view unit) {
-  Signal signal;
+ExcitationHistory ReadHistory(const CaseDocument::Impl& doc,
+                              const Section& s,
+                              const CaseSpec& spec,
+                              const std::vector<std::string_view>& place,
+                              std::string_view unit) {
+  ExcitationHistory history;
   const std::string type = s.Choice("type", {"none", "harmonic", "sweep", "file", "channel"});
-  if (type == "none") return signal;  // other keys ignored, as for damping
+  if (type == "none") return history;  // other keys ignored, as for damping
   std::vector<std::string_view> allowed{"type"};
   allowed.insert(allowed.end(), place.begin(), place.end());
   const std::string gain_unit = std::string(unit) + " per unit of the column";
   if (type == "harmonic") {
     for (const char* k : {"amplitude", "frequency"}) allowed.push_back(k);
     s.OnlyKeys(allowed, "for type \"" + type + "\"");
-    signal.type = ForceType::kHarmonic;
-    signal.amplitude = s.Real("amplitude", AnyReal(unit));
-    signal.frequency_Hz = s.Real("frequency", Positive("Hz"));
+    history.type = ForceType::kHarmonic;
+    history.amplitude = s.Real("amplitude", AnyReal(unit));
+    history.frequency_Hz = s.Real("frequency", Positive("Hz"));
   } else if (type == "sweep") {
     for (const char* k : {"amplitude", "start_frequency", "end_frequency"}) allowed.push_back(k);
     s.OnlyKeys(allowed, "for type \"" + type + "\"");
-    signal.type = ForceType::kSweep;
-    signal.amplitude = s.Real("amplitude", AnyReal(unit));
-    signal.start_frequency_Hz = s.Real("start_frequency", Positive("Hz"));
-    signal.end_frequency_Hz = s.Real("end_frequency", Positive("Hz"));
+    history.type = ForceType::kSweep;
+    history.amplitude = s.Real("amplitude", AnyReal(unit));
+    history.start_frequency_Hz = s.Real("start_frequency", Positive("Hz"));
+    history.end_frequency_Hz = s.Real("end_frequency", Positive("Hz"));
   } else if (type == "file") {
     for (const char* k : {"file", "column", "gain", "offset"}) allowed.push_back(k);
     s.OnlyKeys(allowed, "for type \"" + type + "\"");
-    signal.type = ForceType::kFile;
-    signal.file = s.String("file");
-    signal.column = s.String("column");
-    signal.gain = s.Real("gain", AnyReal(gain_unit), 1.0);
-    signal.offset = s.Real("offset", AnyReal(unit), 0.0);
-    const std::string path = ResolvePath(doc, signal.file);
+    history.type = ForceType::kFile;
+    history.file = s.String("file");
+    history.column = s.String("column");
+    history.gain = s.Real("gain", AnyReal(gain_unit), 1.0);
+    history.offset = s.Real("offset", AnyReal(unit), 0.0);
+    const std::string path = ResolvePath(doc, history.file);
     const auto series = CachedSeries(doc, path, s.Full("file"), [&] { return ReadCsv(path); });
-    const int column = series->ChannelIndex(signal.column);
+    const int column = series->ChannelIndex(history.column);
     if (column < 0) {
       s.Fail("column", "a column of " + path + " (" + ChannelList(*series) + ")",
-             Excerpt(signal.column));
+             Excerpt(history.column));
     }
-    signal.file_time_s = series->time_s;
-    signal.file_values = series->values.col(column);
+    history.file_time_s = series->time_s;
+    history.file_values = series->values.col(column);
   } else {
     for (const char* k : {"channel", "gain", "offset"}) allowed.push_back(k);
     s.OnlyKeys(allowed, "for type \"" + type + "\"");
-    signal.type = ForceType::kChannel;
-    signal.channel = s.String("channel");
-    signal.gain = s.Real("gain", AnyReal(std::string(unit) + " per unit of the channel"), 1.0);
-    signal.offset = s.Real("offset", AnyReal(unit), 0.0);
+    history.type = ForceType::kChannel;
+    history.channel = s.String("channel");
+    history.gain = s.Real("gain", AnyReal(std::string(unit) + " per unit of the channel"), 1.0);
+    history.offset = s.Real("offset", AnyReal(unit), 0.0);
     const DataSpec& data = spec.data;
     if (data.file.empty()) {
       s.Fail("channel", "a [data] file to read it from (data.file, or the measured file given "
@@ -108,34 +102,21 @@ Signal ReadSignal(const CaseDocument::Impl& doc, const Section& s, const CaseSpe
                                   FormatReal(data.rate_Hz) + "\n" + FormatReal(data.step_s);
     const auto series = CachedSeries(doc, cache_key, "data.file",
                                      [&] { return ReadTimeSeries(data.file, options); });
-    const int column = series->ChannelIndex(signal.channel);
+    const int column = series->ChannelIndex(history.channel);
     if (column < 0) {
       s.Fail("channel", "a channel of " + data.file + " (" + ChannelList(*series) + ")",
-             Excerpt(signal.channel));
+             Excerpt(history.channel));
     }
-    signal.file_time_s = series->time_s;
-    signal.file_values = series->values.col(column);
+    history.file_time_s = series->time_s;
+    history.file_values = series->values.col(column);
   }
-  return signal;
+  return history;
 }
 
 ForceSpec ReadForceTable(const CaseDocument::Impl& doc, const Section& s, const CaseSpec& spec) {
   ForceSpec force;
-  Signal signal = ReadSignal(doc, s, spec, {"node", "dof"}, "N");
-  if (signal.type == ForceType::kNone) return force;
-  ReadNodeOrDof(s, spec, &force.node, &force.dof);
-  force.type = signal.type;
-  force.amplitude_N = signal.amplitude;
-  force.frequency_Hz = signal.frequency_Hz;
-  force.start_frequency_Hz = signal.start_frequency_Hz;
-  force.end_frequency_Hz = signal.end_frequency_Hz;
-  force.file = std::move(signal.file);
-  force.column = std::move(signal.column);
-  force.channel = std::move(signal.channel);
-  force.gain = signal.gain;
-  force.offset_N = signal.offset;
-  force.file_time_s = std::move(signal.file_time_s);
-  force.file_values = std::move(signal.file_values);
+  force.history_N = ReadHistory(doc, s, spec, {"node", "dof"}, "N");
+  if (force.history_N.type != ForceType::kNone) ReadNodeOrDof(s, spec, &force.node, &force.dof);
   return force;
 }
 
@@ -163,21 +144,10 @@ BaseSpec ReadBase(const CaseDocument::Impl& doc, const CaseSpec& spec) {
   BaseSpec base;
   if (!s.present()) return base;
   const bool matrices = spec.model.type == ModelType::kMatrices;
-  Signal signal = matrices ? ReadSignal(doc, s, spec, {"influence", "influence_file"}, "m/s^2")
-                           : ReadSignal(doc, s, spec, {}, "m/s^2");
-  if (signal.type == ForceType::kNone) return base;
-  base.type = signal.type;
-  base.amplitude_m_per_s2 = signal.amplitude;
-  base.frequency_Hz = signal.frequency_Hz;
-  base.start_frequency_Hz = signal.start_frequency_Hz;
-  base.end_frequency_Hz = signal.end_frequency_Hz;
-  base.file = std::move(signal.file);
-  base.column = std::move(signal.column);
-  base.channel = std::move(signal.channel);
-  base.gain = signal.gain;
-  base.offset_m_per_s2 = signal.offset;
-  base.file_time_s = std::move(signal.file_time_s);
-  base.file_values = std::move(signal.file_values);
+  base.history_m_per_s2 = matrices
+                              ? ReadHistory(doc, s, spec, {"influence", "influence_file"}, "m/s^2")
+                              : ReadHistory(doc, s, spec, {}, "m/s^2");
+  if (base.history_m_per_s2.type == ForceType::kNone) return base;
   if (!matrices) {
     // The beam's base moves its supports' w: it needs one (or springs, whose
     // other end is the base).

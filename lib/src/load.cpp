@@ -12,33 +12,17 @@
 namespace podid {
 namespace {
 
-/// What a force or the base says about its time history (ForceSpec, BaseSpec).
-struct History {
-  ForceType type = ForceType::kNone;
-  double amplitude = 0.0, frequency_Hz = 0.0, start_frequency_Hz = 0.0, end_frequency_Hz = 0.0;
-  double gain = 1.0, offset = 0.0;
-  const Eigen::VectorXd* file_time_s = nullptr;
-  const Eigen::VectorXd* file_values = nullptr;
-};
-
-History Of(const ForceSpec& f) {
-  return {f.type, f.amplitude_N, f.frequency_Hz, f.start_frequency_Hz, f.end_frequency_Hz,
-          f.gain, f.offset_N, &f.file_time_s, &f.file_values};
-}
-
-History Of(const BaseSpec& b) {
-  return {b.type, b.amplitude_m_per_s2, b.frequency_Hz, b.start_frequency_Hz, b.end_frequency_Hz,
-          b.gain, b.offset_m_per_s2, &b.file_time_s, &b.file_values};
-}
-
 /// A file or channel history's parts on the data's grid (time.start_s + i dt):
 /// the column linearly interpolated within the file (u 1_in), and 1_in, 1
 /// where the record's time is inside the file's range, 0 outside.
-void SampleFile(const History& f, const CaseSpec& spec, Eigen::VectorXd* u_inside, Eigen::VectorXd* inside) {
+void SampleFile(const ExcitationHistory& f,
+                const CaseSpec& spec,
+                Eigen::VectorXd* u_inside,
+                Eigen::VectorXd* inside) {
   const int samples = spec.time.samples();
   const double dt = spec.time.step_s;
-  const Eigen::VectorXd& ft = *f.file_time_s;
-  const Eigen::VectorXd& fv = *f.file_values;
+  const Eigen::VectorXd& ft = f.file_time_s;
+  const Eigen::VectorXd& fv = f.file_values;
   PODID_CHECK(ft.size() == fv.size());
   u_inside->setZero(samples);
   inside->setZero(samples);
@@ -78,13 +62,15 @@ LoadCache& LoadCache::operator=(LoadCache&&) noexcept = default;
 struct LoadCacheAccess {
   /// The entry of f's column on spec's grid, computed if absent. cache may be
   /// null (then *scratch holds it).
-  static const LoadCache::Entry& Find(const History& f, const CaseSpec& spec, LoadCache* cache,
+  static const LoadCache::Entry& Find(const ExcitationHistory& f,
+                                      const CaseSpec& spec,
+                                      LoadCache* cache,
                                       LoadCache::Entry* scratch) {
     if (cache != nullptr) {
       for (LoadCache::Entry& e : cache->entries_) {
         if (e.start_s == spec.time.start_s && e.step_s == spec.time.step_s &&
             e.samples == spec.time.samples() && e.substeps == spec.integrator.substeps &&
-            Equal(e.file_time_s, *f.file_time_s) && Equal(e.file_values, *f.file_values)) {
+            Equal(e.file_time_s, f.file_time_s) && Equal(e.file_values, f.file_values)) {
           e.used = true;
           return e;
         }
@@ -107,8 +93,8 @@ struct LoadCacheAccess {
       *scratch = std::move(e);
       return *scratch;
     }
-    e.file_time_s = *f.file_time_s;
-    e.file_values = *f.file_values;
+    e.file_time_s = f.file_time_s;
+    e.file_values = f.file_values;
     ++cache->misses_;
     cache->entries_.push_back(std::move(e));
     return cache->entries_.back();
@@ -126,7 +112,7 @@ struct LoadCacheAccess {
 namespace {
 
 /// The history on the integration grid (dim (samples - 1) substeps + 1).
-Eigen::VectorXd Sample(const History& f, const CaseSpec& spec, LoadCache* cache) {
+Eigen::VectorXd Sample(const ExcitationHistory& f, const CaseSpec& spec, LoadCache* cache) {
   if (f.type == ForceType::kFile || f.type == ForceType::kChannel) {
     // gain (u 1_in) + offset 1_in, interpolated band-limited with sub-steps
     // (linear: the cached interpolations of the two parts, rescaled).
@@ -166,7 +152,7 @@ Eigen::VectorXd Sample(const History& f, const CaseSpec& spec, LoadCache* cache)
 }  // namespace
 
 Eigen::VectorXd BaseInfluence(const CaseSpec& spec, int n_dofs) {
-  if (spec.base.type == ForceType::kNone) return {};
+  if (spec.base.history_m_per_s2.type == ForceType::kNone) return {};
   if (spec.model.type == ModelType::kMatrices) {
     if (spec.base.influence.size() != n_dofs) {
       ThrowInvalid("base.influence", ToText(n_dofs) + " values (one per model dof)",
@@ -212,10 +198,10 @@ namespace {
 /// model: needed for [base] only (M r); cache may be null.
 ExternalLoad Build(const CaseSpec& spec, int n, const BeamModel* model, LoadCache* cache) {
   std::vector<const ForceSpec*> forces;
-  if (spec.force.type != ForceType::kNone) forces.push_back(&spec.force);
+  if (spec.force.history_N.type != ForceType::kNone) forces.push_back(&spec.force);
   for (const ForceSpec& f : spec.forces)
-    if (f.type != ForceType::kNone) forces.push_back(&f);
-  const bool base = spec.base.type != ForceType::kNone;
+    if (f.history_N.type != ForceType::kNone) forces.push_back(&f);
+  const bool base = spec.base.history_m_per_s2.type != ForceType::kNone;
   const int columns = static_cast<int>(forces.size()) + (base ? 1 : 0);
   ExternalLoad load;
   LoadCacheAccess::StartBuild(cache);
@@ -236,7 +222,7 @@ ExternalLoad Build(const CaseSpec& spec, int n, const BeamModel* model, LoadCach
     }
     const int dof = ResolveDof(spec, f.node, f.dof, SensorDof::kW, key + (f.dof > 0 ? ".dof" : ".node"));
     pattern.emplace_back(dof, static_cast<int>(k), 1.0);
-    load.history.row(static_cast<Eigen::Index>(k)) = Sample(Of(f), spec, cache).transpose();
+    load.history.row(static_cast<Eigen::Index>(k)) = Sample(f.history_N, spec, cache).transpose();
   }
   if (base) {
     const int k = columns - 1;
@@ -244,7 +230,7 @@ ExternalLoad Build(const CaseSpec& spec, int n, const BeamModel* model, LoadCach
     const Eigen::VectorXd m_r = BaseMassInfluence(spec, *model);
     for (int i = 0; i < n; ++i)
       if (m_r[i] != 0.0) pattern.emplace_back(i, k, -m_r[i]);  // -M r a_g
-    load.history.row(k) = Sample(Of(spec.base), spec, cache).transpose();
+    load.history.row(k) = Sample(spec.base.history_m_per_s2, spec, cache).transpose();
     load.base_row = k;
     load.base_influence = BaseInfluence(spec, n);
   }
@@ -265,7 +251,8 @@ ExternalLoad BuildLoad(const CaseSpec& spec, const BeamModel& model, LoadCache* 
 }
 
 ExternalLoad BuildLoad(const CaseSpec& spec) {
-  if (spec.base.type == ForceType::kNone) return Build(spec, spec.dofs(), nullptr, nullptr);
+  if (spec.base.history_m_per_s2.type == ForceType::kNone)
+    return Build(spec, spec.dofs(), nullptr, nullptr);
   const BeamModel model = BeamModel::Build(spec);
   return Build(spec, model.dofs(), &model, nullptr);
 }

@@ -142,39 +142,39 @@ ModelParameter ModelParameter::Resolve(const CaseSpec& spec, std::string_view ke
     if (parts[2] == "stiffness") return set(ParameterEffect::kModel, Field::kSpringStiffness, Range::kNonNegative, i);
     return set(ParameterEffect::kModel, Field::kSpringDamping, Range::kNonNegative, i);
   }
-  // A force's or the base's history: the fields its type has (ForceSpec).
-  auto history = [&](ForceType t, std::string_view f, int index, bool base) -> std::optional<ModelParameter> {
+  // A force's or the base's history (ExcitationHistory): the fields its type
+  // has; index as HistoryOf reads it.
+  auto history = [&](ForceType t, std::string_view f, int index) -> std::optional<ModelParameter> {
     const bool sampled = t == ForceType::kFile || t == ForceType::kChannel;
-    const Field amplitude = base ? Field::kBaseAmplitude : Field::kForceAmplitude;
     if (f == "amplitude" && (t == ForceType::kHarmonic || t == ForceType::kSweep))
-      return set(ParameterEffect::kLoad, amplitude, Range::kAny, index);
+      return set(ParameterEffect::kLoad, Field::kHistoryAmplitude, Range::kAny, index);
     if (f == "frequency" && t == ForceType::kHarmonic)
-      return set(ParameterEffect::kLoad, base ? Field::kBaseFrequency : Field::kForceFrequency, Range::kPositive, index);
+      return set(ParameterEffect::kLoad, Field::kHistoryFrequency, Range::kPositive, index);
     if (f == "start_frequency" && t == ForceType::kSweep)
-      return set(ParameterEffect::kLoad, base ? Field::kBaseStartFrequency : Field::kForceStartFrequency,
-                 Range::kPositive, index);
+      return set(ParameterEffect::kLoad, Field::kHistoryStartFrequency, Range::kPositive, index);
     if (f == "end_frequency" && t == ForceType::kSweep)
-      return set(ParameterEffect::kLoad, base ? Field::kBaseEndFrequency : Field::kForceEndFrequency,
-                 Range::kPositive, index);
+      return set(ParameterEffect::kLoad, Field::kHistoryEndFrequency, Range::kPositive, index);
     if (f == "gain" && sampled)
-      return set(ParameterEffect::kLoad, base ? Field::kBaseGain : Field::kForceGain, Range::kAny, index);
+      return set(ParameterEffect::kLoad, Field::kHistoryGain, Range::kAny, index);
     if (f == "offset" && sampled)
-      return set(ParameterEffect::kLoad, base ? Field::kBaseOffset : Field::kForceOffset, Range::kAny, index);
+      return set(ParameterEffect::kLoad, Field::kHistoryOffset, Range::kAny, index);
     if (f == "amplitude" || f == "frequency" || f == "start_frequency" || f == "end_frequency" ||
         f == "gain" || f == "offset")
-      unused(std::string("a value the case's ") + (base ? "base" : "force") + ".type does not have");
+      unused(std::string("a value the case's ") + (index == kBaseIndex ? "base" : "force") +
+             ".type does not have");
     return std::nullopt;
   };
   if (head == "force" && parts.size() == 2) {
     if (!spec.forces.empty()) unused("the case has [[force]] tables: force.<i>." + std::string(parts[1]));
-    if (auto q = history(spec.force.type, parts[1], -1, false)) return *q;
+    if (auto q = history(spec.force.history_N.type, parts[1], kForceIndex)) return *q;
   }
   if (head == "force" && parts.size() == 3) {
     const int i = table(spec.forces.size(), "[[force]] tables");
-    if (auto q = history(spec.forces[static_cast<std::size_t>(i)].type, parts[2], i, false)) return *q;
+    if (auto q = history(spec.forces[static_cast<std::size_t>(i)].history_N.type, parts[2], i))
+      return *q;
   }
   if (head == "base" && parts.size() == 2) {
-    if (auto q = history(spec.base.type, parts[1], 0, true)) return *q;
+    if (auto q = history(spec.base.history_m_per_s2.type, parts[1], kBaseIndex)) return *q;
   }
   if (head == "initial" && parts.size() == 2 &&
       (parts[1] == "static_tip_force" || parts[1] == "static_force")) {
@@ -185,8 +185,10 @@ ModelParameter ModelParameter::Resolve(const CaseSpec& spec, std::string_view ke
   return p;
 }
 
-ForceSpec& ModelParameter::ForceOf(CaseSpec* spec) const {
-  return index_ < 0 ? spec->force : spec->forces.at(static_cast<std::size_t>(index_));
+ExcitationHistory& ModelParameter::HistoryOf(CaseSpec* spec) const {
+  if (index_ == kBaseIndex) return spec->base.history_m_per_s2;
+  return index_ == kForceIndex ? spec->force.history_N
+                               : spec->forces.at(static_cast<std::size_t>(index_)).history_N;
 }
 
 double* ModelParameter::FieldOf(CaseSpec* spec) const {
@@ -211,18 +213,18 @@ double* ModelParameter::FieldOf(CaseSpec* spec) const {
     case Field::kInertia: return &spec->masses.at(i).inertia_kg_m2;
     case Field::kSpringStiffness: return &spec->springs.at(i).stiffness;
     case Field::kSpringDamping: return &spec->springs.at(i).damping;
-    case Field::kForceAmplitude: return &ForceOf(spec).amplitude_N;
-    case Field::kForceFrequency: return &ForceOf(spec).frequency_Hz;
-    case Field::kForceStartFrequency: return &ForceOf(spec).start_frequency_Hz;
-    case Field::kForceEndFrequency: return &ForceOf(spec).end_frequency_Hz;
-    case Field::kForceGain: return &ForceOf(spec).gain;
-    case Field::kForceOffset: return &ForceOf(spec).offset_N;
-    case Field::kBaseAmplitude: return &spec->base.amplitude_m_per_s2;
-    case Field::kBaseFrequency: return &spec->base.frequency_Hz;
-    case Field::kBaseStartFrequency: return &spec->base.start_frequency_Hz;
-    case Field::kBaseEndFrequency: return &spec->base.end_frequency_Hz;
-    case Field::kBaseGain: return &spec->base.gain;
-    case Field::kBaseOffset: return &spec->base.offset_m_per_s2;
+    case Field::kHistoryAmplitude:
+      return &HistoryOf(spec).amplitude;
+    case Field::kHistoryFrequency:
+      return &HistoryOf(spec).frequency_Hz;
+    case Field::kHistoryStartFrequency:
+      return &HistoryOf(spec).start_frequency_Hz;
+    case Field::kHistoryEndFrequency:
+      return &HistoryOf(spec).end_frequency_Hz;
+    case Field::kHistoryGain:
+      return &HistoryOf(spec).gain;
+    case Field::kHistoryOffset:
+      return &HistoryOf(spec).offset;
     case Field::kStaticForce: return &spec->initial.static_force_N;
     case Field::kNone: break;
   }

@@ -49,7 +49,8 @@ void Simulator::Rebuild() {
     channel_names_ = spec_.sensors.ChannelNames();
     model_dirty_ = nonlinear_dirty_ = false;
     initial_dirty_ = true;
-    if (spec_.base.type != ForceType::kNone) load_dirty_ = true;  // -M r a_g depends on M
+    if (spec_.base.history_m_per_s2.type != ForceType::kNone)
+      load_dirty_ = true;  // -M r a_g depends on M
   }
   if (nonlinear_dirty_) {
     model_->SetNonlinearCoefficients(spec_.nonlinearities);

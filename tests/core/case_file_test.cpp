@@ -98,7 +98,7 @@ TEST(CaseFile, LoadsTheReferenceCaseExactly) {
   EXPECT_EQ(spec.initial.type, InitialType::kStaticForce);
   EXPECT_EQ(spec.initial.static_force_N, 20.0);
   EXPECT_EQ(spec.initial.static_force_node, 6);
-  EXPECT_EQ(spec.force.type, ForceType::kNone);
+  EXPECT_EQ(spec.force.history_N.type, ForceType::kNone);
   EXPECT_EQ(spec.time.duration_s, 0.1);
   EXPECT_EQ(spec.time.step_s, 2.0e-4);
   EXPECT_EQ(spec.time.samples(), 501);
@@ -194,9 +194,9 @@ max_iterations = 20
   EXPECT_EQ(spec.initial.displacement.size(), 8);
   EXPECT_EQ(spec.initial.displacement.norm(), 0.0);
   EXPECT_EQ(spec.initial.velocity(TransverseDof(4)), 1.0);
-  EXPECT_EQ(spec.force.type, ForceType::kSweep);
+  EXPECT_EQ(spec.force.history_N.type, ForceType::kSweep);
   EXPECT_EQ(spec.force.node, 1);
-  EXPECT_EQ(spec.force.end_frequency_Hz, 50.0);
+  EXPECT_EQ(spec.force.history_N.end_frequency_Hz, 50.0);
   EXPECT_EQ(spec.sensors.ChannelNames(), (std::vector<std::string>{"theta4", "theta2"}));
   EXPECT_EQ(spec.noise.seed, 0u);
   EXPECT_EQ(spec.integrator.type, IntegratorType::kNewmark);
@@ -211,7 +211,7 @@ TEST(CaseFile, MinimalCaseTakesDefaults) {
   EXPECT_EQ(spec.damping.type, DampingType::kNone);
   EXPECT_TRUE(spec.nonlinearities.empty());
   EXPECT_EQ(spec.initial.type, InitialType::kRest);
-  EXPECT_EQ(spec.force.type, ForceType::kNone);
+  EXPECT_EQ(spec.force.history_N.type, ForceType::kNone);
   EXPECT_EQ(spec.time.samples(), 4);  // round(1 / 0.3) + 1
   EXPECT_EQ(spec.sensors.nodes, (std::vector<int>{1, 2}));
   EXPECT_EQ(spec.noise.relative, 0.0);
@@ -227,11 +227,11 @@ TEST(CaseFile, ForceFromCsvRelativeToTheCaseFile) {
                                "\"data/force.csv\"\ncolumn = \"f\"\nnode = 3\n";
   const std::string path = dir.Write("case.toml", harmonic);
   const CaseSpec spec = CaseDocument::Load(path).ToSpec();
-  EXPECT_EQ(spec.force.type, ForceType::kFile);
+  EXPECT_EQ(spec.force.history_N.type, ForceType::kFile);
   EXPECT_EQ(spec.force.node, 3);
-  EXPECT_EQ(spec.force.file, "data/force.csv");
-  EXPECT_EQ(spec.force.file_time_s, Eigen::Vector3d(0, 0.5, 1));
-  EXPECT_EQ(spec.force.file_values, Eigen::Vector3d(0, 1, 4));
+  EXPECT_EQ(spec.force.history_N.file, "data/force.csv");
+  EXPECT_EQ(spec.force.history_N.file_time_s, Eigen::Vector3d(0, 0.5, 1));
+  EXPECT_EQ(spec.force.history_N.file_values, Eigen::Vector3d(0, 1, 4));
 
   // A column that the file lacks, and a file that does not exist.
   CaseDocument doc = CaseDocument::Load(path);
@@ -260,7 +260,7 @@ TEST(CaseFileSet, OverridesKeysFromTheCommandLine) {
   EXPECT_EQ(spec.sensors.nodes, (std::vector<int>{6, 3}));
   EXPECT_EQ(spec.integrator.type, IntegratorType::kNewmark);
   EXPECT_EQ(spec.integrator.tolerance, 1e-6);
-  EXPECT_EQ(spec.force.type, ForceType::kHarmonic);
+  EXPECT_EQ(spec.force.history_N.type, ForceType::kHarmonic);
   EXPECT_EQ(spec.force.node, 8);
   EXPECT_EQ(spec.beam.elements, 8);
 }
@@ -613,7 +613,8 @@ TEST(CaseFileRejects, Force) {
                     "case.toml:41: force.start_frequency: expected a number > 0 (Hz), got 0");
   EXPECT_CASE_ERROR(with_force + "type = \"file\"\ncolumn = \"f\"\n",
                     "force.file: expected a non-empty string, got nothing");
-  EXPECT_EQ(SpecOf(with_force + "type = \"none\"\namplitude = 1\n").force.type, ForceType::kNone);
+  EXPECT_EQ(SpecOf(with_force + "type = \"none\"\namplitude = 1\n").force.history_N.type,
+            ForceType::kNone);
 }
 
 TEST(CaseFileRejects, Time) {

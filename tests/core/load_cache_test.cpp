@@ -74,8 +74,8 @@ struct Fixture {
 Eigen::VectorXd Direct(const CaseSpec& spec, double gain, double offset) {
   const int samples = spec.time.samples();
   Eigen::VectorXd coarse = Eigen::VectorXd::Zero(samples);
-  const Eigen::VectorXd& ft = spec.force.file_time_s;
-  const Eigen::VectorXd& fv = spec.force.file_values;
+  const Eigen::VectorXd& ft = spec.force.history_N.file_time_s;
+  const Eigen::VectorXd& fv = spec.force.history_N.file_values;
   for (int i = 0; i < samples; ++i) {
     const double t = i * spec.time.step_s;
     for (Eigen::Index j = 0; j < ft.size(); ++j) {
@@ -105,8 +105,8 @@ TEST(LoadCacheTest, GainAndOffsetRescaleTheCachedInterpolation) {
   // Outside the file the force is 0, not the offset: the offset follows 1_in.
   EXPECT_LT(std::abs(first.history(0, 0)), kLinearity * peak);
 
-  spec.force.gain = -7.0;
-  spec.force.offset_N = 2.0;
+  spec.force.history_N.gain = -7.0;
+  spec.force.history_N.offset = 2.0;
   const ExternalLoad second = BuildLoad(spec, model, &cache);
   EXPECT_EQ(cache.misses(), 1);  // rescaled, not interpolated again
   EXPECT_LE((second.history.row(0).transpose() - Direct(spec, -7.0, 2.0)).cwiseAbs().maxCoeff(),
@@ -114,7 +114,7 @@ TEST(LoadCacheTest, GainAndOffsetRescaleTheCachedInterpolation) {
   // Without a cache: the same values to the bit (one formula).
   EXPECT_TRUE((BuildLoad(spec, model).history.array() == second.history.array()).all());
 
-  spec.force.file_values[10] += 1.0;  // another column: interpolated again
+  spec.force.history_N.file_values[10] += 1.0;  // another column: interpolated again
   BuildLoad(spec, model, &cache);
   EXPECT_EQ(cache.misses(), 2);
   spec.integrator.substeps = 2;  // another grid too

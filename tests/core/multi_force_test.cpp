@@ -108,8 +108,8 @@ TEST(MultiForceTest, LoadHasOneColumnPerForceWithItsOwnGainAndOffset) {
                        "[[force]]\n" + kFileAt5);
   const CaseSpec spec = CaseDocument::Load(path).ToSpec();
   ASSERT_EQ(spec.forces.size(), 3u);
-  EXPECT_EQ(spec.forces[2].gain, 3.0);
-  EXPECT_EQ(spec.forces[2].offset_N, 0.5);
+  EXPECT_EQ(spec.forces[2].history_N.gain, 3.0);
+  EXPECT_EQ(spec.forces[2].history_N.offset, 0.5);
   const ExternalLoad load = BuildLoad(spec);
   ASSERT_EQ(load.columns(), 2);  // "none" adds nothing
   EXPECT_EQ(load.history.cols(), 250 * 3 + 1);  // the fine grid (substeps = 3)
@@ -118,7 +118,8 @@ TEST(MultiForceTest, LoadHasOneColumnPerForceWithItsOwnGainAndOffset) {
   EXPECT_EQ(load.pattern.nonZeros(), 2);
   // On the data's grid (every third fine sample) the file force is gain x
   // volts + offset exactly at the file's samples (t = 1 ms = 5 steps).
-  EXPECT_NEAR(load.history(1, 3 * 5), 3.0 * spec.forces[2].file_values[1] + 0.5, kRoundOff);
+  EXPECT_NEAR(load.history(1, 3 * 5), 3.0 * spec.forces[2].history_N.file_values[1] + 0.5,
+              kRoundOff);
   EXPECT_NEAR(load.history(0, 7), 4.0 * std::sin(2 * 3.141592653589793 * 70.0 * 7 * 2e-4 / 3), kRoundOff);
 }
 
@@ -156,8 +157,8 @@ TEST(MultiForceTest, SetAddressesForcesByIndex) {
                           "force.1.start_frequency=5", "force.1.end_frequency=50", "force.0.amplitude=7"});
   const CaseSpec spec = doc.ToSpec();
   ASSERT_EQ(spec.forces.size(), 2u);
-  EXPECT_EQ(spec.forces[0].amplitude_N, 7.0);
-  EXPECT_EQ(spec.forces[1].type, ForceType::kSweep);
+  EXPECT_EQ(spec.forces[0].history_N.amplitude, 7.0);
+  EXPECT_EQ(spec.forces[1].history_N.type, ForceType::kSweep);
   EXPECT_EQ(spec.forces[1].node, 2);
   // --set on a case without forces creates the array.
   CaseDocument fresh = CaseDocument::Parse(kLinearBeam, "f.toml");
@@ -173,7 +174,7 @@ TEST(MultiForceTest, FuzzSeedWithForcesAndBaseIsAValidCase) {
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const CaseSpec spec = Spec(text.substr(0, text.find("\n---\n")));
   EXPECT_EQ(spec.forces.size(), 3u);
-  EXPECT_EQ(spec.base.type, ForceType::kHarmonic);
+  EXPECT_EQ(spec.base.history_m_per_s2.type, ForceType::kHarmonic);
   EXPECT_EQ(spec.parameters.size(), 2u);
   EXPECT_TRUE(Simulate(spec).summary.IsSolutionUsable());
 }

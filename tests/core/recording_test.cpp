@@ -61,7 +61,7 @@ TEST(RecordingTest, ForceChannelMatchesForceFile) {
       {"force.type=file", "force.file=\"" + file + "\"", "force.column=f", "force.node=3"});
   const CaseSpec by_channel = ReferenceCase(
       {"data.file=\"" + file + "\"", "force.type=channel", "force.channel=f", "force.node=3"});
-  EXPECT_EQ(by_channel.force.type, ForceType::kChannel);
+  EXPECT_EQ(by_channel.force.history_N.type, ForceType::kChannel);
   const SimulationResult a = Simulate(by_file), b = Simulate(by_channel);
   ASSERT_TRUE(a.summary.IsSolutionUsable() && b.summary.IsSolutionUsable());
   EXPECT_TRUE(ExpectMatricesNear(a.sensors.values, b.sensors.values, kSamePath));
@@ -182,7 +182,7 @@ TEST(RecordingTest, ForceGainAndOffsetAreLoadParametersMatchingTheDocumentPath) 
   ApplySetArguments(document, {"data.file=\"" + file + "\"", "force.type=channel",
                                "force.channel=volts", "force.node=3", "force.offset=0.5"});
   const CaseSpec base = document.ToSpec();
-  EXPECT_EQ(base.force.offset_N, 0.5);
+  EXPECT_EQ(base.force.history_N.offset, 0.5);
   Simulator simulator(base);
   // The cached load is rebuilt with the new gain and offset; the document
   // path re-reads the channel. Same operations on the same samples, the

@@ -143,30 +143,38 @@ struct InitialSpec {
 
 enum class ForceType { kNone, kHarmonic, kSweep, kFile, kChannel };
 
-/// External transverse force at `node`. t is the simulation's time from its
-/// start (time.start_s), t_abs = time.start_s + t the record's time:
-///  harmonic: F = A sin(2 pi f t);
-///  sweep:    F = A sin(2 pi (f0 t + (f1 - f0) t^2 / (2 T))), T = duration;
-///  file:     F = gain x (a CSV column at t_abs) + offset, linearly interpolated
+/// The time history of an excitation, as a [force] or [base] table gives it,
+/// in the unit of its use: N for a force (ForceSpec::history_N), m/s^2 for
+/// the base (BaseSpec::history_m_per_s2); "unit" below is that unit. t is the
+/// simulation's time from its start (time.start_s), t_abs = time.start_s + t
+/// the record's time:
+///  harmonic: h = A sin(2 pi f t);
+///  sweep:    h = A sin(2 pi (f0 t + (f1 - f0) t^2 / (2 T))), T = duration;
+///  file:     h = gain x (a CSV column at t_abs) + offset, linearly interpolated
 ///            (band-limited with integrator.substeps > 1), 0 outside the column's time;
-///  channel:  F = gain x (a channel of the [data] file at t_abs) + offset, the same way.
+///  channel:  h = gain x (a channel of the [data] file at t_abs) + offset, the same way.
 /// gain and offset are applied when the load is built (BuildLoad, load.hpp), so
 /// that an identification changes them without re-reading the file (kLoad).
-struct ForceSpec {
+struct ExcitationHistory {
   ForceType type = ForceType::kNone;
-  int node = 0;
-  int dof = 0;  ///< 1-based model dof; 0: the node's w
-  double amplitude_N = 0.0;
+  double amplitude = 0.0;           ///< harmonic, sweep: A (unit)
   double frequency_Hz = 0.0;        ///< harmonic
   double start_frequency_Hz = 0.0;  ///< sweep
   double end_frequency_Hz = 0.0;    ///< sweep
   std::string file;                 ///< file: CSV path (relative to the case file)
   std::string column;               ///< file: column name
   std::string channel;              ///< channel: channel name in the [data] file
-  double gain = 1.0;                ///< file, channel: N per unit of the column (e.g. N/V)
-  double offset_N = 0.0;            ///< file, channel: added after the gain (N)
+  double gain = 1.0;                ///< file, channel: unit per unit of the column (e.g. N/V)
+  double offset = 0.0;              ///< file, channel: added after the gain (unit)
   Eigen::VectorXd file_time_s;      ///< file, channel: the column's time (s), filled by ToSpec()
   Eigen::VectorXd file_values;      ///< file, channel: the column, in its unit, filled by ToSpec()
+};
+
+/// External transverse force at `node` (or model dof `dof`): f(t) = history_N.
+struct ForceSpec {
+  int node = 0;
+  int dof = 0;                  ///< 1-based model dof; 0: the node's w
+  ExcitationHistory history_N;  ///< f(t) in N (gain in N per unit of the column)
 };
 
 /// Most [[force]] tables a case may have (each adds a load history of the
@@ -180,20 +188,9 @@ inline constexpr int kMaxForces = 64;
 /// r the rigid-body motion of the dofs when the base moves by 1 (beam: 1 on
 /// every free w, 0 on theta, with the supports' consistent-mass coupling,
 /// i.e. -(M_full r_full) restricted to the free dofs; imported models: the
-/// `influence` vector). a_g follows the force rules (ForceSpec) with
-/// amplitude_m_per_s2 for A, gain in m/s^2 per unit of the column and
-/// offset in m/s^2.
+/// `influence` vector).
 struct BaseSpec {
-  ForceType type = ForceType::kNone;
-  double amplitude_m_per_s2 = 0.0;  ///< harmonic, sweep
-  double frequency_Hz = 0.0;        ///< harmonic
-  double start_frequency_Hz = 0.0;  ///< sweep
-  double end_frequency_Hz = 0.0;    ///< sweep
-  std::string file, column, channel;
-  double gain = 1.0;                ///< file, channel: m/s^2 per unit of the column
-  double offset_m_per_s2 = 0.0;     ///< file, channel: added after the gain
-  Eigen::VectorXd file_time_s;      ///< file, channel: the column's time (s), filled by ToSpec()
-  Eigen::VectorXd file_values;      ///< file, channel: the column, in its unit
+  ExcitationHistory history_m_per_s2;  ///< a_g(t) in m/s^2 (gain in m/s^2 per unit of the column)
   /// Imported models: r (dim n_dofs), from `influence` or `influence_file`;
   /// empty for beams (their r is built from the supports).
   Eigen::VectorXd influence;

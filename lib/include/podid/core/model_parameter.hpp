@@ -73,21 +73,23 @@ class ModelParameter {
     kAlpha, kBeta, kModalRatio,
     kBeamModulus, kBeamDensity, kSegmentModulus, kSegmentDensity,
     kMass, kInertia, kSpringStiffness, kSpringDamping,
-    kForceAmplitude, kForceFrequency, kForceStartFrequency, kForceEndFrequency,
-    kForceGain, kForceOffset,
-    kBaseAmplitude, kBaseFrequency, kBaseStartFrequency, kBaseEndFrequency, kBaseGain, kBaseOffset,
+    // A force's or the base's ExcitationHistory (HistoryOf).
+    kHistoryAmplitude, kHistoryFrequency, kHistoryStartFrequency, kHistoryEndFrequency,
+    kHistoryGain, kHistoryOffset,
     kStaticForce, kNone,
   };
   enum class Range { kAny, kNonNegative, kPositive, kRatio };
 
   double* FieldOf(CaseSpec* spec) const;
-  ForceSpec& ForceOf(CaseSpec* spec) const;  ///< index_ -1: [force]; else [[force]] index_
+  static constexpr int kForceIndex = -1, kBaseIndex = -2;
+  /// index_ kForceIndex: [force]'s; kBaseIndex: [base]'s; else [[force]] index_'s.
+  ExcitationHistory& HistoryOf(CaseSpec* spec) const;
 
   std::string key_;
   ParameterEffect effect_ = ParameterEffect::kDocument;
   Field field_ = Field::kNone;
   Range range_ = Range::kAny;
-  int index_ = 0;  ///< the table's (or modal ratio's) index; force fields: -1 for [force]
+  int index_ = 0;  ///< the table's (or modal ratio's) index; history fields: as HistoryOf
 };
 
 }  // namespace podid
