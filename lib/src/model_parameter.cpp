@@ -213,18 +213,12 @@ double* ModelParameter::FieldOf(CaseSpec* spec) const {
     case Field::kInertia: return &spec->masses.at(i).inertia_kg_m2;
     case Field::kSpringStiffness: return &spec->springs.at(i).stiffness;
     case Field::kSpringDamping: return &spec->springs.at(i).damping;
-    case Field::kHistoryAmplitude:
-      return &HistoryOf(spec).amplitude;
-    case Field::kHistoryFrequency:
-      return &HistoryOf(spec).frequency_Hz;
-    case Field::kHistoryStartFrequency:
-      return &HistoryOf(spec).start_frequency_Hz;
-    case Field::kHistoryEndFrequency:
-      return &HistoryOf(spec).end_frequency_Hz;
-    case Field::kHistoryGain:
-      return &HistoryOf(spec).gain;
-    case Field::kHistoryOffset:
-      return &HistoryOf(spec).offset;
+    case Field::kHistoryAmplitude: return &HistoryOf(spec).amplitude;
+    case Field::kHistoryFrequency: return &HistoryOf(spec).frequency_Hz;
+    case Field::kHistoryStartFrequency: return &HistoryOf(spec).start_frequency_Hz;
+    case Field::kHistoryEndFrequency: return &HistoryOf(spec).end_frequency_Hz;
+    case Field::kHistoryGain: return &HistoryOf(spec).gain;
+    case Field::kHistoryOffset: return &HistoryOf(spec).offset;
     case Field::kStaticForce: return &spec->initial.static_force_N;
     case Field::kNone: break;
   }
