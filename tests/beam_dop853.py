@@ -146,6 +146,15 @@ def write_csv(path, t, a, names):
             f.write(f"{t[i]:.10g}," + ",".join(f"{v:.17g}" for v in a[i]) + "\n")
 
 
+def identify(podid, case, measured, out, *options):
+    """podid identify's knl and termination for the measured CSV."""
+    subprocess.run([podid, "identify", case, "--measured", measured, "--json", out, *options],
+                   check=True, stdout=subprocess.DEVNULL)
+    with open(out) as f:
+        result = json.load(f)
+    return result["parameters"]["knl"], result["termination"]
+
+
 def main():
     podid = os.path.abspath(sys.argv[1])
     case = os.path.abspath("examples/pinned_mass.toml")
@@ -186,17 +195,12 @@ def main():
         measured = os.path.join(tmp, "measured.csv")
         write_csv(measured, t, noisy, [f"a{node}" for node in SENSOR_NODES])
         for substeps, tolerance in ((1, 0.03), (4, 0.01)):
-            out = os.path.join(tmp, f"id{substeps}.json")
-            subprocess.run([podid, "identify", case, "--measured", measured, "--json", out,
-                            "--set", f"integrator.substeps={substeps}"],
-                           check=True, stdout=subprocess.DEVNULL)
-            with open(out) as f:
-                result = json.load(f)
-            knl = result["parameters"]["knl"]
+            knl, termination = identify(podid, case, measured, os.path.join(tmp, f"id{substeps}.json"),
+                                        "--set", f"integrator.substeps={substeps}")
             print(f"identify from DOP853 data (1 % noise), substeps {substeps}: knl = {knl:.5g} "
                   f"(true 60, {100 * (knl / 60 - 1):+.3f} %)")
-            if result["termination"] != "converged":
-                failures.append(f"identify substeps {substeps}: {result['termination']}")
+            if termination != "converged":
+                failures.append(f"identify substeps {substeps}: {termination}")
             if not abs(knl / 60 - 1) < tolerance:
                 failures.append(f"identify substeps {substeps}: knl {knl} not within "
                                 f"{100 * tolerance} % of 60")
@@ -210,17 +214,12 @@ def main():
         noisy2 = x2 + 0.01 * peak2 * rng.standard_normal(x2.shape)
         measured2 = os.path.join(tmp, "two_beams.csv")
         write_csv(measured2, t2, noisy2, ["a4", "a5", "a6", "b4", "b5", "b6"])
-        out = os.path.join(tmp, "two.json")
-        subprocess.run([podid, "identify", "examples/two_beams/two_beams.toml",
-                        "--measured", measured2, "--json", out],
-                       check=True, stdout=subprocess.DEVNULL)
-        with open(out) as f:
-            result = json.load(f)
-        knl = result["parameters"]["knl"]
+        knl, termination = identify(podid, "examples/two_beams/two_beams.toml", measured2,
+                                    os.path.join(tmp, "two.json"))
         print(f"two beams, identify from DOP853 data (1 % noise): knl = {knl:.5g} "
               f"(true 70, {100 * (knl / 70 - 1):+.3f} %)")
-        if result["termination"] != "converged" or not abs(knl / 70 - 1) < 0.005:
-            failures.append(f"two beams: knl {knl} ({result['termination']}): expected 70 within 0.5 %")
+        if termination != "converged" or not abs(knl / 70 - 1) < 0.005:
+            failures.append(f"two beams: knl {knl} ({termination}): expected 70 within 0.5 %")
     for f in failures:
         print("FAIL: " + f, file=sys.stderr)
     return 1 if failures else 0
