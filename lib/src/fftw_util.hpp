@@ -31,10 +31,12 @@ FftwBuffer<T> FftwAllocate(Eigen::Index n) {
   return FftwBuffer<T>(p);
 }
 
-/// A plan of length n <= 2^31 - 1, real -> half spectrum (forward) or half
+/// A plan of length n <= kMaxLength, real -> half spectrum (forward) or half
 /// spectrum -> real (inverse, unnormalised, overwrites its input), estimated.
 class FftwRealPlan {
  public:
+  /// FFTW's lengths are ints.
+  static constexpr Eigen::Index kMaxLength = (Eigen::Index{1} << 31) - 1;
   static FftwRealPlan Forward(Eigen::Index n, double* in, fftw_complex* out) {
     std::lock_guard<std::mutex> lock(FftwPlannerMutex());
     return FftwRealPlan(fftw_plan_dft_r2c_1d(Checked(n), in, out, FFTW_ESTIMATE));
@@ -59,7 +61,9 @@ class FftwRealPlan {
     PODID_CHECK_MSG(plan_ != nullptr, "FFTW could not make a plan");
   }
   static int Checked(Eigen::Index n) {
-    PODID_CHECK(n >= 1 && n <= (Eigen::Index{1} << 31) - 1);
+    if (n < 1 || n > kMaxLength) {  // callers check first; an error, never an abort
+      ThrowInvalid("FFT length", "1.." + ToText(kMaxLength), ToText(n));
+    }
     return static_cast<int>(n);
   }
   fftw_plan plan_ = nullptr;

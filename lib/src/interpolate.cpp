@@ -28,7 +28,7 @@ Eigen::VectorXd InterpolateBandLimited(const Eigen::VectorXd& x, int factor) {
   const double x0 = x[0], slope = (x[n - 1] - x[0]) / static_cast<double>(n - 1);
   const Eigen::Index p = SmoothLength(n);
   const Eigen::Index m = p * factor;
-  if (m > (Eigen::Index{1} << 31) - 1) {  // FFTW's lengths are ints
+  if (m > internal::FftwRealPlan::kMaxLength) {
     ThrowInvalid("band-limited interpolation of a sampled force (integrator.substeps)",
                  "at most 2^31 - 1 fine points", ToText(m) + " (fewer substeps or a shorter record)");
   }

@@ -67,7 +67,8 @@ QuantityCheck CheckMeasuredQuantity(const TimeSeries& measured,
   check.likely = declared;
   PODID_CHECK(measured.channels() == simulated.channels());
   const Eigen::Index n = std::min(measured.samples(), simulated.samples());
-  if (n < 16 || measured.channels() == 0) return check;
+  // Too short for a spectrum, or longer than one FFT: not determined.
+  if (n < 16 || n > internal::FftwRealPlan::kMaxLength || measured.channels() == 0) return check;
   const Eigen::VectorXd pm = Power(measured, n), ps = Power(simulated, n);
   const double max_m = pm.tail(pm.size() - 1).maxCoeff(), max_s = ps.tail(ps.size() - 1).maxCoeff();
   if (!(max_m > 0.0) || !(max_s > 0.0) || !std::isfinite(max_m) || !std::isfinite(max_s))
