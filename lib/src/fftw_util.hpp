@@ -1,6 +1,6 @@
 #pragma once
 // FFTW for the model module's one-off transforms (band-limited interpolation,
-// the measured-quantity check): buffers and estimated plans made and destroyed
+// the measured-quantity check): estimated plans made and destroyed
 // under the process-wide planner lock (podid/core/fftw_lock.hpp). FFTW rather
 // than Eigen's kissfft: kissfft costs O(n p) for a prime factor p of n, and a
 // measured record's length is whatever it is (the Silverbox window's 86,917 =
@@ -9,27 +9,13 @@
 #include <fftw3.h>
 
 #include <Eigen/Core>
-#include <memory>
 #include <mutex>
-#include <new>
 
 #include "podid/core/error.hpp"
+#include "podid/core/fftw_buffer.hpp"
 #include "podid/core/fftw_lock.hpp"
 
 namespace podid::internal {
-
-struct FftwFree {
-  void operator()(void* p) const { fftw_free(p); }
-};
-template <typename T>
-using FftwBuffer = std::unique_ptr<T[], FftwFree>;
-
-template <typename T>
-FftwBuffer<T> FftwAllocate(Eigen::Index n) {
-  auto* p = static_cast<T*>(fftw_malloc(sizeof(T) * static_cast<std::size_t>(n < 1 ? 1 : n)));
-  if (p == nullptr) throw std::bad_alloc();
-  return FftwBuffer<T>(p);
-}
 
 /// A plan of length n <= kMaxLength, real -> half spectrum (forward) or half
 /// spectrum -> real (inverse, unnormalised, overwrites its input), estimated.

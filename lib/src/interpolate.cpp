@@ -32,10 +32,10 @@ Eigen::VectorXd InterpolateBandLimited(const Eigen::VectorXd& x, int factor) {
     ThrowInvalid("band-limited interpolation of a sampled force (integrator.substeps)",
                  "at most 2^31 - 1 fine points", ToText(m) + " (fewer substeps or a shorter record)");
   }
-  auto in = internal::FftwAllocate<double>(p);
-  auto spectrum = internal::FftwAllocate<fftw_complex>(p / 2 + 1);
-  auto padded = internal::FftwAllocate<fftw_complex>(m / 2 + 1);
-  auto fine = internal::FftwAllocate<double>(m);
+  auto in = internal::FftwAllocate<double>(static_cast<std::size_t>(p));
+  auto spectrum = internal::FftwAllocate<fftw_complex>(static_cast<std::size_t>(p / 2 + 1));
+  auto padded = internal::FftwAllocate<fftw_complex>(static_cast<std::size_t>(m / 2 + 1));
+  auto fine = internal::FftwAllocate<double>(static_cast<std::size_t>(m));
   const auto forward = internal::FftwRealPlan::Forward(p, in.get(), spectrum.get());
   const auto inverse = internal::FftwRealPlan::Inverse(m, padded.get(), fine.get());
   for (Eigen::Index i = 0; i < n; ++i) in[i] = x[i] - (x0 + slope * static_cast<double>(i));

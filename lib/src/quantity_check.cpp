@@ -18,8 +18,8 @@ namespace {
 // Power per bin 0..n/2, summed over channels (Hann window, mean removed).
 Eigen::VectorXd Power(const TimeSeries& s, Eigen::Index n) {
   Eigen::VectorXd power = Eigen::VectorXd::Zero(n / 2 + 1);
-  auto x = internal::FftwAllocate<double>(n);
-  auto spectrum = internal::FftwAllocate<fftw_complex>(n / 2 + 1);
+  auto x = internal::FftwAllocate<double>(static_cast<std::size_t>(n));
+  auto spectrum = internal::FftwAllocate<fftw_complex>(static_cast<std::size_t>(n / 2 + 1));
   const auto fft = internal::FftwRealPlan::Forward(n, x.get(), spectrum.get());
   for (Eigen::Index c = 0; c < s.channels(); ++c) {
     const double mean = s.values.col(c).head(n).mean();

@@ -151,19 +151,6 @@ fftw_plan GetPlan(Kind kind, int n, int howmany, bool measure) {
 
 }  // namespace
 
-RealBuffer AllocateReal(std::size_t n) {
-  auto* p = static_cast<double*>(fftw_malloc(sizeof(double) * (n == 0 ? 1 : n)));
-  if (p == nullptr) throw std::bad_alloc();
-  return RealBuffer(p);
-}
-
-ComplexBuffer AllocateComplex(std::size_t n) {
-  auto* p = static_cast<std::complex<double>*>(
-      fftw_malloc(sizeof(std::complex<double>) * (n == 0 ? 1 : n)));
-  if (p == nullptr) throw std::bad_alloc();
-  return ComplexBuffer(p);
-}
-
 fftw_plan RealForwardPlan(int n, bool measure) {
   return GetPlan(Kind::kRealForward, n, 1, measure);
 }

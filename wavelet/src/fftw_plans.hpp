@@ -16,16 +16,17 @@
 #include <cstddef>
 #include <memory>
 
+#include "podid/core/fftw_buffer.hpp"
+
 namespace podid::wavelet::internal {
 
-struct FftwFree {
-  void operator()(void* p) const { fftw_free(p); }
-};
-using RealBuffer = std::unique_ptr<double[], FftwFree>;
-using ComplexBuffer = std::unique_ptr<std::complex<double>[], FftwFree>;
+using RealBuffer = podid::internal::FftwBuffer<double>;
+using ComplexBuffer = podid::internal::FftwBuffer<std::complex<double>>;
 
-RealBuffer AllocateReal(std::size_t n);
-ComplexBuffer AllocateComplex(std::size_t n);
+inline RealBuffer AllocateReal(std::size_t n) { return podid::internal::FftwAllocate<double>(n); }
+inline ComplexBuffer AllocateComplex(std::size_t n) {
+  return podid::internal::FftwAllocate<std::complex<double>>(n);
+}
 
 /// Out-of-place real -> complex forward transform of length n (n / 2 + 1 outputs).
 fftw_plan RealForwardPlan(int n, bool measure);
