@@ -77,7 +77,7 @@ std::vector<std::pair<std::string, Eigen::VectorXd>> SelectSignals(const CwtArgu
     }
     if (constant > 0) {
       std::fprintf(stderr, "podid: note: --channel all: %d constant channel%s skipped (no ridge): %s%s\n",
-                   constant, constant > 1 ? "s" : "", skipped.c_str(),
+                   constant, constant > 1 ? "s" : "", Escaped(skipped).c_str(),
                    constant > kListedSkipped ? ", ..." : "");
     }
     return all;
@@ -210,7 +210,8 @@ void Run(const CwtArguments& a) {
         }
       }
     } catch (const std::invalid_argument& e) {  // name the signal the error is about
-      throw std::invalid_argument(label + " of " + a.data + ": " + e.what());
+      // Escaped as ThrowInvalid escapes (e.what() already is: escaping is idempotent).
+      throw std::invalid_argument(Escaped(label + " of " + a.data + ": ") + e.what());
     }
     // The grid (times, frequencies, decimation, cone) of either path.
     const wavelet::Scalogram& sg = streamed ? estimator->scalogram() : whole;
