@@ -181,13 +181,12 @@ void Run(const CwtArguments& a) {
   }
 
   // One transform for every signal (same length and step: laid out once).
-  // Without a scalogram to write or plot, one ridge on one thread is streamed
+  // Without a scalogram to write or plot, one ridge is streamed
   // (RidgeFrequencyEstimator: memory bounded by blocks, about 1 byte per
   // output cell, instead of 16-24 for the whole transform; the same ridge to
-  // about band_tolerance, tests StreamedRidge.*). The streamed transform is
-  // not threaded: --threads > 1 takes the whole transform.
-  const bool streamed =
-      a.ridges == 1 && a.scalogram.empty() && a.plot.empty() && a.threads == 1;
+  // about band_tolerance, tests StreamedRidge.*); --threads >= 2 then runs
+  // the next block's transform beside the ridge's dynamic programme.
+  const bool streamed = a.ridges == 1 && a.scalogram.empty() && a.plot.empty();
   std::unique_ptr<wavelet::CwtTransform> transform;
   std::unique_ptr<wavelet::RidgeFrequencyEstimator> estimator;
   if (streamed) {
@@ -407,12 +406,13 @@ void AddCwtCommand(CLI::App& app) {
                    "Widen the cone of influence (1 = Torrence & Compo; 2 keeps the worst\n"
                    "border IF error over end phases below 0.3 %, docs/wavelet.md)")
       ->capture_default_str();
-  command->add_option("--threads", a->threads, "Threads over the scales (1..256)")
+  command->add_option("--threads", a->threads,
+                      "Threads over the scales (1..256); a streamed ridge uses two (the same result)")
       ->capture_default_str();
   command
       ->add_option("--max-memory", a->max_memory_MB,
-                   "Refuse transforms needing more than this many MB (1..16777216). One ridge on\n"
-                   "one thread without --scalogram/--plot is streamed: about 1 byte per cell plus\n"
+                   "Refuse transforms needing more than this many MB (1..16777216). One ridge\n"
+                   "without --scalogram/--plot is streamed: about 1 byte per cell plus\n"
                    "~43 per cell of a block; otherwise the coefficients take n_times x\n"
                    "n_frequencies x 16 bytes, 24 with --scalogram; the ridges kept for -o about\n"
                    "64 bytes per channel, ridge and time)")

@@ -302,7 +302,8 @@ void AddIdentifyCommand(CLI::App& app) {
                       "Write signals.csv and plots (fig2a_start.png, fig2b_optimum.png, convergence.png, "
                       "ridge.png) to this folder");
   command->add_option("--threads", args->threads,
-                      "Threads running the starts (0: OMP_NUM_THREADS or the cores, shared by the MPI ranks on a machine)")
+                      "Threads running the starts (0: OMP_NUM_THREADS or the cores, shared by the MPI ranks on a machine); "
+                      "with one start, a long record's ridge takes two of them")
       ->capture_default_str()->check(IntegerIn(0, 1024));
   command->add_flag("--report", args->report, "Print the full report");
   command->callback([args] {
@@ -321,6 +322,11 @@ void AddIdentifyCommand(CLI::App& app) {
     }
     CheckOutputs(inputs, outputs);
     const ident::ObjectiveWeights weights = WeightsFrom(args->preset, args->terms, args->weights);
+    const int threads = args->threads > 0 ? args->threads : mpi::DefaultThreads();
+    // One start leaves the other threads idle: a ridge over several blocks
+    // (a long record) then runs its transform beside its dynamic programme
+    // (RidgeFrequencyEstimator; the same result bit for bit).
+    args->objective.ridge_threads = args->multistart <= 1 && threads >= 2 ? 2 : 1;
     const auto objective = args->objective.Build({{weights.ToString(), weights}});
     ident::IdentifyOptions options;
     options.algorithm = ident::ParseAlgorithm(args->algorithm);
@@ -330,7 +336,7 @@ void AddIdentifyCommand(CLI::App& app) {
     options.max_evaluations = args->max_evaluations;
     options.xtol_rel = args->xtol_rel;
     options.seed = args->seed;
-    options.threads = args->threads > 0 ? args->threads : mpi::DefaultThreads();
+    options.threads = threads;
     options.share_index = mpi::Rank();
     options.share_count = mpi::Size();
     ident::IdentifySummary summary;

@@ -126,6 +126,7 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin_Hz;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax_Hz;
   options.ridge.ridge.penalty_s = penalty_s;
+  options.ridge.cwt.threads = ridge_threads;
   auto objective = std::make_unique<ident::ObjectiveFunction>(document, data, options);
   // Under MPI every rank builds the objective; rank 0 speaks for them.
   if (mpi::Rank() == 0) {

@@ -29,6 +29,9 @@ struct ObjectiveArguments {
   double fmax_Hz = 120.0;
   double penalty_s = 0.05;
   std::vector<std::string> starts;  ///< name=value
+  /// The ridge's CwtOptions::threads (not an option: identify gives a single
+  /// start two threads, see cmd_identify.cpp).
+  int ridge_threads = 1;
 
   void AddTo(CLI::App& command);
   /// Passes -m and the data options to the case as `--set data.*` keys (so

@@ -37,10 +37,11 @@ const TimeSeries& MeasuredRecord() {
 
 // One evaluation at knl = 50 (the record's true value, so the ridge is the
 // ordinary one, not a failure path) with the named preset's terms.
-void Evaluation(benchmark::State& state, const char* preset) {
+void Evaluation(benchmark::State& state, const char* preset, int ridge_threads = 1) {
   const ident::ObjectiveWeights weights = ident::ObjectiveWeights::Preset(preset);
   ident::ObjectiveOptions options;
   options.SetWeights(weights);
+  options.ridge.cwt.threads = ridge_threads;
   const ident::ObjectiveFunction objective(ReferenceCase(), MeasuredRecord(), options);
   ident::EvaluationWorkspace workspace;
   Eigen::VectorXd values = objective.StartValues();
@@ -67,6 +68,11 @@ void Evaluation(benchmark::State& state, const char* preset) {
 
 void BM_EvaluateWavelet1s(benchmark::State& state) { Evaluation(state, "wavelet"); }
 BENCHMARK(BM_EvaluateWavelet1s)->Unit(benchmark::kMillisecond);
+
+// The same with the ridge on two threads (one block: its scales shared);
+// wall time, the point of the second thread.
+void BM_EvaluateWavelet1sTwoThreads(benchmark::State& state) { Evaluation(state, "wavelet", 2); }
+BENCHMARK(BM_EvaluateWavelet1sTwoThreads)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_EvaluateFull1s(benchmark::State& state) { Evaluation(state, "full"); }
 BENCHMARK(BM_EvaluateFull1s)->Unit(benchmark::kMillisecond);
@@ -107,9 +113,12 @@ double StatusMB(const std::string& field) {
 // Silverbox record (../shared/realdata/silverbox/SNLS80mV.mat: V2 measured,
 // V1 the force; 131,072 samples at 610.35 Hz), examples/silverbox's 1x1
 // Duffing model at its start values with data.window widened to the whole
-// record, the ridge over 10-300 Hz (158 frequencies, as BM_SilverboxRidge).
-// Argument: Newmark sub-steps per sample (16 as the example, 1). Steady
-// state: the measured ridge and the workspace are built before the loop.
+// record. Arguments: Newmark sub-steps per sample (16 as the example, 1);
+// the ridge's top frequency, 300 Hz (10-300 Hz, 158 frequencies, as
+// BM_SilverboxRidge: no decimation) or 120 Hz (the objective's default
+// 10-120 Hz, 115 frequencies, every 2nd sample); the ridge's cwt.threads (2:
+// its streamed pass 1 as a two-thread pipeline). Wall time (real_time).
+// Steady state: the measured ridge and the workspace are built before the loop.
 // evaluation_peak_MB: run each argument alone (--benchmark_filter), since a
 // later run reuses the memory an earlier one freed.
 void BM_EvaluateWaveletSilverbox(benchmark::State& state) {
@@ -132,7 +141,8 @@ void BM_EvaluateWaveletSilverbox(benchmark::State& state) {
   const ident::ObjectiveWeights weights = ident::ObjectiveWeights::Preset("wavelet");
   ident::ObjectiveOptions options;
   options.SetWeights(weights);
-  options.ridge.cwt.frequencies.max_frequency_Hz = 300.0;
+  options.ridge.cwt.frequencies.max_frequency_Hz = static_cast<double>(state.range(1));
+  options.ridge.cwt.threads = static_cast<int>(state.range(2));
   const ident::ObjectiveFunction objective(document, measured, options);
   ident::EvaluationWorkspace workspace;
   const Eigen::VectorXd values = objective.StartValues();
@@ -156,7 +166,14 @@ void BM_EvaluateWaveletSilverbox(benchmark::State& state) {
   state.counters["RSS_before_MB"] = before_MB;
   state.counters["evaluation_peak_MB"] = StatusMB("VmHWM:") - before_MB;
 }
-BENCHMARK(BM_EvaluateWaveletSilverbox)->Arg(16)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EvaluateWaveletSilverbox)
+    ->Args({16, 300, 1})
+    ->Args({1, 300, 1})
+    ->Args({16, 120, 1})
+    ->Args({16, 300, 2})
+    ->Args({16, 120, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // How often the simulated POD falls back from the Gram (direct) method to
 // the SVD (issue 11 item 5): over 201 values of knl in [0, 200], the case's

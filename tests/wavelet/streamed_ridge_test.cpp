@@ -148,6 +148,60 @@ TEST(StreamedRidge, BlocksEqualTheWholeRecordTransformAtBoundariesAndBorders) {
   }
 }
 
+// Equal entries, NaN where the other is NaN (a sample off the ridge).
+bool SameValues(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  if (a.size() != b.size()) return false;
+  for (Eigen::Index j = 0; j < a.size(); ++j) {
+    if (!(a(j) == b(j) || (std::isnan(a(j)) && std::isnan(b(j))))) return false;
+  }
+  return true;
+}
+
+// Exact equivalence: with cwt.threads >= 2 the next block's transform runs on
+// a second thread beside the programme, which still takes the same blocks in
+// the same order, and large shares of scales (a block's, the IF's) are split
+// between two threads, so the track is the serial one bit for bit (no
+// tolerance), for both methods: small blocks (the pipeline alone), one
+// block of 1251 x 115 cells (its scales split), and white noise in blocks
+// of 2^17 cells (a ridge that visits most scales of a block: the IF's split).
+TEST(StreamedRidge, TwoThreadsGiveTheSerialTrackBitForBit) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::VectorXd noise(40001);
+  for (Eigen::Index i = 0; i < noise.size(); ++i) noise(i) = normal(rng);
+  struct Case {
+    Eigen::VectorXd x;
+    double block_cells;
+    bool one_block;
+  };
+  const Case cases[] = {{Decay(5001, 3), 4096.0, false},
+                        {Decay(5001, 3), 6000.0, false},
+                        {Decay(20001, 3), 1048576.0, true},
+                        {noise, 131072.0, false}};
+  for (RidgeMethod method : {RidgeMethod::kPenalised, RidgeMethod::kMaximum}) {
+    for (const Case& c : cases) {
+      SCOPED_TRACE(std::string(ToString(method)) + " " + std::to_string(c.x.size()) + " samples, " +
+                   std::to_string(c.block_cells) + " cells a block");
+      RidgeFrequencyOptions options;
+      options.ridge.method = method;
+      options.block_cells = c.block_cells;
+      RidgeFrequencyEstimator serial(options);
+      options.cwt.threads = 2;
+      RidgeFrequencyEstimator threaded(options);
+      const RidgeTrack a = serial.Estimate(c.x, kStep);
+      for (int call = 0; call < 2; ++call) {  // reused, as the objective reuses it
+        const RidgeTrack& b = threaded.Estimate(c.x, kStep);
+        EXPECT_EQ(threaded.blocks() == 1, c.one_block);
+        EXPECT_TRUE((a.frequency_index.array() == b.frequency_index.array()).all());
+        EXPECT_TRUE(SameValues(a.frequency_Hz, b.frequency_Hz));
+        EXPECT_TRUE(SameValues(a.amplitude, b.amplitude));
+        EXPECT_TRUE((a.inside_coi == b.inside_coi).all());
+        EXPECT_TRUE((a.screened == b.screened).all());
+      }
+    }
+  }
+}
+
 TEST(StreamedRidge, LongRecordRidgeAndIfInBoundedMemory) {
   // 10^6 samples (200 s at 5 kHz), 10-120 Hz (115 frequencies), every 16th
   // sample: the whole scalogram and its ridge cost would take 24 bytes x

@@ -229,8 +229,21 @@ void BandTransform::LoadBlock(Eigen::Index b) {
 }
 
 const Complex* BandTransform::Synthesise(Eigen::Index k, bool derivative) const {
+  return SynthesiseInto(k, derivative, work_.get(), inverse_.get());
+}
+
+BandTransform::Scratch BandTransform::MakeScratch() const {
+  return {AllocateComplex(static_cast<std::size_t>(mb_)), AllocateComplex(static_cast<std::size_t>(mb_))};
+}
+
+const Complex* BandTransform::Synthesise(Eigen::Index k, bool derivative, Scratch* scratch) const {
+  return SynthesiseInto(k, derivative, scratch->work.get(), scratch->inverse.get());
+}
+
+// Writes only `w` and `inverse`: with distinct buffers, calls run on several threads.
+const Complex* BandTransform::SynthesiseInto(Eigen::Index k, bool derivative, Complex* w,
+                                             Complex* inverse) const {
   PODID_CHECK(loaded_ >= 0 && k >= 0 && k < scales_s_.size());
-  Complex* w = work_.get();
   const auto& filter = filters_[static_cast<std::size_t>(k)];
   const Eigen::Index a = band_first_[static_cast<std::size_t>(k)];
   const Complex* x = spectrum_.get();
@@ -266,8 +279,8 @@ const Complex* BandTransform::Synthesise(Eigen::Index k, bool derivative) const 
       for (Eigen::Index i = negative; i < size; ++i) w[slot(i)] = x[a + i] * gain[i];
     }
   }
-  fftw_execute_dft(backward_, AsFftw(w), AsFftw(inverse_.get()));
-  return inverse_.get() + h_ / d_;
+  fftw_execute_dft(backward_, AsFftw(w), AsFftw(inverse));
+  return inverse + h_ / d_;
 }
 
 }  // namespace podid::wavelet::internal

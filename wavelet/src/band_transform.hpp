@@ -48,6 +48,15 @@ class BandTransform {
   /// times, in the scaled signal's units: (dim block_times(b)), read in place
   /// from the inverse FFT's buffer (no copy), valid until the next call.
   const std::complex<double>* Synthesise(Eigen::Index k, bool derivative) const;
+  /// FFT buffers for Synthesise on another thread (the object's own serve
+  /// one thread; the plans and the loaded spectrum are shared, read-only).
+  struct Scratch {
+    ComplexBuffer work, inverse;
+  };
+  /// For the current layout (re-make it after a Layout() that returned true).
+  Scratch MakeScratch() const;
+  /// Synthesise with `scratch`'s buffers: the result lives in scratch->inverse.
+  const std::complex<double>* Synthesise(Eigen::Index k, bool derivative, Scratch* scratch) const;
 
   Eigen::Index blocks() const { return blocks_; }
   Eigen::Index block_first(Eigen::Index b) const { return b * block_times_; }
@@ -91,6 +100,8 @@ class BandTransform {
   Shape Plan(Eigen::Index samples, double step_s, double max_block_cells) const;
   Eigen::Index FilterBins(Eigen::Index length, double step_s, Eigen::Index* widest) const;
   double Extension(Eigen::Index i) const;  // the record's extension at input sample i
+  const std::complex<double>* SynthesiseInto(Eigen::Index k, bool derivative, std::complex<double>* work,
+                                             std::complex<double>* inverse) const;
 
   CwtOptions options_;
   CwtTransform reference_;  // the full record's P and M (nothing planned)

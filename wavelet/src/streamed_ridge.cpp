@@ -5,8 +5,11 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <semaphore>
 #include <stdexcept>
 #include <string>
+#include <system_error>
+#include <thread>
 #include <vector>
 
 #include "band_transform.hpp"
@@ -28,6 +31,10 @@ constexpr int kMaxUnscaledExponent = 960;
 // Bytes of a RidgeTrack per output time (time, index, 4 doubles, 2 flags) and
 // the streamed IF's per-time state (refined sample, |W|).
 constexpr double kTrackBytesPerTime = 80.0;
+// Output cells (times x scales) below which a share of a block's scales is
+// not worth a second thread: the reference case's block (313 x 115 = 36k
+// cells) took 1.01 ms wall per objective evaluation with it, 0.92 without.
+constexpr Eigen::Index kMinThreadedCells = Eigen::Index{1} << 16;
 // Times per transposed tile of the ridge cost (64 x 157 frequencies: 80 kB, in L2).
 constexpr Eigen::Index kTile = 64;
 
@@ -43,6 +50,9 @@ struct RidgeFrequencyEstimator::Impl {
   std::unique_ptr<internal::RidgeProgramme> programme;
   Eigen::MatrixXcd kept;      // one block: W of every scale (block times x freqs), unscaled
   Eigen::MatrixXd cost;       // -log|W| of a block (block times x freqs)
+  Eigen::MatrixXd cost_next;  // the next block's, with a pipeline (Pipelined)
+  internal::BandTransform::Scratch scratch;  // the second thread's FFT buffers (Threaded)
+  std::vector<int> all_scales;                // k at index k: every scale's slot is its own column
   Eigen::MatrixXd tile;       // kTile times of cost, frequency-major
   Eigen::MatrixXcd cache_w, cache_d;  // pass 2: W (unscaled) and dW/dt at the path's scales
   std::vector<int> slot_w, slot_d;    // scale -> column of cache_w / cache_d, -1: absent
@@ -53,7 +63,15 @@ struct RidgeFrequencyEstimator::Impl {
   double output_scale = 1.0;
 
   void LayOut(Eigen::Index n, double step_s);
+  bool Threaded() const { return options.cwt.threads >= 2; }
+  bool Pipelined() const;
   void Streamed(const Eigen::Ref<const Eigen::VectorXd>& signal);
+  void BlockCost(Eigen::Index block, Eigen::MatrixXd* into, bool threaded);
+  void PushBlock(Eigen::Index count, const Eigen::MatrixXd& from);
+  bool PipelinedPass();
+  template <class Store>
+  void SynthesiseScales(const std::vector<int>& slot, bool derivative, Eigen::Index count, bool threaded,
+                        const Store& store);
   void BlockScales(Eigen::Index first, Eigen::Index count, const Eigen::VectorXi& path);
   void Track(const Eigen::VectorXi& path);
 };
@@ -69,7 +87,11 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
   Eigen::Index times = 0, block_times = 0;
   const double planned = b.PlannedBytes(n, step_s, options.block_cells, &times, &block_times);
   const double block_cells = static_cast<double>(block_times) * static_cast<double>(freqs);
-  const double bytes = planned + 40.0 * block_cells +
+  // Threads: a second set of FFT buffers (32 bytes per inverse point, at
+  // most 8/7 of a block's times); a pipeline, a second block of costs.
+  const bool threaded = Threaded(), pipeline = threaded && block_times < times;
+  const double bytes = planned + 40.0 * block_cells + (threaded ? 40.0 * static_cast<double>(block_times) : 0.0) +
+                       (pipeline ? 8.0 * block_cells : 0.0) +
                        internal::RidgeProgramme::Bytes(freqs, times, maximum) +
                        kTrackBytesPerTime * static_cast<double>(times);
   if (bytes > options.cwt.memory_budget_bytes) {
@@ -103,6 +125,14 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
       b.frequencies_Hz().array().log().matrix(), options.ridge.penalty_s / sg.step_s, maximum);
   const Eigen::Index block = b.max_block_times();
   cost.resize(block, freqs);
+  if (Pipelined()) {
+    cost_next.resize(block, freqs);
+  } else {
+    cost_next.resize(0, 0);
+  }
+  scratch = Threaded() ? b.MakeScratch() : internal::BandTransform::Scratch{};
+  all_scales.resize(static_cast<std::size_t>(freqs));
+  for (Eigen::Index k = 0; k < freqs; ++k) all_scales[static_cast<std::size_t>(k)] = static_cast<int>(k);
   tile.resize(freqs, kTile);
   if (b.blocks() == 1) {
     kept.resize(block, freqs);
@@ -113,33 +143,81 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
   slot_d.assign(static_cast<std::size_t>(freqs), -1);
 }
 
+// Several blocks and cwt.threads >= 2: pass 1 runs as a pipeline, the next
+// block's transform and costs on a second thread while this one runs the
+// dynamic programme (41-47 % of the time on long records, serial by nature).
+// One block and threads: its scales are shared by two threads.
+bool RidgeFrequencyEstimator::Impl::Pipelined() const { return Threaded() && band->blocks() > 1; }
+
 void RidgeFrequencyEstimator::Impl::Streamed(const Eigen::Ref<const Eigen::VectorXd>& signal) {
   internal::BandTransform& b = *band;
   b.SetSignal(signal);
   const bool unscaled = std::abs(b.exponent()) <= kMaxUnscaledExponent;
   output_scale = unscaled ? std::ldexp(1.0, b.exponent()) : 1.0;
   scalogram.coefficient_scale = unscaled ? 1.0 : std::ldexp(1.0, b.exponent());
-  const Eigen::Index freqs = b.frequencies_Hz().size();
   programme->Reset(b.times());
-  for (Eigen::Index block = 0; block < b.blocks(); ++block) {
-    b.LoadBlock(block);
-    const Eigen::Index count = b.block_times(block);
-    for (Eigen::Index k = 0; k < freqs; ++k) {
-      const Complex* w = b.Synthesise(k, false);
-      internal::RidgeCost(w, count, 1.0, cost.col(k).data());
-      // Unscaled: Track multiplies by output_scale (a power of 2, exact).
-      if (b.blocks() == 1) std::copy(w, w + count, kept.col(k).data());
-    }
-    // The programme reads a time column: transpose tiles of kTile times into
-    // frequency-major order (a strided read of a large block would miss the
-    // cache at every frequency).
-    for (Eigen::Index i0 = 0; i0 < count; i0 += kTile) {
-      const Eigen::Index tile_times = std::min(kTile, count - i0);
-      tile.leftCols(tile_times) = cost.block(i0, 0, tile_times, freqs).transpose();
-      for (Eigen::Index i = 0; i < tile_times; ++i) programme->Push(tile.col(i).data());
+  if (!Pipelined() || !PipelinedPass()) {
+    for (Eigen::Index block = 0; block < b.blocks(); ++block) {
+      BlockCost(block, &cost, Threaded());
+      PushBlock(b.block_times(block), cost);
     }
   }
   Track(programme->Path());
+}
+
+// -log|W| of every scale at the block's output times into *into's columns,
+// on two threads if `threaded`. Throws nothing (PODID_CHECK aborts; every
+// buffer exists): it may run on the pipeline's thread.
+void RidgeFrequencyEstimator::Impl::BlockCost(Eigen::Index block, Eigen::MatrixXd* into, bool threaded) {
+  internal::BandTransform& b = *band;
+  b.LoadBlock(block);
+  const Eigen::Index count = b.block_times(block);
+  const bool keep = b.blocks() == 1;
+  SynthesiseScales(all_scales, false, count, threaded, [&](int k, const Complex* w) {
+    internal::RidgeCost(w, count, 1.0, into->col(k).data());
+    // Unscaled: Track multiplies by output_scale (a power of 2, exact).
+    if (keep) std::copy(w, w + count, kept.col(k).data());
+  });
+}
+
+// The programme reads a time column: transpose tiles of kTile times into
+// frequency-major order (a strided read of a large block would miss the
+// cache at every frequency). Throws nothing.
+void RidgeFrequencyEstimator::Impl::PushBlock(Eigen::Index count, const Eigen::MatrixXd& from) {
+  const Eigen::Index freqs = from.cols();
+  for (Eigen::Index i0 = 0; i0 < count; i0 += kTile) {
+    const Eigen::Index tile_times = std::min(kTile, count - i0);
+    tile.leftCols(tile_times) = from.block(i0, 0, tile_times, freqs).transpose();
+    for (Eigen::Index i = 0; i < tile_times; ++i) programme->Push(tile.col(i).data());
+  }
+}
+
+// Pass 1 as a two-stage pipeline over the two cost buffers: the same blocks
+// pushed in the same order, so the same path bit for bit. False (nothing
+// done) when no thread can be started.
+bool RidgeFrequencyEstimator::Impl::PipelinedPass() {
+  const Eigen::Index blocks = band->blocks();
+  Eigen::MatrixXd* const slots[2] = {&cost, &cost_next};
+  std::counting_semaphore<2> free_slots(2), filled(0);
+  std::thread producer;
+  try {
+    producer = std::thread([&]() noexcept {
+      for (Eigen::Index block = 0; block < blocks; ++block) {
+        free_slots.acquire();
+        BlockCost(block, slots[block % 2], false);
+        filled.release();
+      }
+    });
+  } catch (const std::system_error&) {
+    return false;
+  }
+  for (Eigen::Index block = 0; block < blocks; ++block) {
+    filled.acquire();
+    PushBlock(band->block_times(block), *slots[block % 2]);
+    free_slots.release();
+  }
+  producer.join();
+  return true;
 }
 
 // Pass 2, block `first`..: W at k - 1, k, k + 1 and dW/dt at k and the
@@ -158,12 +236,39 @@ void RidgeFrequencyEstimator::Impl::BlockScales(Eigen::Index first, Eigen::Index
     }
   }
   cache_w.resize(count, used);
-  for (int k = 0; k < freqs; ++k) {
-    const int u = slot_w[static_cast<std::size_t>(k)];
-    if (u < 0) continue;
-    const Complex* w = b.Synthesise(k, false);
-    std::copy(w, w + count, cache_w.col(u).data());
+  SynthesiseScales(slot_w, false, count, Threaded(),
+                   [&](int u, const Complex* w) { std::copy(w, w + count, cache_w.col(u).data()); });
+}
+
+// store(slot[k], W or dW/dt of scale k) for every scale k with slot[k] >= 0
+// (`count` output times each), the scales shared with a second thread if
+// `threaded` and the work is large enough (each thread its own FFT buffers;
+// store writes the slot's own column, and throws nothing).
+template <class Store>
+void RidgeFrequencyEstimator::Impl::SynthesiseScales(const std::vector<int>& slot, bool derivative,
+                                                     Eigen::Index count, bool threaded, const Store& store) {
+  const internal::BandTransform& b = *band;
+  const std::size_t scales = slot.size();
+  const auto selected = static_cast<std::size_t>(std::count_if(slot.begin(), slot.end(), [](int u) { return u >= 0; }));
+  std::size_t cut = scales;  // this thread takes the scales below it, the other the rest
+  std::thread other;
+  if (threaded && selected >= 2 && static_cast<Eigen::Index>(selected) * count >= kMinThreadedCells) {
+    cut = 0;
+    for (std::size_t seen = 0; seen < selected / 2; ++cut) seen += slot[cut] >= 0 ? 1 : 0;
+    try {
+      other = std::thread([&, cut]() noexcept {
+        for (std::size_t k = cut; k < scales; ++k) {
+          if (slot[k] >= 0) store(slot[k], b.Synthesise(static_cast<Eigen::Index>(k), derivative, &scratch));
+        }
+      });
+    } catch (const std::system_error&) {  // no thread: all here
+      cut = scales;
+    }
   }
+  for (std::size_t k = 0; k < cut; ++k) {
+    if (slot[k] >= 0) store(slot[k], b.Synthesise(static_cast<Eigen::Index>(k), derivative));
+  }
+  if (other.joinable()) other.join();
 }
 
 void RidgeFrequencyEstimator::Impl::Track(const Eigen::VectorXi& path) {
@@ -219,12 +324,9 @@ void RidgeFrequencyEstimator::Impl::Track(const Eigen::VectorXi& path) {
     }
     if (!phase) continue;
     cache_d.resize(count, used);
-    for (int k = 0; k < freqs; ++k) {
-      const int u = slot_d[static_cast<std::size_t>(k)];
-      if (u < 0) continue;
-      const Complex* w = b.Synthesise(k, true);
+    SynthesiseScales(slot_d, true, count, Threaded(), [&](int u, const Complex* w) {
       cache_d.col(u) = Eigen::Map<const Eigen::VectorXcd>(w, count) * output_scale;
-    }
+    });
     for (Eigen::Index i = 0; i < count; ++i) {
       const Eigen::Index j = first + i;
       const int k = path(j);

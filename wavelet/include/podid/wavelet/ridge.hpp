@@ -148,7 +148,12 @@ struct RidgeFrequencyOptions {
 /// O(block) buffers and the track, instead of 24 bytes per cell. The result
 /// equals FindRidges + TrackRidge on the full transform to about
 /// band_tolerance (tests StreamedRidge.*); CwtOptions::memory_budget_bytes
-/// bounds what one call allocates.
+/// bounds what one call allocates. With cwt.threads >= 2 the streamed ridge
+/// uses a second thread: over several blocks the next block's transform runs
+/// beside the dynamic programme (a pipeline), and large shares of scales (a
+/// single block's, the IF's recomputed W) are split between the two; the
+/// result is the one-thread result bit for bit (test
+/// StreamedRidge.TwoThreadsGiveTheSerialTrackBitForBit).
 class RidgeFrequencyEstimator {
  public:
   /// Throws std::invalid_argument if !options.IsValid().
