@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "case_text.hpp"
 #include "podid/core/beam_model.hpp"
 #include "temp_dir.hpp"
 #include "test_support.hpp"
@@ -21,46 +22,14 @@ namespace {
 using testing::ExamplePath;
 using testing::TempDir;
 
-// The reference case without comments; the line numbers matter for the
-// messages checked below.
-constexpr const char* kBase = R"([beam]
-length = 0.593
-elements = 6
-youngs_modulus = 2.05e11
-density = 7800.0
-area = 0.196e-3
-
-[damping]
-type = "rayleigh"
-modal_ratios = [0.01, 0.01]
-
-[[nonlinearity]]
-type = "cubic"
-node = 6
-k3 = 5.0e9
-
-[initial]
-static_tip_force = 20.0
-
-[time]
-duration = 0.1
-step = 2.0e-4
-
-[sensors]
-dof = "w"
-
-[noise]
-relative = 0.0
-seed = 1
-
-[[identify.parameter]]
-name = "knl"
-key = "nonlinearity.0.k3"
-scale = 1.0e8
-start = 40.0
-lower = 0.0
-upper = 200.0
-)";
+// The reference case without comments, a blank line between its tables; the
+// line numbers matter for the messages checked below: [beam] at line 1,
+// [damping] 8, [[nonlinearity]] 12, [initial] 17, [time] 20, [sensors] 24,
+// [noise] 27, [[identify.parameter]] 31; text appended starts at line 38.
+const std::string kBase = testing::BeamTable() + "\n" + testing::RayleighTable() + "\n" +
+                          testing::CubicTable() + "\n" + testing::InitialTable() + "\n" +
+                          testing::TimeTable() + "\n" + testing::SensorsTable() + "\n" +
+                          testing::NoiseTable() + "\n" + testing::IdentifyK3Table();
 
 /// kBase with the first occurrence of `from` replaced by `to` (which must exist).
 std::string Edit(const std::string& from, const std::string& to) {
@@ -222,7 +191,7 @@ TEST(CaseFile, ForceFromCsvRelativeToTheCaseFile) {
   const TempDir dir;
   std::filesystem::create_directory(dir.File("data"));
   dir.Write("data/force.csv", "t,f\n0,0\n0.5,1\n1,4\n");
-  const std::string harmonic = std::string(kBase) +
+  const std::string harmonic = kBase +
                                "[force]\ntype = \"file\"\nfile = "
                                "\"data/force.csv\"\ncolumn = \"f\"\nnode = 3\n";
   const std::string path = dir.Write("case.toml", harmonic);
@@ -596,7 +565,7 @@ TEST(CaseFileRejects, Initial) {
 }
 
 TEST(CaseFileRejects, Force) {
-  const std::string with_force = std::string(kBase) + "[force]\n";  // line 39
+  const std::string with_force = kBase + "[force]\n";  // line 39
   EXPECT_CASE_ERROR(with_force + "type = \"impulse\"\n",
                     "case.toml:39: force.type: expected one of \"none\", \"harmonic\", \"sweep\", "
                     "\"file\", \"channel\", got \"impulse\"");
@@ -644,7 +613,7 @@ TEST(CaseFileRejects, SensorsNoiseIntegrator) {
                     "case.toml:28: noise.relative: expected a number >= 0, got -0.01");
   EXPECT_CASE_ERROR(Edit("seed = 1", "seed = -1"),
                     "case.toml:29: noise.seed: expected an integer >= 0, got -1");
-  const std::string with_integrator = std::string(kBase) + "[integrator]\n";
+  const std::string with_integrator = kBase + "[integrator]\n";
   EXPECT_CASE_ERROR(with_integrator + "gamma = 0.4\n",
                     "case.toml:39: integrator.gamma: expected a number in [0.5, 1], got 0.4");
   EXPECT_CASE_ERROR(with_integrator + "beta = 0\n",
@@ -677,7 +646,7 @@ TEST(CaseFileRejects, IdentifyParameters) {
                     "(between lower and upper), got 400");
   EXPECT_CASE_ERROR(Edit("name = \"knl\"", "name = \"\""),
                     "identify.parameter.0.name: expected a non-empty string, got \"\"");
-  EXPECT_CASE_ERROR(std::string(kBase) +
+  EXPECT_CASE_ERROR(kBase +
                         "[[identify.parameter]]\nname = \"knl\"\n"
                         "key = \"damping.modal_ratios.0\"\nstart = 1\nlower = 0\n"
                         "upper = 2\n",
@@ -689,7 +658,7 @@ TEST(CaseFileRejects, IdentifyParameters) {
                     "program): nonlinearity.0.gap: expected only the keys type, node, nodes, dof, dofs, k3 for type "
                     "\"cubic\", got gap = 4e+09), got \"nonlinearity.0.gap\"");
   // A key absent from the file but in the schema may be identified.
-  const CaseSpec spec = SpecOf(std::string(kBase) +
+  const CaseSpec spec = SpecOf(kBase +
                                "[[identify.parameter]]\nname = \"zeta2\"\n"
                                "key = \"damping.modal_ratios.1\"\nstart = 1\n"
                                "lower = 0\nupper = 2\nscale = 0.01\n");

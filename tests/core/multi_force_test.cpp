@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "case_text.hpp"
 #include "podid/core/case_file.hpp"
 #include "podid/core/load.hpp"
 #include "podid/core/simulate.hpp"
@@ -19,25 +20,9 @@ namespace {
 using testing::TempDir;
 
 // The reference beam made linear (k3 = 0), from rest, no damping change.
-constexpr const char* kLinearBeam = R"([beam]
-length = 0.593
-elements = 6
-youngs_modulus = 2.05e11
-density = 7800.0
-area = 0.196e-3
-[damping]
-type = "rayleigh"
-modal_ratios = [0.01, 0.01]
-[[nonlinearity]]
-type = "cubic"
-node = 6
-k3 = 0.0
-[time]
-duration = 0.05
-step = 2.0e-4
-[integrator]
-substeps = 3
-)";
+const std::string kLinearBeam = testing::BeamTable() + testing::RayleighTable() +
+                                testing::CubicTable("0.0") + testing::TimeTable("0.05") +
+                                "[integrator]\nsubsteps = 3\n";
 
 constexpr const char* kHarmonicAt3 = R"(type = "harmonic"
 node = 3
@@ -69,7 +54,7 @@ std::string ForceCsv() {
 }
 
 SimulationResult RunCase(const TempDir& dir, const std::string& name, const std::string& forces) {
-  const std::string path = dir.Write(name, std::string(kLinearBeam) + forces);
+  const std::string path = dir.Write(name, kLinearBeam + forces);
   const SimulationResult r = Simulate(CaseDocument::Load(path).ToSpec(), SimulateOptions{false});
   EXPECT_TRUE(r.summary.IsSolutionUsable()) << r.summary.message;
   return r;
@@ -104,7 +89,7 @@ TEST(MultiForceTest, LoadHasOneColumnPerForceWithItsOwnGainAndOffset) {
   const TempDir dir;
   dir.Write("f.csv", ForceCsv());
   const std::string path = dir.Write(
-      "case.toml", std::string(kLinearBeam) + "[[force]]\n" + kHarmonicAt3 + "[[force]]\ntype = \"none\"\n" +
+      "case.toml", kLinearBeam + "[[force]]\n" + kHarmonicAt3 + "[[force]]\ntype = \"none\"\n" +
                        "[[force]]\n" + kFileAt5);
   const CaseSpec spec = CaseDocument::Load(path).ToSpec();
   ASSERT_EQ(spec.forces.size(), 3u);
@@ -152,7 +137,7 @@ TEST(MultiForceTest, ErrorsNameTheForceAndWhatWasExpected) {
 }
 
 TEST(MultiForceTest, SetAddressesForcesByIndex) {
-  CaseDocument doc = CaseDocument::Parse(std::string(kLinearBeam) + "[[force]]\n" + kHarmonicAt3, "f.toml");
+  CaseDocument doc = CaseDocument::Parse(kLinearBeam + "[[force]]\n" + kHarmonicAt3, "f.toml");
   ApplySetArguments(doc, {"force.1.type=sweep", "force.1.node=2", "force.1.amplitude=1",
                           "force.1.start_frequency=5", "force.1.end_frequency=50", "force.0.amplitude=7"});
   const CaseSpec spec = doc.ToSpec();

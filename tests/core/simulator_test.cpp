@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "case_text.hpp"
 #include "podid/core/case_file.hpp"
 #include "podid/core/model_parameter.hpp"
 #include "podid/core/simulate.hpp"
@@ -19,8 +20,7 @@ namespace {
 
 // Every typed kind at once: segments, a point mass, a spring, modal damping,
 // a cubic element, a static initial deflection and a harmonic force.
-constexpr const char* kCase = R"(
-[beam]
+const std::string kCase = R"([beam]
 area = 0.196e-3
 [[beam.segment]]
 length = 0.3
@@ -39,24 +39,13 @@ mass = 0.2
 node = 2
 stiffness = 1.0e4
 damping = 2.0
-[damping]
-type = "rayleigh"
-modal_ratios = [0.01, 0.02]
-[[nonlinearity]]
-type = "cubic"
-node = 6
-k3 = 5.0e9
-[initial]
-static_tip_force = 20.0
-[force]
+)" + testing::RayleighTable("[0.01, 0.02]") +
+                          testing::CubicTable() + testing::InitialTable() + R"([force]
 type = "harmonic"
 node = 6
 amplitude = 2.0
 frequency = 30.0
-[time]
-duration = 0.05
-step = 2.0e-4
-)";
+)" + testing::TimeTable("0.05");
 
 // The cached path runs the same operations on the same matrices (a rebuilt
 // model is built by the same code; a nonlinear coefficient only changes the
@@ -66,7 +55,8 @@ constexpr double kRoundoffTolerance = 1e-12;
 // Applies each (key, value) in turn to a Simulator of the case (a typed
 // parameter) and to its document (copy-the-document path), and compares the
 // two simulations after every change.
-void ExpectChangesMatchTheDocumentPath(const char* text, const char* name,
+void ExpectChangesMatchTheDocumentPath(const std::string& text,
+                                       const char* name,
                                        const std::vector<std::pair<std::string, double>>& changes) {
   CaseDocument document = CaseDocument::Parse(text, name);
   const CaseSpec base = document.ToSpec();
@@ -110,14 +100,7 @@ TEST(SimulatorTest, EveryTypedChangeMatchesTheDocumentPath) {
 
 // A uniform beam (no segments) with Rayleigh damping given by alpha and beta,
 // a polynomial element and a sweep: the remaining typed keys.
-constexpr const char* kUniformCase = R"(
-[beam]
-length = 0.593
-elements = 6
-youngs_modulus = 2.05e11
-density = 7800.0
-area = 0.196e-3
-[damping]
+const std::string kUniformCase = testing::BeamTable() + R"([damping]
 type = "rayleigh"
 alpha = 2.0
 beta = 1.0e-5
@@ -133,10 +116,7 @@ node = 6
 amplitude = 5.0
 start_frequency = 20.0
 end_frequency = 60.0
-[time]
-duration = 0.05
-step = 2.0e-4
-)";
+)" + testing::TimeTable("0.05");
 
 TEST(SimulatorTest, UniformBeamRayleighPolynomialAndSweepKeysMatchTheDocumentPath) {
   const std::vector<std::pair<std::string, double>> changes = {
@@ -167,24 +147,12 @@ TEST(SimulatorTest, RunInPlaceGivesRunsSensorsWithoutTheCopy) {
 
 // Several forces and base excitation: force.i.* and base.* are kLoad keys; a
 // change of the mass (kModel) also changes the base's load -M r a_g.
-constexpr const char* kForcesAndBaseCase = R"(
-[beam]
-length = 0.593
-elements = 6
-youngs_modulus = 2.05e11
-density = 7800.0
-area = 0.196e-3
-[[mass]]
+const std::string kForcesAndBaseCase = testing::BeamTable() + R"([[mass]]
 node = 4
 mass = 0.2
-[damping]
-type = "rayleigh"
-modal_ratios = [0.01, 0.02]
-[[nonlinearity]]
-type = "cubic"
-node = 6
-k3 = 5.0e9
-[[force]]
+)" + testing::RayleighTable("[0.01, 0.02]") +
+                                       testing::CubicTable() +
+                                       R"([[force]]
 type = "harmonic"
 node = 6
 amplitude = 2.0
@@ -201,10 +169,7 @@ amplitude = 5.0
 frequency = 25.0
 [sensors]
 quantity = "acceleration"
-[time]
-duration = 0.05
-step = 2.0e-4
-)";
+)" + testing::TimeTable("0.05");
 
 TEST(SimulatorTest, ForceArrayAndBaseKeysMatchTheDocumentPath) {
   const std::vector<std::pair<std::string, double>> changes = {
