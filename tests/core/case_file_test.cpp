@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -364,83 +365,225 @@ TEST(CaseFileSet, CopiesAreIndependentAndUsableFromThreads) {
   PODID_EXPECT_THROW_WITH(bad_copy.ToSpec(), std::invalid_argument, "case.toml:3: beam.elements");
 }
 
+// --- rejections: one row per invalid edit of kBase --------------------------
+
+// kBase with the first `from` replaced by `to` (or with `to` appended where
+// `from` is empty) must be refused with a message that contains `needle`;
+// `test` names the CaseFileRejects test that checks the row.
+struct Rejection {
+  std::string_view test, from, to, needle;
+};
+
+constexpr Rejection kRejections[] = {
+    {"InvalidToml", "length = 0.593", "length = ", "case.toml:2:"},
+    {"InvalidToml", "length = 0.593", "length = ", "expected valid TOML"},
+    {"InvalidToml", "elements = 6", "elements = 6\nlength = 1", "case.toml:4:"},  // duplicate key
+    {"UnknownKeys", "length = 0.593", "lenght = 0.593",
+     "case.toml:2: beam.lenght: expected a key of the case-file schema (here: length, elements, "
+     "youngs_modulus, density, area, width, height, left, right, segment, second_moment), got an "
+     "unknown key"},
+    {"UnknownKeys", "[noise]", "[noisy]", "case.toml:27: noisy: expected a key"},
+    {"UnknownKeys", "k3 = 5.0e9", "k3 = 5.0e9\nk4 = 1",
+     "case.toml:16: nonlinearity.0.k4: expected a key"},
+    {"UnknownKeys", "upper = 200.0", "upper = 200.0\ncolour = 1",
+     "identify.parameter.0.colour: expected a key"},
+    {"UnknownKeys", "[[identify.parameter]]", "[identify]\nmethod = 1\n[[identify.parameter]]",
+     "case.toml:32: identify.method: expected a key of the case-file schema (here: parameter)"},
+    {"WrongTypes", "elements = 6", "elements = \"six\"",
+     "case.toml:3: beam.elements: expected an integer in [1, 1000000], got \"six\""},
+    {"WrongTypes", "elements = 6", "elements = 6.0",
+     "case.toml:3: beam.elements: expected an integer in [1, 1000000], got 6"},
+    {"WrongTypes", "length = 0.593", "length = true",
+     "case.toml:2: beam.length: expected a number > 0 (m), got true"},
+    {"WrongTypes", "modal_ratios = [0.01, 0.01]", "modal_ratios = 0.01",
+     "case.toml:10: damping.modal_ratios: expected an array of 2 numbers, got 0.01"},
+    {"WrongTypes", "modal_ratios = [0.01, 0.01]", "modal_ratios = [0.01, \"a\"]",
+     "damping.modal_ratios.1: expected a number in [0, 1), got \"a\""},
+    {"WrongTypes", "dof = \"w\"", "dof = 1",
+     "case.toml:25: sensors.dof: expected one of \"w\", \"theta\", got 1"},
+    {"WrongTypes", "[beam]", "beam = 1\n[beem]", "case.toml:1: beam: expected a table, got 1"},
+    {"WrongTypes", "[[nonlinearity]]", "[nonlinearity]",
+     "case.toml:12: nonlinearity: expected an array of tables [[nonlinearity]], got a table"},
+    {"WrongTypes", "key = \"nonlinearity.0.k3\"", "key = 3",
+     "identify.parameter.0.key: expected a non-empty string, got 3"},
+    {"Beam", "length = 0.593", "length = -0.593",
+     "case.toml:2: beam.length: expected a number > 0 (m), got -0.593"},
+    {"Beam", "elements = 6", "elements = 0",
+     "case.toml:3: beam.elements: expected an integer in [1, 1000000], got 0"},
+    {"Beam", "youngs_modulus = 2.05e11", "youngs_modulus = 0",
+     "beam.youngs_modulus: expected a number > 0 (Pa), got 0"},
+    {"Beam", "density = 7800.0", "density = nan",
+     "beam.density: expected a number > 0 (kg/m^3), got nan"},
+    {"Beam", "area = 0.196e-3", "area = inf", "beam.area: expected a number > 0"},
+    {"Beam", "length = 0.593", "# no length",
+     "case.toml:1: beam.length: expected a number > 0 (m), got nothing (the key is required)"},
+    {"Beam", "area = 0.196e-3", "width = 0.01",
+     "case.toml:1: beam: expected beam.area (square section) or beam.width and beam.height, got "
+     "only beam.width"},
+    {"Beam", "area = 0.196e-3", "area = 0.196e-3\nheight = 0.01",
+     "case.toml:7: beam.height: expected either beam.area (square section) or beam.width and "
+     "beam.height, got both"},
+    {"Beam", "[beam]", "[beem]", "case.toml:1: beem: expected a key"},
+    {"Damping", "type = \"rayleigh\"", "type = \"viscous\"",
+     "case.toml:9: damping.type: expected one of \"rayleigh\", \"none\", got \"viscous\""},
+    {"Damping", "modal_ratios = [0.01, 0.01]", "modal_ratios = [0.01, 1.0]",
+     "case.toml:10: damping.modal_ratios.1: expected a number in [0, 1), got 1"},
+    {"Damping", "modal_ratios = [0.01, 0.01]", "modal_ratios = [0.01]",
+     "damping.modal_ratios: expected an array of 2 numbers, got an array of 1"},
+    {"Damping", "modal_ratios = [0.01, 0.01]", "modal_ratios = [0.01, 0.01]\nmodes = [2, 2]",
+     "case.toml:11: damping.modes: expected two different mode numbers, got [2, 2]"},
+    {"Damping", "modal_ratios = [0.01, 0.01]", "modal_ratios = [0.01, 0.01]\nmodes = [1, 13]",
+     "damping.modes.1: expected an integer in [1, 12], got 13"},
+    {"Damping", "modal_ratios = [0.01, 0.01]", "modal_ratios = [0.01, 0.01]\nalpha = 1",
+     "damping.alpha: expected either damping.modal_ratios or damping.alpha/beta, got both"},
+    {"Damping", "modal_ratios = [0.01, 0.01]", "beta = -1e-5",
+     "damping.beta: expected a number >= 0 (s), got -1e-05"},
+    {"Damping", "modal_ratios = [0.01, 0.01]", "",
+     "case.toml:8: damping: expected damping.modal_ratios = [z1, z2] or damping.alpha/beta for "
+     "type \"rayleigh\", got neither"},
+    {"Nonlinearity", "node = 6", "node = 7",
+     "case.toml:14: nonlinearity.0.node: expected an integer in [1, 6], got 7"},
+    {"Nonlinearity", "node = 6", "node = 0",
+     "nonlinearity.0.node: expected an integer in [1, 6], got 0"},
+    {"Nonlinearity", "type = \"cubic\"", "type = \"quintic\"",
+     "case.toml:13: nonlinearity.0.type: expected one of \"cubic\", \"polynomial\", \"gap\", "
+     "\"friction\", got \"quintic\""},
+    {"Nonlinearity", "k3 = 5.0e9", "k3 = 5.0e9\ngap = 0.1",
+     "case.toml:16: nonlinearity.0.gap: expected only the keys type, node, nodes, dof, dofs, k3 "
+     "for type \"cubic\", got gap = 0.1"},
+    {"Nonlinearity", "k3 = 5.0e9", "",
+     "case.toml:12: nonlinearity.0.k3: expected a finite number (N/m^3), got nothing"},
+    {"Nonlinearity", "type = \"cubic\"\nnode = 6\nk3 = 5.0e9",
+     "type = \"gap\"\ngap = -1e-3\nstiffness = 1e6",
+     "case.toml:14: nonlinearity.0.gap: expected a number >= 0 (m), got -0.001"},
+    {"Nonlinearity", "type = \"cubic\"\nnode = 6\nk3 = 5.0e9",
+     "type = \"gap\"\ngap = 1e-3\nstiffness = 0",
+     "nonlinearity.0.stiffness: expected a number > 0 (N/m), got 0"},
+    {"Nonlinearity", "type = \"cubic\"\nnode = 6\nk3 = 5.0e9",
+     "type = \"friction\"\nmu = 0.3\nnormal_force = 10\nvelocity_scale = 0",
+     "nonlinearity.0.velocity_scale: expected a number > 0 (m/s), got 0"},
+    {"Nonlinearity", "type = \"cubic\"\nnode = 6\nk3 = 5.0e9",
+     "type = \"friction\"\nmu = -0.3\nnormal_force = 10\nvelocity_scale = 1",
+     "nonlinearity.0.mu: expected a number >= 0, got -0.3"},
+    {"Initial", "static_tip_force = 20.0", "static_tip_force = 20.0\nnode = 9",
+     "case.toml:19: initial.node: expected an integer in [1, 6], got 9"},
+    {"Initial", "static_tip_force = 20.0", "static_tip_force = 20.0\nvelocity = [1]",
+     "initial.velocity: expected either initial.static_tip_force or initial.displacement/velocity, "
+     "got both"},
+    {"Initial", "static_tip_force = 20.0", "displacement = [1, 2, 3]",
+     "case.toml:18: initial.displacement: expected an array of 12 numbers, got an array of 3"},
+    {"Initial", "static_tip_force = 20.0", "node = 2",
+     "initial.node: expected initial.node only with initial.static_tip_force (or static_force), "
+     "got 2"},
+    {"Initial", "static_tip_force = 20.0", "static_tip_force = \"big\"",
+     "initial.static_tip_force: expected a finite number (N), got \"big\""},
+    {"Force", "", "[force]\ntype = \"impulse\"\n",
+     "case.toml:39: force.type: expected one of \"none\", \"harmonic\", \"sweep\", \"file\", "
+     "\"channel\", got \"impulse\""},
+    {"Force", "", "[force]\namplitude = 1\n",
+     "case.toml:38: force.type: expected one of \"none\", \"harmonic\", \"sweep\", \"file\", "
+     "\"channel\", got nothing"},
+    {"Force", "", "[force]\ntype = \"harmonic\"\namplitude = 1\n",
+     "case.toml:38: force.frequency: expected a number > 0 (Hz), got nothing"},
+    {"Force", "", "[force]\ntype = \"harmonic\"\namplitude = 1\nfrequency = 30\nnode = 0\n",
+     "case.toml:42: force.node: expected an integer in [1, 6], got 0"},
+    {"Force", "",
+     "[force]\ntype = \"sweep\"\namplitude = 1\nstart_frequency = 0\nend_frequency = 5\n",
+     "case.toml:41: force.start_frequency: expected a number > 0 (Hz), got 0"},
+    {"Force", "", "[force]\ntype = \"file\"\ncolumn = \"f\"\n",
+     "force.file: expected a non-empty string, got nothing"},
+    {"Time", "step = 2.0e-4", "step = 0",
+     "case.toml:22: time.step: expected a number > 0 (s), got 0"},
+    {"Time", "step = 2.0e-4", "step = -2.0e-4",
+     "case.toml:22: time.step: expected a number > 0 (s), got -2e-04"},
+    {"Time", "step = 2.0e-4", "step = 0.2",
+     "case.toml:22: time.step: expected a step <= time.duration = 0.1 s, got 0.2"},
+    {"Time", "duration = 0.1", "duration = 0",
+     "case.toml:21: time.duration: expected a number > 0 (s), got 0"},
+    {"Time", "step = 2.0e-4", "step = 1e-12", "time.step: expected at most 1e9 steps"},
+    {"Time", "step = 2.0e-4", "",
+     "case.toml:20: time.step: expected a number > 0 (s), got nothing"},
+    {"SensorsNoiseIntegrator", "dof = \"w\"", "dof = \"u\"",
+     "case.toml:25: sensors.dof: expected one of \"w\", \"theta\", got \"u\""},
+    {"SensorsNoiseIntegrator", "dof = \"w\"", "nodes = [1, 7]",
+     "case.toml:25: sensors.nodes.1: expected an integer in [1, 6], got 7"},
+    {"SensorsNoiseIntegrator", "dof = \"w\"", "nodes = [1, 2, 1]",
+     "sensors.nodes: expected distinct node numbers, got node 1 twice"},
+    {"SensorsNoiseIntegrator", "dof = \"w\"", "nodes = []",
+     "sensors.nodes: expected a non-empty array of integers, got an array of 0"},
+    {"SensorsNoiseIntegrator", "relative = 0.0", "relative = -0.01",
+     "case.toml:28: noise.relative: expected a number >= 0, got -0.01"},
+    {"SensorsNoiseIntegrator", "seed = 1", "seed = -1",
+     "case.toml:29: noise.seed: expected an integer >= 0, got -1"},
+    {"SensorsNoiseIntegrator", "", "[integrator]\ngamma = 0.4\n",
+     "case.toml:39: integrator.gamma: expected a number in [0.5, 1], got 0.4"},
+    {"SensorsNoiseIntegrator", "", "[integrator]\nbeta = 0\n",
+     "integrator.beta: expected a number in (0, 0.5], got 0"},
+    {"SensorsNoiseIntegrator", "", "[integrator]\ntolerance = 0\n",
+     "integrator.tolerance: expected a number > 0, got 0"},
+    {"SensorsNoiseIntegrator", "", "[integrator]\nsubsteps = 1001\n",
+     "integrator.substeps: expected an integer in [1, 1000], got 1001"},
+    {"SensorsNoiseIntegrator", "", "[integrator]\nmax_iterations = 0\n",
+     "integrator.max_iterations: expected an integer in [1, 1000000], got 0"},
+    {"SensorsNoiseIntegrator", "", "[integrator]\ntype = \"rk4\"\n",
+     "integrator.type: expected one of \"modified\", \"newmark\", got \"rk4\""},
+    {"IdentifyParameters", "key = \"nonlinearity.0.k3\"", "key = \"beam.elements\"",
+     "case.toml:33: identify.parameter.0.key: expected a real-valued key of this case"},
+    {"IdentifyParameters", "key = \"nonlinearity.0.k3\"", "key = \"nonlinearity.0.k5\"",
+     "identify.parameter.0.key: expected a real-valued key"},
+    {"IdentifyParameters", "key = \"nonlinearity.0.k3\"", "key = \"nonlinearity.1.k3\"",
+     "got \"nonlinearity.1.k3\""},
+    {"IdentifyParameters", "scale = 1.0e8", "scale = 0",
+     "case.toml:34: identify.parameter.0.scale: expected a number != 0, got 0"},
+    {"IdentifyParameters", "lower = 0.0", "lower = 300.0",
+     "case.toml:37: identify.parameter.0.upper: expected a number > lower = 300, got 200"},
+    {"IdentifyParameters", "start = 40.0", "start = 400.0",
+     "case.toml:35: identify.parameter.0.start: expected a number in [0, 200] (between lower and "
+     "upper), got 400"},
+    {"IdentifyParameters", "name = \"knl\"", "name = \"\"",
+     "identify.parameter.0.name: expected a non-empty string, got \"\""},
+    {"IdentifyParameters", "",
+     "[[identify.parameter]]\nname = \"knl\"\nkey = \"damping.modal_ratios.0\"\nstart = 1\n"
+     "lower = 0\nupper = 2\n",
+     "case.toml:39: identify.parameter.1.name: expected a name no other identify.parameter has, "
+     "got \"knl\" again"},
+    {"IdentifyParameters", "key = \"nonlinearity.0.k3\"", "key = \"nonlinearity.0.gap\"",
+     "case.toml:33: identify.parameter.0.key: expected a key this case can take at scale * start "
+     "(setting it gives: case.toml (nonlinearity.0.gap set by the program): nonlinearity.0.gap: "
+     "expected only the keys type, node, nodes, dof, dofs, k3 for type \"cubic\", got gap = "
+     "4e+09), got \"nonlinearity.0.gap\""},
+};
+
+// Checks the rows of kRejections that belong to `test`.
+void ExpectRejections(std::string_view test) {
+  int checked = 0;
+  for (const Rejection& row : kRejections) {
+    if (row.test != test) continue;
+    ++checked;
+    const std::string from(row.from), to(row.to);
+    SCOPED_TRACE("\"" + from + "\" -> \"" + to + "\"");
+    EXPECT_CASE_ERROR(from.empty() ? kBase + to : Edit(from, to), std::string(row.needle));
+  }
+  EXPECT_GT(checked, 0) << "no row of kRejections for " << test;
+}
+
 // --- rejections: syntax, unknown keys, wrong types ---------------------------
 
-TEST(CaseFileRejects, InvalidToml) {
-  PODID_EXPECT_THROW_WITH(SpecOf(Edit("length = 0.593", "length = ")), std::invalid_argument,
-                          "case.toml:2:");
-  PODID_EXPECT_THROW_WITH(SpecOf(Edit("length = 0.593", "length = ")), std::invalid_argument,
-                          "expected valid TOML");
-  PODID_EXPECT_THROW_WITH(SpecOf(Edit("elements = 6", "elements = 6\nlength = 1")),
-                          std::invalid_argument, "case.toml:4:");  // duplicate key
-}
+TEST(CaseFileRejects, InvalidToml) { ExpectRejections("InvalidToml"); }
 
 TEST(CaseFileRejects, MissingFile) {
   PODID_EXPECT_THROW_WITH(CaseDocument::Load("/nonexistent/case.toml"), std::invalid_argument,
                           "/nonexistent/case.toml: expected a readable case file");
 }
 
-TEST(CaseFileRejects, UnknownKeys) {
-  EXPECT_CASE_ERROR(Edit("length = 0.593", "lenght = 0.593"),
-                    "case.toml:2: beam.lenght: expected a key of the case-file schema (here: "
-                    "length, elements, youngs_modulus, density, area, width, height, left, right, segment, "
-                    "second_moment), got an "
-                    "unknown key");
-  EXPECT_CASE_ERROR(Edit("[noise]", "[noisy]"), "case.toml:27: noisy: expected a key");
-  EXPECT_CASE_ERROR(Edit("k3 = 5.0e9", "k3 = 5.0e9\nk4 = 1"),
-                    "case.toml:16: nonlinearity.0.k4: expected a key");
-  EXPECT_CASE_ERROR(Edit("upper = 200.0", "upper = 200.0\ncolour = 1"),
-                    "identify.parameter.0.colour: expected a key");
-  EXPECT_CASE_ERROR(
-      Edit("[[identify.parameter]]", "[identify]\nmethod = 1\n[[identify.parameter]]"),
-      "case.toml:32: identify.method: expected a key of the case-file schema (here: "
-      "parameter)");
-}
+TEST(CaseFileRejects, UnknownKeys) { ExpectRejections("UnknownKeys"); }
 
-TEST(CaseFileRejects, WrongTypes) {
-  EXPECT_CASE_ERROR(Edit("elements = 6", "elements = \"six\""),
-                    "case.toml:3: beam.elements: expected an integer in [1, 1000000], got \"six\"");
-  EXPECT_CASE_ERROR(Edit("elements = 6", "elements = 6.0"),
-                    "case.toml:3: beam.elements: expected an integer in [1, 1000000], got 6");
-  EXPECT_CASE_ERROR(Edit("length = 0.593", "length = true"),
-                    "case.toml:2: beam.length: expected a number > 0 (m), got true");
-  EXPECT_CASE_ERROR(Edit("modal_ratios = [0.01, 0.01]", "modal_ratios = 0.01"),
-                    "case.toml:10: damping.modal_ratios: expected an array of 2 numbers, got 0.01");
-  EXPECT_CASE_ERROR(Edit("modal_ratios = [0.01, 0.01]", "modal_ratios = [0.01, \"a\"]"),
-                    "damping.modal_ratios.1: expected a number in [0, 1), got \"a\"");
-  EXPECT_CASE_ERROR(Edit("dof = \"w\"", "dof = 1"),
-                    "case.toml:25: sensors.dof: expected one of \"w\", \"theta\", got 1");
-  EXPECT_CASE_ERROR(Edit("[beam]", "beam = 1\n[beem]"),
-                    "case.toml:1: beam: expected a table, got 1");
-  EXPECT_CASE_ERROR(Edit("[[nonlinearity]]", "[nonlinearity]"),
-                    "case.toml:12: nonlinearity: expected an array of tables [[nonlinearity]], "
-                    "got a table");
-  EXPECT_CASE_ERROR(Edit("key = \"nonlinearity.0.k3\"", "key = 3"),
-                    "identify.parameter.0.key: expected a non-empty string, got 3");
-}
+TEST(CaseFileRejects, WrongTypes) { ExpectRejections("WrongTypes"); }
 
 // --- rejections: out-of-range values -------------------------------------------
 
 TEST(CaseFileRejects, Beam) {
-  EXPECT_CASE_ERROR(Edit("length = 0.593", "length = -0.593"),
-                    "case.toml:2: beam.length: expected a number > 0 (m), got -0.593");
-  EXPECT_CASE_ERROR(Edit("elements = 6", "elements = 0"),
-                    "case.toml:3: beam.elements: expected an integer in [1, 1000000], got 0");
-  EXPECT_CASE_ERROR(Edit("youngs_modulus = 2.05e11", "youngs_modulus = 0"),
-                    "beam.youngs_modulus: expected a number > 0 (Pa), got 0");
-  EXPECT_CASE_ERROR(Edit("density = 7800.0", "density = nan"),
-                    "beam.density: expected a number > 0 (kg/m^3), got nan");
-  EXPECT_CASE_ERROR(Edit("area = 0.196e-3", "area = inf"), "beam.area: expected a number > 0");
-  EXPECT_CASE_ERROR(Edit("length = 0.593", "# no length"),
-                    "case.toml:1: beam.length: expected a number > 0 (m), got nothing (the key is "
-                    "required)");
-  EXPECT_CASE_ERROR(Edit("area = 0.196e-3", "width = 0.01"),
-                    "case.toml:1: beam: expected beam.area (square section) or beam.width and "
-                    "beam.height, got only beam.width");
-  EXPECT_CASE_ERROR(Edit("area = 0.196e-3", "area = 0.196e-3\nheight = 0.01"),
-                    "case.toml:7: beam.height: expected either beam.area (square section) or "
-                    "beam.width and beam.height, got both");
-  EXPECT_CASE_ERROR(Edit("[beam]", "[beem]"), "case.toml:1: beem: expected a key");
+  ExpectRejections("Beam");
   EXPECT_CASE_ERROR(
       "[time]\nduration=1\nstep=0.1\n",
       "case.toml: beam: expected a [beam] table, got nothing (the table is required)");
@@ -492,171 +635,28 @@ TEST(CaseFileRejects, RecordLargerThanTheMemoryBound) {
 }
 
 TEST(CaseFileRejects, Damping) {
-  EXPECT_CASE_ERROR(Edit("type = \"rayleigh\"", "type = \"viscous\""),
-                    "case.toml:9: damping.type: expected one of \"rayleigh\", \"none\", got "
-                    "\"viscous\"");
-  EXPECT_CASE_ERROR(Edit("modal_ratios = [0.01, 0.01]", "modal_ratios = [0.01, 1.0]"),
-                    "case.toml:10: damping.modal_ratios.1: expected a number in [0, 1), got 1");
-  EXPECT_CASE_ERROR(Edit("modal_ratios = [0.01, 0.01]", "modal_ratios = [0.01]"),
-                    "damping.modal_ratios: expected an array of 2 numbers, got an array of 1");
-  EXPECT_CASE_ERROR(
-      Edit("modal_ratios = [0.01, 0.01]", "modal_ratios = [0.01, 0.01]\nmodes = [2, 2]"),
-      "case.toml:11: damping.modes: expected two different mode numbers, got [2, 2]");
-  EXPECT_CASE_ERROR(
-      Edit("modal_ratios = [0.01, 0.01]", "modal_ratios = [0.01, 0.01]\nmodes = [1, 13]"),
-      "damping.modes.1: expected an integer in [1, 12], got 13");
-  EXPECT_CASE_ERROR(
-      Edit("modal_ratios = [0.01, 0.01]", "modal_ratios = [0.01, 0.01]\nalpha = 1"),
-      "damping.alpha: expected either damping.modal_ratios or damping.alpha/beta, got "
-      "both");
-  EXPECT_CASE_ERROR(Edit("modal_ratios = [0.01, 0.01]", "beta = -1e-5"),
-                    "damping.beta: expected a number >= 0 (s), got -1e-05");
-  EXPECT_CASE_ERROR(Edit("modal_ratios = [0.01, 0.01]", ""),
-                    "case.toml:8: damping: expected damping.modal_ratios = [z1, z2] or "
-                    "damping.alpha/beta for type \"rayleigh\", got neither");
+  ExpectRejections("Damping");
   // type = "none" ignores the table's other keys (--set damping.type=none).
   EXPECT_EQ(SpecOf(Edit("type = \"rayleigh\"", "type = \"none\"")).damping.type,
             DampingType::kNone);
 }
 
-TEST(CaseFileRejects, Nonlinearity) {
-  EXPECT_CASE_ERROR(Edit("node = 6", "node = 7"),
-                    "case.toml:14: nonlinearity.0.node: expected an integer in [1, 6], got 7");
-  EXPECT_CASE_ERROR(Edit("node = 6", "node = 0"),
-                    "nonlinearity.0.node: expected an integer in [1, 6], got 0");
-  EXPECT_CASE_ERROR(Edit("type = \"cubic\"", "type = \"quintic\""),
-                    "case.toml:13: nonlinearity.0.type: expected one of \"cubic\", \"polynomial\", "
-                    "\"gap\", \"friction\", got \"quintic\"");
-  EXPECT_CASE_ERROR(Edit("k3 = 5.0e9", "k3 = 5.0e9\ngap = 0.1"),
-                    "case.toml:16: nonlinearity.0.gap: expected only the keys type, node, nodes, dof, dofs, k3 for "
-                    "type \"cubic\", got gap = 0.1");
-  EXPECT_CASE_ERROR(
-      Edit("k3 = 5.0e9", ""),
-      "case.toml:12: nonlinearity.0.k3: expected a finite number (N/m^3), got nothing");
-  EXPECT_CASE_ERROR(Edit("type = \"cubic\"\nnode = 6\nk3 = 5.0e9",
-                         "type = \"gap\"\ngap = -1e-3\nstiffness = 1e6"),
-                    "case.toml:14: nonlinearity.0.gap: expected a number >= 0 (m), got -0.001");
-  EXPECT_CASE_ERROR(
-      Edit("type = \"cubic\"\nnode = 6\nk3 = 5.0e9", "type = \"gap\"\ngap = 1e-3\nstiffness = 0"),
-      "nonlinearity.0.stiffness: expected a number > 0 (N/m), got 0");
-  EXPECT_CASE_ERROR(Edit("type = \"cubic\"\nnode = 6\nk3 = 5.0e9",
-                         "type = \"friction\"\nmu = 0.3\nnormal_force = 10\nvelocity_scale = 0"),
-                    "nonlinearity.0.velocity_scale: expected a number > 0 (m/s), got 0");
-  EXPECT_CASE_ERROR(Edit("type = \"cubic\"\nnode = 6\nk3 = 5.0e9",
-                         "type = \"friction\"\nmu = -0.3\nnormal_force = 10\nvelocity_scale = 1"),
-                    "nonlinearity.0.mu: expected a number >= 0, got -0.3");
-}
+TEST(CaseFileRejects, Nonlinearity) { ExpectRejections("Nonlinearity"); }
 
-TEST(CaseFileRejects, Initial) {
-  EXPECT_CASE_ERROR(Edit("static_tip_force = 20.0", "static_tip_force = 20.0\nnode = 9"),
-                    "case.toml:19: initial.node: expected an integer in [1, 6], got 9");
-  EXPECT_CASE_ERROR(Edit("static_tip_force = 20.0", "static_tip_force = 20.0\nvelocity = [1]"),
-                    "initial.velocity: expected either initial.static_tip_force or "
-                    "initial.displacement/velocity, got both");
-  EXPECT_CASE_ERROR(Edit("static_tip_force = 20.0", "displacement = [1, 2, 3]"),
-                    "case.toml:18: initial.displacement: expected an array of 12 numbers, got an "
-                    "array of 3");
-  EXPECT_CASE_ERROR(
-      Edit("static_tip_force = 20.0", "node = 2"),
-      "initial.node: expected initial.node only with initial.static_tip_force (or static_force), "
-      "got 2");
-  EXPECT_CASE_ERROR(Edit("static_tip_force = 20.0", "static_tip_force = \"big\""),
-                    "initial.static_tip_force: expected a finite number (N), got \"big\"");
-}
+TEST(CaseFileRejects, Initial) { ExpectRejections("Initial"); }
 
 TEST(CaseFileRejects, Force) {
-  const std::string with_force = kBase + "[force]\n";  // line 39
-  EXPECT_CASE_ERROR(with_force + "type = \"impulse\"\n",
-                    "case.toml:39: force.type: expected one of \"none\", \"harmonic\", \"sweep\", "
-                    "\"file\", \"channel\", got \"impulse\"");
-  EXPECT_CASE_ERROR(with_force + "amplitude = 1\n",
-                    "case.toml:38: force.type: expected one of \"none\", \"harmonic\", \"sweep\", "
-                    "\"file\", \"channel\", got nothing");
-  EXPECT_CASE_ERROR(with_force + "type = \"harmonic\"\namplitude = 1\n",
-                    "case.toml:38: force.frequency: expected a number > 0 (Hz), got nothing");
-  EXPECT_CASE_ERROR(with_force + "type = \"harmonic\"\namplitude = 1\nfrequency = 30\nnode = 0\n",
-                    "case.toml:42: force.node: expected an integer in [1, 6], got 0");
-  EXPECT_CASE_ERROR(with_force +
-                        "type = \"sweep\"\namplitude = 1\nstart_frequency = 0\n"
-                        "end_frequency = 5\n",
-                    "case.toml:41: force.start_frequency: expected a number > 0 (Hz), got 0");
-  EXPECT_CASE_ERROR(with_force + "type = \"file\"\ncolumn = \"f\"\n",
-                    "force.file: expected a non-empty string, got nothing");
-  EXPECT_EQ(SpecOf(with_force + "type = \"none\"\namplitude = 1\n").force.history_N.type,
+  ExpectRejections("Force");
+  EXPECT_EQ(SpecOf(kBase + "[force]\ntype = \"none\"\namplitude = 1\n").force.history_N.type,
             ForceType::kNone);
 }
 
-TEST(CaseFileRejects, Time) {
-  EXPECT_CASE_ERROR(Edit("step = 2.0e-4", "step = 0"),
-                    "case.toml:22: time.step: expected a number > 0 (s), got 0");
-  EXPECT_CASE_ERROR(Edit("step = 2.0e-4", "step = -2.0e-4"),
-                    "case.toml:22: time.step: expected a number > 0 (s), got -2e-04");
-  EXPECT_CASE_ERROR(Edit("step = 2.0e-4", "step = 0.2"),
-                    "case.toml:22: time.step: expected a step <= time.duration = 0.1 s, got 0.2");
-  EXPECT_CASE_ERROR(Edit("duration = 0.1", "duration = 0"),
-                    "case.toml:21: time.duration: expected a number > 0 (s), got 0");
-  EXPECT_CASE_ERROR(Edit("step = 2.0e-4", "step = 1e-12"), "time.step: expected at most 1e9 steps");
-  EXPECT_CASE_ERROR(Edit("step = 2.0e-4", ""),
-                    "case.toml:20: time.step: expected a number > 0 (s), got nothing");
-}
+TEST(CaseFileRejects, Time) { ExpectRejections("Time"); }
 
-TEST(CaseFileRejects, SensorsNoiseIntegrator) {
-  EXPECT_CASE_ERROR(Edit("dof = \"w\"", "dof = \"u\""),
-                    "case.toml:25: sensors.dof: expected one of \"w\", \"theta\", got \"u\"");
-  EXPECT_CASE_ERROR(Edit("dof = \"w\"", "nodes = [1, 7]"),
-                    "case.toml:25: sensors.nodes.1: expected an integer in [1, 6], got 7");
-  EXPECT_CASE_ERROR(Edit("dof = \"w\"", "nodes = [1, 2, 1]"),
-                    "sensors.nodes: expected distinct node numbers, got node 1 twice");
-  EXPECT_CASE_ERROR(Edit("dof = \"w\"", "nodes = []"),
-                    "sensors.nodes: expected a non-empty array of integers, got an array of 0");
-  EXPECT_CASE_ERROR(Edit("relative = 0.0", "relative = -0.01"),
-                    "case.toml:28: noise.relative: expected a number >= 0, got -0.01");
-  EXPECT_CASE_ERROR(Edit("seed = 1", "seed = -1"),
-                    "case.toml:29: noise.seed: expected an integer >= 0, got -1");
-  const std::string with_integrator = kBase + "[integrator]\n";
-  EXPECT_CASE_ERROR(with_integrator + "gamma = 0.4\n",
-                    "case.toml:39: integrator.gamma: expected a number in [0.5, 1], got 0.4");
-  EXPECT_CASE_ERROR(with_integrator + "beta = 0\n",
-                    "integrator.beta: expected a number in (0, 0.5], got 0");
-  EXPECT_CASE_ERROR(with_integrator + "tolerance = 0\n",
-                    "integrator.tolerance: expected a number > 0, got 0");
-  EXPECT_CASE_ERROR(with_integrator + "substeps = 1001\n",
-                    "integrator.substeps: expected an integer in [1, 1000], got 1001");
-  EXPECT_CASE_ERROR(with_integrator + "max_iterations = 0\n",
-                    "integrator.max_iterations: expected an integer in [1, 1000000], got 0");
-  EXPECT_CASE_ERROR(with_integrator + "type = \"rk4\"\n",
-                    "integrator.type: expected one of \"modified\", \"newmark\", got \"rk4\"");
-}
+TEST(CaseFileRejects, SensorsNoiseIntegrator) { ExpectRejections("SensorsNoiseIntegrator"); }
 
 TEST(CaseFileRejects, IdentifyParameters) {
-  EXPECT_CASE_ERROR(Edit("key = \"nonlinearity.0.k3\"", "key = \"beam.elements\""),
-                    "case.toml:33: identify.parameter.0.key: expected a real-valued key of this "
-                    "case");
-  EXPECT_CASE_ERROR(Edit("key = \"nonlinearity.0.k3\"", "key = \"nonlinearity.0.k5\""),
-                    "identify.parameter.0.key: expected a real-valued key");
-  EXPECT_CASE_ERROR(Edit("key = \"nonlinearity.0.k3\"", "key = \"nonlinearity.1.k3\""),
-                    "got \"nonlinearity.1.k3\"");
-  EXPECT_CASE_ERROR(Edit("scale = 1.0e8", "scale = 0"),
-                    "case.toml:34: identify.parameter.0.scale: expected a number != 0, got 0");
-  EXPECT_CASE_ERROR(Edit("lower = 0.0", "lower = 300.0"),
-                    "case.toml:37: identify.parameter.0.upper: expected a number > lower = 300, "
-                    "got 200");
-  EXPECT_CASE_ERROR(Edit("start = 40.0", "start = 400.0"),
-                    "case.toml:35: identify.parameter.0.start: expected a number in [0, 200] "
-                    "(between lower and upper), got 400");
-  EXPECT_CASE_ERROR(Edit("name = \"knl\"", "name = \"\""),
-                    "identify.parameter.0.name: expected a non-empty string, got \"\"");
-  EXPECT_CASE_ERROR(kBase +
-                        "[[identify.parameter]]\nname = \"knl\"\n"
-                        "key = \"damping.modal_ratios.0\"\nstart = 1\nlower = 0\n"
-                        "upper = 2\n",
-                    "case.toml:39: identify.parameter.1.name: expected a name no other "
-                    "identify.parameter has, got \"knl\" again");
-  EXPECT_CASE_ERROR(Edit("key = \"nonlinearity.0.k3\"", "key = \"nonlinearity.0.gap\""),
-                    "case.toml:33: identify.parameter.0.key: expected a key this case can take at "
-                    "scale * start (setting it gives: case.toml (nonlinearity.0.gap set by the "
-                    "program): nonlinearity.0.gap: expected only the keys type, node, nodes, dof, dofs, k3 for type "
-                    "\"cubic\", got gap = 4e+09), got \"nonlinearity.0.gap\"");
+  ExpectRejections("IdentifyParameters");
   // A key absent from the file but in the schema may be identified.
   const CaseSpec spec = SpecOf(kBase +
                                "[[identify.parameter]]\nname = \"zeta2\"\n"
