@@ -171,6 +171,23 @@ frequency = 25.0
 quantity = "acceleration"
 )" + testing::TimeTable("0.05");
 
+// Each key resolves to a parameter of the case with the given effect.
+void ExpectEffects(const CaseSpec& spec,
+                   const std::vector<std::pair<std::string, ParameterEffect>>& effects) {
+  for (const auto& [key, effect] : effects) {
+    EXPECT_EQ(ModelParameter::Resolve(spec, key).effect(), effect) << key;
+  }
+}
+
+// Each key is refused by Resolve with a message that contains its needle.
+void ExpectKeysRejected(const CaseSpec& spec,
+                        const std::vector<std::pair<std::string, std::string>>& needles) {
+  for (const auto& [key, needle] : needles) {
+    SCOPED_TRACE(key);
+    PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, key), std::invalid_argument, needle);
+  }
+}
+
 TEST(SimulatorTest, ForceArrayAndBaseKeysMatchTheDocumentPath) {
   const std::vector<std::pair<std::string, double>> changes = {
       {"force.0.amplitude", -1.0}, {"force.1.end_frequency", 120.0}, {"base.amplitude", 9.0},
@@ -178,16 +195,15 @@ TEST(SimulatorTest, ForceArrayAndBaseKeysMatchTheDocumentPath) {
   };
   ExpectChangesMatchTheDocumentPath(kForcesAndBaseCase, "simulator_test", changes);
   const CaseSpec spec = CaseDocument::Parse(kForcesAndBaseCase, "simulator_test").ToSpec();
-  EXPECT_EQ(ModelParameter::Resolve(spec, "force.1.amplitude").effect(), ParameterEffect::kLoad);
-  EXPECT_EQ(ModelParameter::Resolve(spec, "base.amplitude").effect(), ParameterEffect::kLoad);
-  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "force.2.amplitude"), std::invalid_argument,
-                          "an index of the case's [[force]] tables (0..1)");
-  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "force.amplitude"), std::invalid_argument,
-                          "the case has [[force]] tables: force.<i>.amplitude");
-  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "force.0.gain"), std::invalid_argument,
-                          "a value the case's force.type does not have");
-  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "base.start_frequency"), std::invalid_argument,
-                          "a value the case's base.type does not have");
+  ExpectEffects(spec, {{"force.1.amplitude", ParameterEffect::kLoad},
+                       {"base.amplitude", ParameterEffect::kLoad}});
+  const std::vector<std::pair<std::string, std::string>> refused = {
+      {"force.2.amplitude", "an index of the case's [[force]] tables (0..1)"},
+      {"force.amplitude", "the case has [[force]] tables: force.<i>.amplitude"},
+      {"force.0.gain", "a value the case's force.type does not have"},
+      {"base.start_frequency", "a value the case's base.type does not have"},
+  };
+  ExpectKeysRejected(spec, refused);
   // The objective's path (RunInPlace, no copy) sees the absolute accelerations too.
   Simulator simulator(spec);
   const SimulationResult copied = simulator.Run();
@@ -201,26 +217,27 @@ TEST(SimulatorTest, ForceArrayAndBaseKeysMatchTheDocumentPath) {
 
 TEST(ModelParameterTest, ResolvesEachKeyOnceWithWhatItInvalidates) {
   const CaseSpec spec = CaseDocument::Parse(kCase, "simulator_test").ToSpec();
-  EXPECT_EQ(ModelParameter::Resolve(spec, "nonlinearity.0.k3").effect(), ParameterEffect::kNonlinear);
-  EXPECT_EQ(ModelParameter::Resolve(spec, "damping.modal_ratios.1").effect(), ParameterEffect::kDamping);
-  EXPECT_EQ(ModelParameter::Resolve(spec, "mass.0.mass").effect(), ParameterEffect::kModel);
-  EXPECT_EQ(ModelParameter::Resolve(spec, "force.amplitude").effect(), ParameterEffect::kLoad);
-  EXPECT_EQ(ModelParameter::Resolve(spec, "initial.static_tip_force").effect(),
-            ParameterEffect::kInitialState);
-  // A real-valued key without a typed binding goes through the document.
-  EXPECT_EQ(ModelParameter::Resolve(spec, "beam.segment.0.length").effect(), ParameterEffect::kDocument);
+  const std::vector<std::pair<std::string, ParameterEffect>> effects = {
+      {"nonlinearity.0.k3", ParameterEffect::kNonlinear},
+      {"damping.modal_ratios.1", ParameterEffect::kDamping},
+      {"mass.0.mass", ParameterEffect::kModel},
+      {"force.amplitude", ParameterEffect::kLoad},
+      {"initial.static_tip_force", ParameterEffect::kInitialState},
+      // A real-valued key without a typed binding goes through the document.
+      {"beam.segment.0.length", ParameterEffect::kDocument},
+  };
+  ExpectEffects(spec, effects);
   // Keys the case cannot take.
-  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "nonlinearity.2.k3"), std::invalid_argument,
-                          "parameter key nonlinearity.2.k3: expected an index of the case's "
-                          "[[nonlinearity]] tables (0..0), got 2");
-  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "nonlinearity.0.k1"), std::invalid_argument,
-                          "a coefficient the element's type does not have");
-  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "damping.alpha"), std::invalid_argument,
-                          "damping given by modal_ratios");
-  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "beam.elements"), std::invalid_argument,
-                          "parameter key: expected a real-valued case-file key");
-  PODID_EXPECT_THROW_WITH(ModelParameter::Resolve(spec, "force.start_frequency"), std::invalid_argument,
-                          "force.start_frequency");
+  const std::vector<std::pair<std::string, std::string>> refused = {
+      {"nonlinearity.2.k3",
+       "parameter key nonlinearity.2.k3: expected an index of the case's "
+       "[[nonlinearity]] tables (0..0), got 2"},
+      {"nonlinearity.0.k1", "a coefficient the element's type does not have"},
+      {"damping.alpha", "damping given by modal_ratios"},
+      {"beam.elements", "parameter key: expected a real-valued case-file key"},
+      {"force.start_frequency", "force.start_frequency"},
+  };
+  ExpectKeysRejected(spec, refused);
 }
 
 TEST(ModelParameterTest, ValuesOutOfRangeAreRejectedWithTheReasonAndLeaveTheCase) {
