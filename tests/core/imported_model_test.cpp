@@ -141,34 +141,42 @@ TEST(ImportedModel, RejectsBadMatrices) {
                                               "case.toml", dir.path()).ToSpec();
     return BeamModel::Build(spec);
   };
-  PODID_EXPECT_THROW_WITH(load("neg.mtx", "m.mtx"), std::invalid_argument,
-                          "case.toml: model.mass: expected a positive definite mass matrix");
-  PODID_EXPECT_THROW_WITH(load("m.mtx", "neg.mtx"), std::invalid_argument,
-                          "case.toml: model.stiffness: expected a positive semi-definite stiffness matrix");
-  PODID_EXPECT_THROW_WITH(load("m.mtx", "asym.mtx"), std::invalid_argument,
-                          "case.toml: model.stiffness: expected a finite symmetric matrix");
-  PODID_EXPECT_THROW_WITH(load("m.mtx", "big.mtx"), std::invalid_argument,
-                          "big.mtx: expected a square matrix of the mass matrix's size 2 x 2, got 3 x 3");
-  PODID_EXPECT_THROW_WITH(load("m.mtx", "bad.mtx"), std::invalid_argument, "bad.mtx:3: expected an index in 1..2, got 3");
-  PODID_EXPECT_THROW_WITH(load("m.mtx", "nan.mtx"), std::invalid_argument, "nan.mtx:3: expected a finite number");
-  PODID_EXPECT_THROW_WITH(load("m.mtx", "short.mtx"), std::invalid_argument,
-                          "short.mtx: expected 2 entries, got 1 (the file ends)");
-  PODID_EXPECT_THROW_WITH(load("m.mtx", "huge.mtx"), std::invalid_argument,
-                          "huge.mtx:2: expected dimensions in [1, 1000000], got 2000000 x 2000000");
-  PODID_EXPECT_THROW_WITH(load("m.mtx", "missing.mtx"), std::invalid_argument,
-                          "missing.mtx: expected a readable Matrix Market file, got a file that cannot be opened");
-  PODID_EXPECT_THROW_WITH(load("m.mtx", "m.mtx", "[sensors]\nnodes = [1]\n"), std::invalid_argument,
-                          "sensors.nodes: expected sensors.dofs (model dofs) for imported matrices");
-  PODID_EXPECT_THROW_WITH(load("m.mtx", "m.mtx", "[[nonlinearity]]\ntype = \"cubic\"\nk3 = 1\n"),
-                          std::invalid_argument,
-                          "nonlinearity.0: expected dof = i or dofs = [i, j] (model dofs 1..2) for imported "
-                          "matrices, got neither");
-  PODID_EXPECT_THROW_WITH(load("m.mtx", "m.mtx", "[[nonlinearity]]\ntype = \"cubic\"\ndofs = [1, 3]\nk3 = 1\n"),
-                          std::invalid_argument, "nonlinearity.0.dofs.1: expected an integer in [1, 2], got 3");
-  PODID_EXPECT_THROW_WITH(load("m.mtx", "m.mtx", "[initial]\nstatic_force = 1.0\n"), std::invalid_argument,
-                          "initial.dof: expected a model dof in 1..2 for imported matrices, got nothing");
-  PODID_EXPECT_THROW_WITH(load("m.mtx", "m.mtx", "labels = [\"a\"]\n"), std::invalid_argument,
-                          "model.labels: expected an array of 2 strings, got an array of 1");
+  struct Rejection {
+    const char* mass;
+    const char* stiffness;
+    const char* extra;  // TOML after the [model] keys
+    const char* needle;
+  };
+  const Rejection rejections[] = {
+      {"neg.mtx", "m.mtx", "", "case.toml: model.mass: expected a positive definite mass matrix"},
+      {"m.mtx", "neg.mtx", "",
+       "case.toml: model.stiffness: expected a positive semi-definite stiffness matrix"},
+      {"m.mtx", "asym.mtx", "", "case.toml: model.stiffness: expected a finite symmetric matrix"},
+      {"m.mtx", "big.mtx", "",
+       "big.mtx: expected a square matrix of the mass matrix's size 2 x 2, got 3 x 3"},
+      {"m.mtx", "bad.mtx", "", "bad.mtx:3: expected an index in 1..2, got 3"},
+      {"m.mtx", "nan.mtx", "", "nan.mtx:3: expected a finite number"},
+      {"m.mtx", "short.mtx", "", "short.mtx: expected 2 entries, got 1 (the file ends)"},
+      {"m.mtx", "huge.mtx", "",
+       "huge.mtx:2: expected dimensions in [1, 1000000], got 2000000 x 2000000"},
+      {"m.mtx", "missing.mtx", "",
+       "missing.mtx: expected a readable Matrix Market file, got a file that cannot be opened"},
+      {"m.mtx", "m.mtx", "[sensors]\nnodes = [1]\n",
+       "sensors.nodes: expected sensors.dofs (model dofs) for imported matrices"},
+      {"m.mtx", "m.mtx", "[[nonlinearity]]\ntype = \"cubic\"\nk3 = 1\n",
+       "nonlinearity.0: expected dof = i or dofs = [i, j] (model dofs 1..2) for imported "
+       "matrices, got neither"},
+      {"m.mtx", "m.mtx", "[[nonlinearity]]\ntype = \"cubic\"\ndofs = [1, 3]\nk3 = 1\n",
+       "nonlinearity.0.dofs.1: expected an integer in [1, 2], got 3"},
+      {"m.mtx", "m.mtx", "[initial]\nstatic_force = 1.0\n",
+       "initial.dof: expected a model dof in 1..2 for imported matrices, got nothing"},
+      {"m.mtx", "m.mtx", "labels = [\"a\"]\n",
+       "model.labels: expected an array of 2 strings, got an array of 1"},
+  };
+  for (const Rejection& r : rejections) {
+    SCOPED_TRACE(std::string(r.mass) + ", " + r.stiffness + ", " + r.extra);
+    PODID_EXPECT_THROW_WITH(load(r.mass, r.stiffness, r.extra), std::invalid_argument, r.needle);
+  }
 }
 
 /// The reference beam's M and K with a 13th dof of mass 1e30 kg and no
