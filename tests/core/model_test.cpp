@@ -255,23 +255,35 @@ TEST(BeamCaseFile, PinnedBeamWithMassSimulatesAndMeasuresAcceleration) {
 TEST(BeamCaseFile, Rejections) {
   PODID_EXPECT_THROW_WITH(Spec(BeamCase("left = \"hinged\"")), std::invalid_argument,
                           "case.toml:7: beam.left: expected one of \"clamped\", \"pinned\", \"free\", got \"hinged\"");
-  PODID_EXPECT_THROW_WITH(Spec(BeamCase("", 6, "[[nonlinearity]]\ntype = \"cubic\"\nnode = 0\nk3 = 1")),
-                          std::invalid_argument, "nonlinearity.0.node: expected an integer in [1, 6], got 0");
   PODID_EXPECT_THROW_WITH(
       BeamModel::Build(Spec(BeamCase("right = \"pinned\"", 6, "[[nonlinearity]]\ntype = \"cubic\"\nnode = 6\nk3 = 1"))),
       std::invalid_argument, "nonlinearity.0.node: expected a node whose w is free (the right end is pinned), got node 6");
-  PODID_EXPECT_THROW_WITH(Spec(BeamCase("", 6, "[sensors]\nnodes = [6]\ndofs = [3]")), std::invalid_argument,
-                          "sensors.dofs: expected either sensors.nodes or sensors.dofs, got both");
-  PODID_EXPECT_THROW_WITH(Spec(BeamCase("right = \"pinned\"", 6, "[sensors]\nnodes = [6]")), std::invalid_argument,
-                          "sensors.nodes.0: expected a node whose w is free (not held by the end condition), got 6");
-  PODID_EXPECT_THROW_WITH(Spec(BeamCase("", 6, "[sensors]\nnames = [\"a\"]")), std::invalid_argument,
-                          "sensors.names: expected an array of 6 strings, got an array of 1");
-  PODID_EXPECT_THROW_WITH(Spec(BeamCase("", 6, "[[mass]]\nnode = 7\nmass = 1")), std::invalid_argument,
-                          "mass.0.node: expected an integer in [0, 6], got 7");
-  PODID_EXPECT_THROW_WITH(Spec(BeamCase("", 6, "[[mass]]\nnode = 2\nmass = -1")), std::invalid_argument,
-                          "mass.0.mass: expected a number >= 0 (kg), got -1");
-  PODID_EXPECT_THROW_WITH(Spec(BeamCase("", 6, "[[spring]]\nnode = 0\nstiffness = 1")), std::invalid_argument,
-                          "spring.0.node: expected a node whose spring dof is free (not held by the end condition), got 0");
+  // Beams of 6 elements: the keys added to [beam], the tables after it, a part of the message.
+  struct Rejection {
+    const char* beam_extra;
+    const char* rest;
+    const char* needle;
+  };
+  const Rejection six_elements[] = {
+      {"", "[[nonlinearity]]\ntype = \"cubic\"\nnode = 0\nk3 = 1",
+       "nonlinearity.0.node: expected an integer in [1, 6], got 0"},
+      {"", "[sensors]\nnodes = [6]\ndofs = [3]",
+       "sensors.dofs: expected either sensors.nodes or sensors.dofs, got both"},
+      {"right = \"pinned\"", "[sensors]\nnodes = [6]",
+       "sensors.nodes.0: expected a node whose w is free (not held by the end condition), got 6"},
+      {"", "[sensors]\nnames = [\"a\"]",
+       "sensors.names: expected an array of 6 strings, got an array of 1"},
+      {"", "[[mass]]\nnode = 7\nmass = 1", "mass.0.node: expected an integer in [0, 6], got 7"},
+      {"", "[[mass]]\nnode = 2\nmass = -1", "mass.0.mass: expected a number >= 0 (kg), got -1"},
+      {"", "[[spring]]\nnode = 0\nstiffness = 1",
+       "spring.0.node: expected a node whose spring dof is free (not held by the end condition), "
+       "got 0"},
+  };
+  for (const Rejection& r : six_elements) {
+    SCOPED_TRACE(std::string(r.beam_extra) + " | " + r.rest);
+    PODID_EXPECT_THROW_WITH(Spec(BeamCase(r.beam_extra, 6, r.rest)), std::invalid_argument,
+                            r.needle);
+  }
   PODID_EXPECT_THROW_WITH(Spec("[beam]\nyoungs_modulus = 2e11\ndensity = 7800\narea = 1e-4\nlength = 1\n"
                                "[[beam.segment]]\nlength = 1\nelements = 2\n[time]\nduration = 1\nstep = 0.1\n"),
                           std::invalid_argument,
