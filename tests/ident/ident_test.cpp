@@ -17,13 +17,7 @@ namespace podid::ident {
 namespace {
 
 using testing::DataPath;
-using testing::ExamplePath;
-
-CaseDocument ReferenceDocument(const std::vector<std::string>& overrides = {}) {
-  CaseDocument document = CaseDocument::Load(ExamplePath("beam.toml"));
-  ApplySetArguments(document, overrides);
-  return document;
-}
+using testing::ReferenceDocument;
 
 /// Objective options with the named presets as weightings.
 ObjectiveOptions Presets(const std::vector<std::string>& names) {

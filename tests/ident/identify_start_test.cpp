@@ -5,20 +5,19 @@
 #include "podid/core/case_file.hpp"
 #include "podid/core/io.hpp"
 #include "podid/ident/identify.hpp"
+#include "reference_case.hpp"
 #include "test_support.hpp"
 
 namespace podid::ident {
 namespace {
 
 using testing::DataPath;
-using testing::ExamplePath;
 
 ObjectiveFunction TimeFree(const std::vector<std::string>& set = {}) {
-  CaseDocument document = CaseDocument::Load(ExamplePath("beam.toml"));
-  for (const std::string& s : set) document.Set(s.substr(0, s.find('=')), s.substr(s.find('=') + 1));
   ObjectiveOptions options;
   options.weightings = {{"time-free", ObjectiveWeights::Preset("time-free")}};
-  return ObjectiveFunction(document, ReadCsv(DataPath("measured_knl50_T0.1.csv")), options);
+  return ObjectiveFunction(testing::ReferenceDocument(set),
+                           ReadCsv(DataPath("measured_knl50_T0.1.csv")), options);
 }
 
 TEST(IdentifyStartTest, EveryAlgorithmEvaluatesTheStartFirstAsGiven) {

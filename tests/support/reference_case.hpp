@@ -12,11 +12,16 @@
 
 namespace podid::testing {
 
-/// examples/beam.toml with optional `key=value` overrides.
-inline CaseSpec ReferenceCase(const std::vector<std::string>& overrides = {}) {
+/// The document of examples/beam.toml with optional `key=value` overrides (--set).
+inline CaseDocument ReferenceDocument(const std::vector<std::string>& overrides = {}) {
   CaseDocument document = CaseDocument::Load(ExamplePath("beam.toml"));
   ApplySetArguments(document, overrides);
-  return document.ToSpec();
+  return document;
+}
+
+/// examples/beam.toml with optional `key=value` overrides.
+inline CaseSpec ReferenceCase(const std::vector<std::string>& overrides = {}) {
+  return ReferenceDocument(overrides).ToSpec();
 }
 
 inline TimeSeries ReferenceData(const std::string& name) { return ReadCsv(DataPath(name)); }
