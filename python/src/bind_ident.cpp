@@ -48,7 +48,8 @@ std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case
                                                          const std::vector<std::string>& weightings, int modes,
                                                          double fmin, double fmax, bool raw_sigma,
                                                          bool keep_mean,
-                                                         const std::vector<std::string>& set) {
+                                                         const std::vector<std::string>& set,
+                                                         int ridge_threads) {
   ident::ObjectiveOptions options;
   options.weightings.clear();
   for (const std::string& w : weightings) options.weightings.push_back(ParseWeighting(w));
@@ -57,6 +58,7 @@ std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case
   options.remove_mean = !keep_mean;
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax;
+  options.ridge.cwt.threads = ridge_threads;  // checked by the objective (1..256)
   const CaseDocument document = LoadCase(case_, set);
   const TimeSeries data = ReadMeasured(measured);
   py::gil_scoped_release release;
@@ -103,9 +105,10 @@ void BindIdent(py::module_& m) {
            py::arg("weightings") = std::vector<std::string>{"full"}, py::arg("modes") = 1,
            py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("raw_sigma") = false,
            py::arg("keep_mean") = false,
-           py::arg("set") = std::vector<std::string>{},
+           py::arg("set") = std::vector<std::string>{}, py::arg("ridge_threads") = 1,
            "case: a case-file path or TOML text; measured: a file path or a TimeSeries;\n"
-           "weightings: presets (full, time-free, wavelet) or terms like \"U,S,IF:1,1,0.5\".")
+           "weightings: presets (full, time-free, wavelet) or terms like \"U,S,IF:1,1,0.5\";\n"
+           "ridge_threads: 2 runs a long record's ridge on two threads (the same values).")
       .def_property_readonly("parameter_names",
                              [](const ident::ObjectiveFunction& f) {
                                std::vector<std::string> names;
@@ -149,8 +152,10 @@ void BindIdent(py::module_& m) {
       [](const std::string& case_, const Measured& measured, const std::string& objective,
          const std::map<std::string, double>& start, int multistart, const std::string& algorithm,
          int max_evaluations, double xtol, std::uint64_t seed, int modes, double fmin, double fmax,
-         int threads, const py::object& progress, bool keep_mean, const std::vector<std::string>& set) {
-        const auto f = BuildObjective(case_, measured, {objective}, modes, fmin, fmax, false, keep_mean, set);
+         int threads, const py::object& progress, bool keep_mean, const std::vector<std::string>& set,
+         int ridge_threads) {
+        const auto f =
+            BuildObjective(case_, measured, {objective}, modes, fmin, fmax, false, keep_mean, set, ridge_threads);
         ident::IdentifyOptions options;
         options.algorithm = ident::ParseAlgorithm(algorithm);
         options.start = ValuesFrom(*f, start);
@@ -205,7 +210,7 @@ void BindIdent(py::module_& m) {
       py::arg("algorithm") = "LN_BOBYQA", py::arg("max_evaluations") = 500, py::arg("xtol") = 1e-6,
       py::arg("seed") = 1, py::arg("modes") = 1, py::arg("fmin") = 10.0, py::arg("fmax") = 120.0,
       py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("keep_mean") = false,
-      py::arg("set") = std::vector<std::string>{},
+      py::arg("set") = std::vector<std::string>{}, py::arg("ridge_threads") = 1,
       "Identify the case's parameters from a measured record, as `podid identify` does.\n"
       "Returns a dict: 'parameters' {name: value}, 'usable', 'termination', 'summary' (the full\n"
       "report), objectives and counts. progress(done, total) is called after each evaluation.");
@@ -216,7 +221,7 @@ void BindIdent(py::module_& m) {
          double upper, int points, const std::vector<std::string>& objectives,
          const std::map<std::string, double>& base, int threads, const py::object& progress,
          int modes, double fmin, double fmax, bool keep_mean, const std::vector<std::string>& set) {
-        const auto f = BuildObjective(case_, measured, objectives, modes, fmin, fmax, false, keep_mean, set);
+        const auto f = BuildObjective(case_, measured, objectives, modes, fmin, fmax, false, keep_mean, set, 1);
         ident::LandscapeOptions options;
         options.x.parameter = f->ParameterIndex(param, "param");
         options.x.lower = lower;

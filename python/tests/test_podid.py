@@ -167,6 +167,21 @@ def test_one_objective_serves_several_weightings():
     assert e["values"]["U,S:1,2"] == pytest.approx(t["U"] + 2 * t["S"], rel=1e-15)
 
 
+def test_ridge_threads_give_the_same_objective_and_are_checked():
+    # 40 s at 5 kHz: 12,501 x 115 ridge cells, two blocks of the streamed
+    # ridge, so ridge_threads=2 runs its pipeline; the values are the
+    # one-thread values bit for bit (docs/wavelet.md, "Streamed ridge").
+    longer = ["time.duration=40"]
+    record = podid.simulate(CASE, set=longer, noise=False).sensors
+    values = [podid.Objective(CASE, record, weightings=["wavelet"], set=longer, ridge_threads=t)
+              .evaluate({"knl": 45.0}) for t in (1, 2)]
+    assert not values[0]["failed"] and values[0]["terms"]["IF"] > 0
+    assert values[1]["terms"]["IF"] == values[0]["terms"]["IF"]
+    assert values[1]["values"]["wavelet"] == values[0]["values"]["wavelet"]
+    with pytest.raises(ValueError, match="threads: expected 1..256"):
+        podid.Objective(CASE, MEASURED_01S, weightings=["wavelet"], ridge_threads=0)
+
+
 def test_keep_mean_compares_an_offset_the_default_pod_removes(tmp_path):
     # The record shifted by a constant: with the means removed (eq. 1) the
     # terms are those of the record itself, to the round-off of subtracting
