@@ -50,7 +50,7 @@ struct RidgeFrequencyEstimator::Impl {
   std::unique_ptr<internal::RidgeProgramme> programme;
   Eigen::MatrixXcd kept;      // one block: W of every scale (block times x freqs), unscaled
   Eigen::MatrixXd cost;       // -log|W| of a block (block times x freqs)
-  Eigen::MatrixXd cost_next;  // the next block's, with a pipeline (Pipelined)
+  Eigen::MatrixXd columns[2];  // a pipeline's blocks of costs, frequency-major (Pipelined)
   internal::BandTransform::Scratch scratch;  // the second thread's FFT buffers (Threaded)
   std::vector<int> all_scales;                // k at index k: every scale's slot is its own column
   Eigen::MatrixXd tile;       // kTile times of cost, frequency-major
@@ -88,10 +88,10 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
   const double planned = b.PlannedBytes(n, step_s, options.block_cells, &times, &block_times);
   const double block_cells = static_cast<double>(block_times) * static_cast<double>(freqs);
   // Threads: a second set of FFT buffers (32 bytes per inverse point, at
-  // most 8/7 of a block's times); a pipeline, a second block of costs.
+  // most 8/7 of a block's times); a pipeline, two frequency-major blocks of costs.
   const bool threaded = Threaded(), pipeline = threaded && block_times < times;
   const double bytes = planned + 40.0 * block_cells + (threaded ? 40.0 * static_cast<double>(block_times) : 0.0) +
-                       (pipeline ? 8.0 * block_cells : 0.0) +
+                       (pipeline ? 16.0 * block_cells : 0.0) +
                        internal::RidgeProgramme::Bytes(freqs, times, maximum) +
                        kTrackBytesPerTime * static_cast<double>(times);
   if (bytes > options.cwt.memory_budget_bytes) {
@@ -126,9 +126,9 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
   const Eigen::Index block = b.max_block_times();
   cost.resize(block, freqs);
   if (Pipelined()) {
-    cost_next.resize(block, freqs);
+    for (Eigen::MatrixXd& c : columns) c.resize(freqs, block);
   } else {
-    cost_next.resize(0, 0);
+    for (Eigen::MatrixXd& c : columns) c.resize(0, 0);
   }
   scratch = Threaded() ? b.MakeScratch() : internal::BandTransform::Scratch{};
   all_scales.resize(static_cast<std::size_t>(freqs));
@@ -192,19 +192,26 @@ void RidgeFrequencyEstimator::Impl::PushBlock(Eigen::Index count, const Eigen::M
   }
 }
 
-// Pass 1 as a two-stage pipeline over the two cost buffers: the same blocks
-// pushed in the same order, so the same path bit for bit. False (nothing
-// done) when no thread can be started.
+// Pass 1 as a two-stage pipeline over two frequency-major cost buffers: the
+// second thread computes a block's costs and transposes them (by tiles, as
+// PushBlock), so this thread, the critical path, only runs the programme.
+// The same columns are pushed in the same order: the same path bit for bit.
+// False (nothing done) when no thread can be started.
 bool RidgeFrequencyEstimator::Impl::PipelinedPass() {
   const Eigen::Index blocks = band->blocks();
-  Eigen::MatrixXd* const slots[2] = {&cost, &cost_next};
   std::counting_semaphore<2> free_slots(2), filled(0);
   std::thread producer;
   try {
     producer = std::thread([&]() noexcept {
       for (Eigen::Index block = 0; block < blocks; ++block) {
         free_slots.acquire();
-        BlockCost(block, slots[block % 2], false);
+        BlockCost(block, &cost, false);
+        const Eigen::Index count = band->block_times(block), freqs = cost.cols();
+        Eigen::MatrixXd& to = columns[block % 2];
+        for (Eigen::Index i0 = 0; i0 < count; i0 += kTile) {
+          const Eigen::Index tile_times = std::min(kTile, count - i0);
+          to.middleCols(i0, tile_times) = cost.block(i0, 0, tile_times, freqs).transpose();
+        }
         filled.release();
       }
     });
@@ -213,7 +220,8 @@ bool RidgeFrequencyEstimator::Impl::PipelinedPass() {
   }
   for (Eigen::Index block = 0; block < blocks; ++block) {
     filled.acquire();
-    PushBlock(band->block_times(block), *slots[block % 2]);
+    const Eigen::MatrixXd& from = columns[block % 2];
+    for (Eigen::Index i = 0; i < band->block_times(block); ++i) programme->Push(from.col(i).data());
     free_slots.release();
   }
   producer.join();
