@@ -233,7 +233,8 @@ const Complex* BandTransform::Synthesise(Eigen::Index k, bool derivative) const 
 }
 
 BandTransform::Scratch BandTransform::MakeScratch() const {
-  return {AllocateComplex(static_cast<std::size_t>(mb_)), AllocateComplex(static_cast<std::size_t>(mb_))};
+  return {AllocateComplex(static_cast<std::size_t>(mb_)),
+          AllocateComplex(static_cast<std::size_t>(mb_))};
 }
 
 const Complex* BandTransform::Synthesise(Eigen::Index k, bool derivative, Scratch* scratch) const {
@@ -241,7 +242,9 @@ const Complex* BandTransform::Synthesise(Eigen::Index k, bool derivative, Scratc
 }
 
 // Writes only `w` and `inverse`: with distinct buffers, calls run on several threads.
-const Complex* BandTransform::SynthesiseInto(Eigen::Index k, bool derivative, Complex* w,
+const Complex* BandTransform::SynthesiseInto(Eigen::Index k,
+                                             bool derivative,
+                                             Complex* w,
                                              Complex* inverse) const {
   PODID_CHECK(loaded_ >= 0 && k >= 0 && k < scales_s_.size());
   const auto& filter = filters_[static_cast<std::size_t>(k)];

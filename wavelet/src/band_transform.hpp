@@ -100,7 +100,9 @@ class BandTransform {
   Shape Plan(Eigen::Index samples, double step_s, double max_block_cells) const;
   Eigen::Index FilterBins(Eigen::Index length, double step_s, Eigen::Index* widest) const;
   double Extension(Eigen::Index i) const;  // the record's extension at input sample i
-  const std::complex<double>* SynthesiseInto(Eigen::Index k, bool derivative, std::complex<double>* work,
+  const std::complex<double>* SynthesiseInto(Eigen::Index k,
+                                             bool derivative,
+                                             std::complex<double>* work,
                                              std::complex<double>* inverse) const;
 
   CwtOptions options_;

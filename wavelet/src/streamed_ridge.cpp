@@ -13,12 +13,12 @@
 #include <vector>
 
 #include "band_transform.hpp"
-#include "signal_check.hpp"
 #include "podid/core/error.hpp"
 #include "podid/wavelet/ridge.hpp"
 #include "ridge_cost.hpp"
 #include "ridge_programme.hpp"
 #include "ridge_sample.hpp"
+#include "signal_check.hpp"
 
 namespace podid::wavelet {
 namespace {
@@ -52,7 +52,7 @@ struct RidgeFrequencyEstimator::Impl {
   Eigen::MatrixXd cost;       // -log|W| of a block (block times x freqs)
   Eigen::MatrixXd columns[2];  // a pipeline's blocks of costs, frequency-major (Pipelined)
   internal::BandTransform::Scratch scratch;  // the second thread's FFT buffers (Threaded)
-  std::vector<int> all_scales;                // k at index k: every scale's slot is its own column
+  std::vector<int> all_scales;               // k at index k: every scale's slot is its own column
   Eigen::MatrixXd tile;       // kTile times of cost, frequency-major
   Eigen::MatrixXcd cache_w, cache_d;  // pass 2: W (unscaled) and dW/dt at the path's scales
   std::vector<int> slot_w, slot_d;    // scale -> column of cache_w / cache_d, -1: absent
@@ -70,7 +70,10 @@ struct RidgeFrequencyEstimator::Impl {
   void PushBlock(Eigen::Index count, const Eigen::MatrixXd& from);
   bool PipelinedPass();
   template <class Store>
-  void SynthesiseScales(const std::vector<int>& slot, bool derivative, Eigen::Index count, bool threaded,
+  void SynthesiseScales(const std::vector<int>& slot,
+                        bool derivative,
+                        Eigen::Index count,
+                        bool threaded,
                         const Store& store);
   void BlockScales(Eigen::Index first, Eigen::Index count, const Eigen::VectorXi& path);
   void Track(const Eigen::VectorXi& path);
@@ -90,7 +93,8 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
   // Threads: a second set of FFT buffers (32 bytes per inverse point, at
   // most 8/7 of a block's times); a pipeline, two frequency-major blocks of costs.
   const bool threaded = Threaded(), pipeline = threaded && block_times < times;
-  const double bytes = planned + 40.0 * block_cells + (threaded ? 40.0 * static_cast<double>(block_times) : 0.0) +
+  const double bytes = planned + 40.0 * block_cells +
+                       (threaded ? 40.0 * static_cast<double>(block_times) : 0.0) +
                        (pipeline ? 16.0 * block_cells : 0.0) +
                        internal::RidgeProgramme::Bytes(freqs, times, maximum) +
                        kTrackBytesPerTime * static_cast<double>(times);
@@ -132,7 +136,8 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
   }
   scratch = Threaded() ? b.MakeScratch() : internal::BandTransform::Scratch{};
   all_scales.resize(static_cast<std::size_t>(freqs));
-  for (Eigen::Index k = 0; k < freqs; ++k) all_scales[static_cast<std::size_t>(k)] = static_cast<int>(k);
+  for (Eigen::Index k = 0; k < freqs; ++k)
+    all_scales[static_cast<std::size_t>(k)] = static_cast<int>(k);
   tile.resize(freqs, kTile);
   if (b.blocks() == 1) {
     kept.resize(block, freqs);
@@ -168,7 +173,9 @@ void RidgeFrequencyEstimator::Impl::Streamed(const Eigen::Ref<const Eigen::Vecto
 // -log|W| of every scale at the block's output times into *into's columns,
 // on two threads if `threaded`. Throws nothing (PODID_CHECK aborts; every
 // buffer exists): it may run on the pipeline's thread.
-void RidgeFrequencyEstimator::Impl::BlockCost(Eigen::Index block, Eigen::MatrixXd* into, bool threaded) {
+void RidgeFrequencyEstimator::Impl::BlockCost(Eigen::Index block,
+                                              Eigen::MatrixXd* into,
+                                              bool threaded) {
   internal::BandTransform& b = *band;
   b.LoadBlock(block);
   const Eigen::Index count = b.block_times(block);
@@ -244,8 +251,9 @@ void RidgeFrequencyEstimator::Impl::BlockScales(Eigen::Index first, Eigen::Index
     }
   }
   cache_w.resize(count, used);
-  SynthesiseScales(slot_w, false, count, Threaded(),
-                   [&](int u, const Complex* w) { std::copy(w, w + count, cache_w.col(u).data()); });
+  SynthesiseScales(slot_w, false, count, Threaded(), [&](int u, const Complex* w) {
+    std::copy(w, w + count, cache_w.col(u).data());
+  });
 }
 
 // store(slot[k], W or dW/dt of scale k) for every scale k with slot[k] >= 0
@@ -253,20 +261,26 @@ void RidgeFrequencyEstimator::Impl::BlockScales(Eigen::Index first, Eigen::Index
 // `threaded` and the work is large enough (each thread its own FFT buffers;
 // store writes the slot's own column, and throws nothing).
 template <class Store>
-void RidgeFrequencyEstimator::Impl::SynthesiseScales(const std::vector<int>& slot, bool derivative,
-                                                     Eigen::Index count, bool threaded, const Store& store) {
+void RidgeFrequencyEstimator::Impl::SynthesiseScales(const std::vector<int>& slot,
+                                                     bool derivative,
+                                                     Eigen::Index count,
+                                                     bool threaded,
+                                                     const Store& store) {
   const internal::BandTransform& b = *band;
   const std::size_t scales = slot.size();
-  const auto selected = static_cast<std::size_t>(std::count_if(slot.begin(), slot.end(), [](int u) { return u >= 0; }));
+  const auto selected = static_cast<std::size_t>(
+      std::count_if(slot.begin(), slot.end(), [](int u) { return u >= 0; }));
   std::size_t cut = scales;  // this thread takes the scales below it, the other the rest
   std::thread other;
-  if (threaded && selected >= 2 && static_cast<Eigen::Index>(selected) * count >= kMinThreadedCells) {
+  if (threaded && selected >= 2 &&
+      static_cast<Eigen::Index>(selected) * count >= kMinThreadedCells) {
     cut = 0;
     for (std::size_t seen = 0; seen < selected / 2; ++cut) seen += slot[cut] >= 0 ? 1 : 0;
     try {
       other = std::thread([&, cut]() noexcept {
         for (std::size_t k = cut; k < scales; ++k) {
-          if (slot[k] >= 0) store(slot[k], b.Synthesise(static_cast<Eigen::Index>(k), derivative, &scratch));
+          if (slot[k] >= 0)
+            store(slot[k], b.Synthesise(static_cast<Eigen::Index>(k), derivative, &scratch));
         }
       });
     } catch (const std::system_error&) {  // no thread: all here
