@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "podid/core/time_series.hpp"
+
 namespace podid::fuzz {
 
 /// Writes `data` to "<TMPDIR or /tmp>/podid-fuzz-<pid><suffix>" (overwritten on
@@ -26,6 +28,23 @@ inline std::string WriteInput(const std::uint8_t* data, std::size_t size, const 
     std::abort();
   }
   return path;
+}
+
+/// The contract of every time-series reader (time_series.hpp): at least two
+/// samples, a name per channel and a unit per channel (or none at all), finite
+/// values, and finite, strictly increasing times. Anything else is a finding.
+inline bool SatisfiesSeriesContract(const TimeSeries& series) {
+  const auto n = series.time_s.size();
+  if (n < 2 || series.values.rows() != n ||
+      static_cast<std::size_t>(series.values.cols()) != series.channel_names.size() ||
+      (!series.units.empty() && series.units.size() != series.channel_names.size()) ||
+      !series.values.allFinite() || !series.time_s.allFinite()) {
+    return false;
+  }
+  for (Eigen::Index i = 1; i < n; ++i) {
+    if (!(series.time_s(i) > series.time_s(i - 1))) return false;
+  }
+  return true;
 }
 
 }  // namespace podid::fuzz

@@ -101,6 +101,29 @@ UniformGrid FitUniformGrid(const double* t,
   return grid;
 }
 
+Eigen::VectorXd UniformTimes(double start_s,
+                             double step_s,
+                             std::size_t n,
+                             const std::string& where) {
+  // Half an ulp of |t| is at most eps / 2 |t|; at most 1e-3 of a step when
+  // step >= 500 eps |t|.
+  constexpr double kResolved = 500.0 * std::numeric_limits<double>::epsilon();
+  const double end_s = start_s + static_cast<double>(n > 0 ? n - 1 : 0) * step_s;
+  const double largest = std::max(std::abs(start_s), std::abs(end_s));
+  if (!std::isfinite(start_s) || !(step_s > 0.0) || !std::isfinite(end_s) ||
+      !(step_s >= kResolved * largest)) {
+    ThrowInvalid(where,
+                 "a finite time grid whose step > 0 s is at least " + Short(kResolved) +
+                     " of its largest time (double precision resolves it)",
+                 "a start of " + ToText(start_s) + " s, a step of " + ToText(step_s) + " s and " +
+                     std::to_string(n) + " samples (up to " + ToText(end_s) + " s)");
+  }
+  Eigen::VectorXd t(static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i)
+    t(static_cast<Eigen::Index>(i)) = start_s + static_cast<double>(i) * step_s;
+  return t;
+}
+
 PrintedNumber Printed(std::string_view number) {
   PrintedNumber out;
   const std::size_t e = number.find_first_of("eE");

@@ -33,6 +33,17 @@ UniformGrid FitUniformGrid(const double* t,
 /// (rounded stamps) the grid itself.
 Eigen::VectorXd GridOrStamps(const double* t, std::size_t n, const UniformGrid& grid);
 
+/// The uniform times start_s + i step_s, i < n, for a reader whose
+/// file gives a start and a step. Throws std::invalid_argument naming `where`
+/// unless they are finite, step_s > 0, and the step is resolved at the
+/// record's largest time: a time's rounding in double (half an ulp) at most
+/// 1e-3 of a step, so that the grid is increasing and uniform to 1e-3
+/// (a start of 1e300 s every 1e-300 s gave equal times, found by podid_fuzz_uff).
+Eigen::VectorXd UniformTimes(double start_s,
+                             double step_s,
+                             std::size_t n,
+                             const std::string& where);
+
 /// How precisely a number is printed: half a unit of its last digit, its
 /// significant digits, and its decimals (-1 in exponent notation).
 /// "0.0009766" -> 5e-8, 4, 7; "1.953e-3" -> 5e-7, 4, -1; "12" -> 0.5, 2, 0.

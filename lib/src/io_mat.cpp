@@ -431,9 +431,8 @@ TimeSeries ReadMatFile(const std::string& path,
                    "(--rate, --step, MatReadOptions::step_s > 0)",
                    "neither");
     }
-    series.time_s.resize(series.values.rows());
-    for (Eigen::Index i = 0; i < series.values.rows(); ++i)
-      series.time_s(i) = static_cast<double>(i) * step_s;
+    series.time_s = internal::UniformTimes(
+        0.0, step_s, static_cast<std::size_t>(series.values.rows()), path + " (sampling step)");
     if (has_time) *has_time = false;
   }
   return series;

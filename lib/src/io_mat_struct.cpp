@@ -194,9 +194,8 @@ TimeSeries TestSystemSeries(matvar_t& var,
   TimeSeries series;
   series.values = SamplesByChannels(*values, samples, where + ".y_values.values");
   const auto channels = series.values.cols();
-  series.time_s.resize(series.values.rows());
-  for (Eigen::Index i = 0; i < series.values.rows(); ++i)
-    series.time_s(i) = start + static_cast<double>(i) * increment;
+  series.time_s = UniformTimes(start, increment, static_cast<std::size_t>(series.values.rows()),
+                               where + ".x_values");
 
   series.channel_names = RecordNames(Field(Field(&var, "function_record"), "name"),
                                      static_cast<std::size_t>(channels));
@@ -319,9 +318,7 @@ TimeSeries MatStructSeries(matvar_t& var,
                    "or a sampling step (--rate, --step)",
                    "none of them");
     }
-    series.time_s.resize(static_cast<Eigen::Index>(samples));
-    for (std::size_t i = 0; i < samples; ++i)
-      series.time_s(static_cast<Eigen::Index>(i)) = static_cast<double>(i) * step_s;
+    series.time_s = UniformTimes(0.0, step_s, samples, where + " (sampling step)");
     if (has_time) *has_time = false;
   }
   return series;

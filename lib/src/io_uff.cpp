@@ -429,9 +429,8 @@ TimeSeries ReadUff(const std::string& path, std::vector<std::string>* notes_out)
   if (samples < 2)
     ThrowInvalid(file.Where(first.line), "at least 2 samples", std::to_string(samples));
   TimeSeries series;
-  series.time_s.resize(samples);
-  for (Eigen::Index i = 0; i < samples; ++i)
-    series.time_s(i) = first.start_s + static_cast<double>(i) * first.step_s;
+  series.time_s = internal::UniformTimes(first.start_s, first.step_s, first.values.size(),
+                                         file.Where(first.line + 7) + " (record 7)");
   series.values.resize(samples, static_cast<Eigen::Index>(responses.size()));
   for (std::size_t j = 0; j < responses.size(); ++j) {
     Response& r = responses[j];

@@ -119,6 +119,43 @@ TEST(ReadMatStruct, PlainStructWithASamplingRateField) {
       << notes[1];
 }
 
+TEST(ReadMatStruct, TimeGridsThatDoublesCannotResolveAreRejected) {
+  // A sampling rate of 1e-308 Hz: 300 samples 1e308 s apart overflow.
+  PODID_EXPECT_THROW_WITH(Read(Reader("plain_struct.mat"), "notime", 1e-308), std::invalid_argument,
+                          "plain_struct.mat: notime (sampling step): expected a finite time grid "
+                          "whose step > 0 s is at least 1.11e-13 of its largest time");
+  // A test-system export starting at 1e300 s every 1e-300 s: all times equal.
+  const testing::TempDir dir;
+  const std::string path = dir.File("collapsed.mat");
+  mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
+  ASSERT_NE(mat, nullptr);
+  double start = 1e300, increment = 1e-300, values[4] = {1, 2, 3, 4};
+  size_t one[2] = {1, 1}, column[2] = {4, 1};
+  const char* x_fields[2] = {"start_value", "increment"};
+  const char* y_fields[1] = {"values"};
+  const char* fields[2] = {"x_values", "y_values"};
+  matvar_t* x = Mat_VarCreateStruct("x_values", 2, one, x_fields, 2);
+  Mat_VarSetStructFieldByName(
+      x, "start_value", 0,
+      Mat_VarCreate("start_value", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, one, &start, 0));
+  Mat_VarSetStructFieldByName(
+      x, "increment", 0,
+      Mat_VarCreate("increment", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, one, &increment, 0));
+  matvar_t* y = Mat_VarCreateStruct("y_values", 2, one, y_fields, 1);
+  Mat_VarSetStructFieldByName(
+      y, "values", 0, Mat_VarCreate("values", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, column, values, 0));
+  matvar_t* signal = Mat_VarCreateStruct("Signal_0", 2, one, fields, 2);
+  Mat_VarSetStructFieldByName(signal, "x_values", 0, x);
+  Mat_VarSetStructFieldByName(signal, "y_values", 0, y);
+  ASSERT_EQ(Mat_VarWrite(mat, signal, MAT_COMPRESSION_NONE), 0);
+  Mat_VarFree(signal);
+  Mat_Close(mat);
+  PODID_EXPECT_THROW_WITH(Read(path), std::invalid_argument,
+                          "Signal_0.x_values: expected a finite time grid whose step > 0 s is at "
+                          "least 1.11e-13 of its largest time (double precision resolves it), got "
+                          "a start of 1e+300 s, a step of 1e-300 s and 4 samples (up to 1e+300 s)");
+}
+
 TEST(ReadMatStruct, ChannelSelectionAndRateChecks) {
   DataReadOptions options;
   options.channels = {"3:TAIL:+Y", "1:WING:+Z"};

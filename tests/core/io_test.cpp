@@ -297,6 +297,15 @@ TEST(ReadMat, SamplingStepInsteadOfTimeAndExplicitNames) {
   options.time_variable = "clock";
   series = ReadMat(path, options);
   EXPECT_EQ(series.time_s, Eigen::Vector3d(1, 2, 3));
+  // Three samples 1e308 s apart: the grid overflows.
+  options.time_variable.clear();
+  options.step_s = 1e308;
+  PODID_EXPECT_THROW_WITH(ReadMat(path, options), std::invalid_argument,
+                          path +
+                              " (sampling step): expected a finite time grid whose step > 0 s "
+                              "is at least 1.11e-13 of its largest time (double precision "
+                              "resolves it), got a start of 0 s, a step of 1e+308 s and 3 "
+                              "samples (up to inf s)");
 }
 
 TEST(ReadMat, Rejections) {

@@ -130,6 +130,35 @@ TEST(ReadUff, Rejections) {
   PODID_EXPECT_THROW_WITH(
       ReadUff(dir.Write("order.uff", huge_order + std::string(80, '\0') + "    -1\n")),
       std::invalid_argument, "byte order 1.111111111e+18, format 2");
+  // A start of 1e300 s every 1e-300 s: every time the same double (found by
+  // podid_fuzz_uff in CI: the grid was built unchecked). And a grid whose end
+  // overflows.
+  const std::string ascii_head = [&] {
+    std::string text = head;
+    text.replace(text.find("58b     1     2          11          80"), 39, "58");
+    return text;
+  }();
+  const std::string twenty(std::string(4, ' ') + "1.0 2.0 3.0 4.0 5.0\n");
+  const std::string values = twenty + twenty + twenty + twenty + "    -1\n";
+  std::string collapsed = ascii_head;
+  collapsed.replace(collapsed.find(record7), record7.size(),
+                    "         2        20         1  1.00000E+300 1.00000E-300 0.00000E+00");
+  PODID_EXPECT_THROW_WITH(
+      ReadUff(dir.Write("collapsed.uff", collapsed + values)), std::invalid_argument,
+      "collapsed.uff:9 (record 7): expected a finite time grid whose step > 0 s is at least "
+      "1.11e-13 of its largest time (double precision resolves it), got a start of 1e+300 s, a "
+      "step of 1e-300 s and 20 samples (up to 1e+300 s)");
+  std::string overflow = ascii_head;
+  overflow.replace(overflow.find(record7), record7.size(),
+                   "         2        20         1  0.00000E+00  1.00000E+307 0.00000E+00");
+  PODID_EXPECT_THROW_WITH(ReadUff(dir.Write("overflow.uff", overflow + values)),
+                          std::invalid_argument,
+                          "overflow.uff:9 (record 7): expected a finite time grid");
+  // The same file with a start of 0 s and a step of 1 ms is read.
+  std::string fine = ascii_head;
+  const TimeSeries read = ReadUff(dir.Write("fine.uff", fine + values));
+  ASSERT_EQ(read.samples(), 20);
+  EXPECT_EQ(read.time_s(19), 19 * 1e-3);
   // 58b announcing VAX floats (format 1).
   std::string vax = head;
   vax.replace(vax.find("     2          11"), 6, "     1");
