@@ -20,6 +20,48 @@
 namespace podid {
 namespace internal {
 
+namespace {
+
+/// Whether the loaded libmatio leaks function handles' cells (before 1.5.25).
+bool MatioLeaksFunctionCells() {
+  static const bool leaks = [] {
+    int major = 0, minor = 0, release = 0;
+    Mat_GetLibraryVersion(&major, &minor, &release);
+    return major * 10000 + minor * 100 + release < 10525;
+  }();
+  return leaks;
+}
+
+/// Frees the cells of the function handles in `var` (any depth) and leaves
+/// their arrays, which Mat_VarFree frees, empty. Cells, struct fields and
+/// function handles hold an array of nbytes / data_size matvar_t pointers.
+void FreeFunctionCells(matvar_t* var) {
+  const bool holds_vars = var->class_type == MAT_C_CELL || var->class_type == MAT_C_STRUCT ||
+                          var->class_type == MAT_C_FUNCTION;
+  if (!holds_vars || var->mem_conserve || var->data == nullptr ||
+      var->data_size != sizeof(matvar_t*)) {
+    return;
+  }
+  auto** children = static_cast<matvar_t**>(var->data);
+  const std::size_t count = var->nbytes / sizeof(matvar_t*);
+  for (std::size_t i = 0; i < count; ++i) {
+    if (children[i] == nullptr) continue;
+    FreeFunctionCells(children[i]);
+    if (var->class_type == MAT_C_FUNCTION) {
+      Mat_VarFree(children[i]);
+      children[i] = nullptr;
+    }
+  }
+}
+
+}  // namespace
+
+void FreeMatVar(matvar_t* var) {
+  if (var == nullptr) return;
+  if (MatioLeaksFunctionCells()) FreeFunctionCells(var);
+  Mat_VarFree(var);
+}
+
 std::size_t MatElements(const matvar_t& var) {
   std::size_t n = 1;
   for (int i = 0; i < var.rank; ++i) n *= var.dims[i];

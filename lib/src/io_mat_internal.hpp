@@ -13,8 +13,13 @@
 
 namespace podid::internal {
 
+/// Mat_VarFree, and before it, with libmatio < 1.5.25 (whose Mat_VarFree
+/// frees a function handle's array of cells but not the cells), the cells of
+/// every function handle in the variable (found by podid_fuzz_mat; fixed in
+/// matio by c60ac5c).
+void FreeMatVar(matvar_t* var);
 struct MatVarFreer {
-  void operator()(matvar_t* var) const { Mat_VarFree(var); }
+  void operator()(matvar_t* var) const { FreeMatVar(var); }
 };
 using MatVarPtr = std::unique_ptr<matvar_t, MatVarFreer>;
 

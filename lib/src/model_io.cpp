@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "io_mat_internal.hpp"
 #include "mat_structure.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
@@ -81,7 +82,7 @@ long long ToIndex(double v, long long n, const std::string& where) {
 Eigen::SparseMatrix<double> FromMatVariable(mat_t* mat, const std::string& name,
                                             const std::string& path) {
   const std::string where = path + ": variable '" + name + "'";
-  std::unique_ptr<matvar_t, void (*)(matvar_t*)> var(Mat_VarRead(mat, name.c_str()), Mat_VarFree);
+  const internal::MatVarPtr var(Mat_VarRead(mat, name.c_str()));
   if (!var) ThrowInvalid(where, "a variable of that name", "none");
   if (var->rank != 2 || var->isComplex) {
     ThrowInvalid(where, "a real 2-D matrix", "rank " + ToText(var->rank) + (var->isComplex ? ", complex" : ""));

@@ -125,6 +125,18 @@ TEST(FuzzRegressionMat, FunctionHandleDeclaringHalfABillionElementsIsRejected) {
       "byte 176: expected a cell array whose 536870933 elements fit in the 48 bytes that follow");
 }
 
+TEST(FuzzRegressionMat, FunctionHandleCellsAreFreed) {
+  // podid_fuzz_mat, a LeakSanitizer report: libmatio before 1.5.25 frees a
+  // function handle's array of cells but not the cells (Debian 12 has 1.5.23).
+  // The file is valid: int16 w (3 x 2), a function handle c of two cells, and
+  // char s; w is read. Under AddressSanitizer (the CI's sanitizer build) the
+  // leak fails this test binary at exit.
+  const TimeSeries series = ReadFuzzedMat("mat_v5_function_handle_two_cells.mat");
+  EXPECT_EQ(series.channel_names, (std::vector<std::string>{"w1", "w2"}));
+  ASSERT_EQ(series.samples(), 3);
+  EXPECT_EQ(series.values(2, 1), 5.0);  // column-major int16 0, 2, 4, 1, 3, 5
+}
+
 TEST(FuzzRegressionMat, TwoVariablesOfOneNameAreRejectedInsteadOfOverflowing) {
   // podid_fuzz_mat, a heap-buffer-overflow in podid: a file with two variables
   // named 't' (1 x 21, then 5 x 2). The second was taken as the data and sized
