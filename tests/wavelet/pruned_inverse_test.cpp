@@ -94,7 +94,7 @@ TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
                         inverse.Plan(d, batch), work.data(), out.data());
         // times = P - 3: a last row of blocks only partly used.
         const Eigen::Index times = p - 3;
-        inverse.Gather(out.data(), first, d, times, 1.0, column.data());
+        inverse.Gather(out.data(), d, times, 1.0, column.data());
         inverse.GatherMagnitude(out.data(), d, times, 1.0, magnitude.data());
         double worst = 0.0, worst_magnitude = 0.0;
         for (Eigen::Index j = 0; j < times; ++j) {

@@ -137,7 +137,7 @@ void FullRateCwt::RunScales(int thread,
     if (magnitude != nullptr) {
       inverse_.GatherMagnitude(out, d, times, output_scale, magnitude + k * times);
     } else if (!direct) {
-      inverse_.Gather(out, a, d, times, output_scale, column);
+      inverse_.Gather(out, d, times, output_scale, column);
     } else if (output_scale != 1.0) {
       for (Eigen::Index j = 0; j < times; ++j) column[j] *= output_scale;
     }

@@ -107,6 +107,7 @@ void PrunedInverse::Execute(const Complex* spectrum,
   Complex* band = work + batch * m;
   fill(0, bins, band);
   const auto* tw = reinterpret_cast<const double*>(twiddle_.data());
+  const Eigen::Index a_mod = ((first_bin % p_) + p_) % p_;
   for (Eigen::Index r0 = 0; r0 < d; r0 += batch) {
     for (Eigen::Index r = r0; r < r0 + batch; ++r) {
       Complex* block = work + (r - r0) * m;
@@ -116,13 +117,23 @@ void PrunedInverse::Execute(const Complex* spectrum,
         std::copy(band + head, band + bins, block);
         continue;
       }
-      // Block r's slot of bin a + i is Y_(a+i) w^(i r); Gather applies the
-      // common factor w^(a r). i r < M D = P: one exact table value each.
+      // Block r's slot of bin b = a + i is Y_b w^(b r): one exact table value
+      // at t = b r mod P, which steps by r and wraps at P (then the gather
+      // is a plain copy).
       const auto run = [&](Eigen::Index i_begin, Eigen::Index count, Eigen::Index slot) {
         const auto* in = reinterpret_cast<const double*>(band + i_begin);
         auto* to = reinterpret_cast<double*>(block + slot);
-        const double* w = tw + 2 * i_begin * r;
-        for (Eigen::Index i = 0; i < count; ++i) Multiply(in + 2 * i, w + 2 * i * r, to + 2 * i);
+        Eigen::Index t = (a_mod + i_begin) % p_ * r % p_;
+        for (Eigen::Index i = 0; i < count;) {
+          const Eigen::Index before_wrap = (p_ - 1 - t) / r + 1;  // t + k r < P for k < this
+          const Eigen::Index n = std::min(count - i, before_wrap);
+          const double* w = tw + 2 * t;
+          for (Eigen::Index k = 0; k < n; ++k) {
+            Multiply(in + 2 * (i + k), w + 2 * k * r, to + 2 * (i + k));
+          }
+          i += n;
+          t += n * r - p_;  // the next segment's start (only used after a wrap)
+        }
       };
       run(0, head, slot0);
       if (tail > 0) run(head, tail, 0);
@@ -131,39 +142,28 @@ void PrunedInverse::Execute(const Complex* spectrum,
   }
 }
 
-void PrunedInverse::Gather(const Complex* blocks, Eigen::Index first_bin, Eigen::Index d,
-                           Eigen::Index times, double scale, Complex* column) const {
+void PrunedInverse::Gather(const Complex* blocks, Eigen::Index d, Eigen::Index times,
+                           double scale, Complex* column) const {
   PODID_CHECK(d >= 1 && d <= kMaxDecimation && p_ % d == 0);
   const Eigen::Index m = p_ / d;
-  const Eigen::Index a = ((first_bin % p_) + p_) % p_;
-  // Block r's factor scale w^(a r) (Execute leaves it out), as
-  // (re, re) and (-im, im) for the product v c = v re + swap(v) (-im, im).
-  double factor_re[kMaxDecimation], factor_im[kMaxDecimation];
-  for (Eigen::Index r = 0; r < d; ++r) {
-    const Complex c = scale * twiddle_[static_cast<std::size_t>(a * r % p_)];
-    factor_re[r] = c.real();
-    factor_im[r] = c.imag();
-  }
   const auto* in = reinterpret_cast<const double*>(blocks);
   auto* out = reinterpret_cast<double*>(column);
   // The output (16 bytes per value, 300 x 10^5 values in fCWT's case) is far
   // larger than any cache: stream it past the cache instead of reading each
   // line before writing it.
+#if defined(__SSE2__)
+  const __m128d factor = _mm_set1_pd(scale);
+#endif
   for (Eigen::Index j0 = 0; j0 < times; j0 += d) {
     const Eigen::Index q = j0 / d;
     const Eigen::Index count = std::min(d, times - j0);
     for (Eigen::Index r = 0; r < count; ++r) {
       const double* v = in + 2 * (r * m + q);
 #if defined(__SSE2__)
-      const __m128d x = _mm_loadu_pd(v);
-      const __m128d swapped = _mm_shuffle_pd(x, x, 1);
-      const __m128d product =
-          _mm_add_pd(_mm_mul_pd(x, _mm_set1_pd(factor_re[r])),
-                     _mm_mul_pd(swapped, _mm_set_pd(factor_im[r], -factor_im[r])));
-      _mm_stream_pd(out + 2 * (j0 + r), product);
+      _mm_stream_pd(out + 2 * (j0 + r), _mm_mul_pd(_mm_loadu_pd(v), factor));
 #else
-      out[2 * (j0 + r)] = v[0] * factor_re[r] - v[1] * factor_im[r];
-      out[2 * (j0 + r) + 1] = v[1] * factor_re[r] + v[0] * factor_im[r];
+      out[2 * (j0 + r)] = v[0] * scale;
+      out[2 * (j0 + r) + 1] = v[1] * scale;
 #endif
     }
   }

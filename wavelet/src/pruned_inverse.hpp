@@ -8,17 +8,15 @@
 // are wanted. For any D dividing P with M = P / D >= K, write j = q D + r
 // (q < M, r < D): w^(b (q D + r)) = exp(2 pi i b q / M) w^(b r), so
 //   y_(q D + r) = sum_b [Y_b w^(b r)] exp(2 pi i b q / M),
-// D inverse DFTs of length M, the r-th of the band twiddled by w^(b r) and
-// laid at slots b mod M (K <= M: no two bins share a slot); with b = a + i
-// the factor w^(a r) is common to block r, so the block is twiddled by w^(i r)
-// (one table value, i r < P) and w^(a r) applied as it is gathered. The blocks are
-// twiddled and transformed a batch of G at a time (one FFTW plan of G
-// inverses, G M points small enough to stay in the L2 cache with their
-// outputs) into contiguous blocks of the output (block r holds y_r, y_(D+r),
-// ..), and a gather pass interleaves them into the column. Cost: D M log M +
-// D K complex products + one pass over P values instead of P log P. Exact:
-// no approximation beyond rounding (two exact-to-1-ulp table values per
-// output: w^(i r) and w^(a r)).
+// D inverse DFTs of length M, the r-th of the band twiddled by w^(b r) (one
+// table value at b r mod P) and laid at slots b mod M (K <= M: no two bins
+// share a slot). The blocks are twiddled and transformed a batch of G at a
+// time (one FFTW plan of G inverses, G M points small enough to stay in the
+// L2 cache with their outputs) into contiguous blocks of the output (block r
+// holds y_r, y_(D+r), ..), and a gather pass interleaves them into the
+// column, a plain copy. Cost: D M log M + D K complex products + one pass
+// over P values instead of P log P. Exact: no approximation beyond rounding
+// (one exact-to-1-ulp table value per bin and block).
 
 #include <Eigen/Core>
 #include <complex>
@@ -57,9 +55,8 @@ class PrunedInverse {
   fftw_plan Plan(Eigen::Index d, Eigen::Index batch) const;
 
   /// y_0 .. y_(P-1) of the band Y_(a+i) = X_(a+i) filter[i], i < bins, into
-  /// out (P entries) as D blocks of M: w^(-a r) y_(q D + r) at out[r M + q]
-  /// (block r twiddled by w^(i r) only; Gather applies w^(a r), which
-  /// GatherMagnitude need not; for D = 1 simply y in order). spectrum: X_0 .. X_(P/2) of a real signal (X_-b =
+  /// out (P entries) as D blocks of M: y_(q D + r) at out[r M + q] (for
+  /// D = 1 simply y in order). spectrum: X_0 .. X_(P/2) of a real signal (X_-b =
   /// conj X_b), a >= -(P - 1) / 2, a + bins - 1 <= P / 2. work: WorkSize(P)
   /// entries of scratch (overwritten). `batch` divides d; `plan` is
   /// Plan(d, batch), or at d = 1 an in-place plan of length P with work ==
@@ -75,10 +72,10 @@ class PrunedInverse {
                Complex* work,
                Complex* out) const;
 
-  /// column[j] = scale * y_j, j < times (<= P), from Execute's blocks of the
-  /// band starting at first_bin at decimation d.
-  void Gather(const Complex* blocks, Eigen::Index first_bin, Eigen::Index d, Eigen::Index times,
-              double scale, Complex* column) const;
+  /// column[j] = scale * y_j, j < times (<= P), from Execute's blocks at
+  /// decimation d.
+  void Gather(const Complex* blocks, Eigen::Index d, Eigen::Index times, double scale,
+              Complex* column) const;
   /// magnitude[j] = float(scale |y_j|), j < times, from Execute's blocks.
   void GatherMagnitude(const Complex* blocks, Eigen::Index d, Eigen::Index times, double scale,
                        float* magnitude) const;
