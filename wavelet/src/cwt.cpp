@@ -11,10 +11,11 @@
 #include <vector>
 
 #include "fftw_plans.hpp"
-#include "signal_check.hpp"
 #include "full_rate.hpp"
+#include "huge_pages.hpp"
 #include "podid/core/error.hpp"
 #include "podid/wavelet/plans.hpp"
+#include "signal_check.hpp"
 
 namespace podid::wavelet {
 namespace {
@@ -323,6 +324,13 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
   } else {
     out->magnitude.resize(0, 0);
     out->coefficients.resize(s.times, scales);
+  }
+  if (magnitude) {
+    internal::AdviseHugePages(out->magnitude.data(),
+                              static_cast<std::size_t>(out->magnitude.size()) * sizeof(float));
+  } else {
+    internal::AdviseHugePages(out->coefficients.data(),
+                              static_cast<std::size_t>(out->coefficients.size()) * sizeof(Complex));
   }
   if (!s.options.band_limited) {
     s.full_rate.Compute(s.spectrum.get(), s.times, s.output_scale,
