@@ -1,10 +1,17 @@
 #!/usr/bin/env bash
 # Side-by-side timing of podid's CWT and fCWT (github.com/fastlib/fCWT, the
 # fastest public C++ CWT) on fCWT's own benchmark setup: fs 64 Hz, 300
-# log-spaced frequencies 1-32 Hz, one thread, full-rate complex output.
-#   fCWT:  single precision, power-of-2 zero padding, FFTW_ESTIMATE plans (its cwt()).
-#   podid: double precision, zero padding (the default) to a 7-smooth length, estimated
-#          plans (BM_CwtFcwtCase/N/1/0 in bench/wavelet_benchmark.cpp).
+# log-spaced frequencies 1-32 Hz, one thread, full-rate complex output, in
+# both tools' two planning configurations:
+#   estimated plans (no wisdom: what a first run on a machine gets)
+#     fCWT:  single precision, power-of-2 zero padding, FFTW_ESTIMATE (its cwt()).
+#     podid: double precision, zero padding (the default) to a 7-smooth length,
+#            FFTW_ESTIMATE (BM_CwtFcwtCase/N/1/0 in bench/wavelet_benchmark.cpp).
+#   measured plans (each tool's fastest configuration: wisdom made once, then loaded)
+#     fCWT:  its optimisation plans (create_FFT_optimization_plan(N, FFTW_MEASURE),
+#            then FCWT(..., use_optimization_plan = true)).
+#     podid: FFTW_MEASURE plans kept in its wisdom cache (BM_CwtFcwtCase/N/1/1; the
+#            first, discarded run measures them, as `podid plan` does).
 # Both exclude one-time costs (podid's filters; fCWT's output allocation) and
 # report the best CPU time (one thread each: CPU time is what the transform
 # costs, and it is less disturbed than wall time on a shared machine) of
@@ -30,16 +37,21 @@ cat >"$work/driver.cpp" <<'CPP'
 #include "fcwt.h"
 int main(int argc, char** argv) {
   const int n = std::atoi(argv[1]);
+  const bool measured = argc > 2 && argv[2][0] == 'm';
+  Morlet morlet(1.0f);
+  if (argc > 2 && argv[2][0] == 'p') {  // make the optimisation plans (wisdom files here)
+    FCWT(&morlet, 1, true, false).create_FFT_optimization_plan(n, FFTW_MEASURE);
+    return 0;
+  }
   std::vector<float> x(n);
   for (int i = 0; i < n; ++i) x[i] = std::cos(2.0 * M_PI * (1.0 + 7.0 * i / n) * (i / 64.0));
   std::vector<std::complex<float>> out(static_cast<std::size_t>(n) * 300);
-  Morlet morlet(1.0f);
   double best = 1e9;
   for (int r = 0; r < 3; ++r) {
     timespec t0, t1;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t0);
     Scales scales(&morlet, FCWT_LOGSCALES, 64, 1.0f, 32.0f, 300);
-    FCWT fcwt(&morlet, 1, false, false);
+    FCWT fcwt(&morlet, 1, measured, false);
     fcwt.cwt(x.data(), n, out.data(), &scales);
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t1);
     best = std::min(best, (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec));
@@ -50,18 +62,33 @@ CPP
 # fCWT's own build flags (its CMakeLists.txt: -mavx -O2), one thread.
 g++ -O2 -mavx -fopenmp -std=c++17 -include cassert -include cstring -I"$FCWT_DIR/src/fcwt" \
   "$work/driver.cpp" "$FCWT_DIR/src/fcwt/fcwt.cpp" -o "$work/fcwt" -lfftw3f -lfftw3f_omp
-export XDG_CACHE_HOME="$work/cache"  # podid: no wisdom, estimated plans like fCWT
-printf "%-8s %12s %12s %8s\n" samples "fCWT (ms)" "podid (ms)" ratio
-for n in 10000 100000; do
-  best_f=1e9; best_p=1e9
-  for r in $(seq "$repeats"); do
-    f=$("$work/fcwt" "$n")
-    p=$("$build/bench/wavelet_benchmark" --benchmark_filter="BM_CwtFcwtCase/$n/1/0" \
-        --benchmark_format=csv 2>/dev/null | awk -F, '/BM_CwtFcwtCase/ { print $4 / 1000 }')
-    best_f=$(awk -v a="$best_f" -v b="$f" 'BEGIN { print (b < a ? b : a) }')
-    best_p=$(awk -v a="$best_p" -v b="$p" 'BEGIN { print (b < a ? b : a) }')
+# One timing: "$1" estimated|measured, "$2" samples; prints fCWT's and podid's seconds.
+time_pair() {
+  local f p flag=0 mode=e
+  if [ "$1" = measured ]; then flag=1; mode=m; fi
+  f=$(cd "$work" && "$work/fcwt" "$2" "$mode")
+  p=$(XDG_CACHE_HOME="$work/cache-$1" "$build/bench/wavelet_benchmark" \
+      --benchmark_filter="BM_CwtFcwtCase/$2/1/$flag" --benchmark_format=csv 2>/dev/null |
+      awk -F, '/BM_CwtFcwtCase/ { print $4 / 1000 }')
+  case "$f" in *[!0-9.]* | "") echo "compare_fcwt: fCWT printed '$f'" >&2; exit 1 ;; esac
+  [ -n "$p" ] || { echo "compare_fcwt: no BM_CwtFcwtCase/$2/1/$flag result" >&2; exit 1; }
+  echo "$f $p"
+}
+printf "%-10s %-8s %12s %12s %8s\n" plans samples "fCWT (ms)" "podid (ms)" ratio
+for plans in estimated measured; do
+  for n in 10000 100000; do
+    if [ "$plans" = measured ]; then  # wisdom made once, outside the timing
+      (cd "$work" && "$work/fcwt" "$n" plan >/dev/null)
+      time_pair measured "$n" >/dev/null
+    fi
+    best_f=1e9; best_p=1e9
+    for r in $(seq "$repeats"); do
+      read -r f p <<<"$(time_pair "$plans" "$n")"
+      best_f=$(awk -v a="$best_f" -v b="$f" 'BEGIN { print (b < a ? b : a) }')
+      best_p=$(awk -v a="$best_p" -v b="$p" 'BEGIN { print (b < a ? b : a) }')
+    done
+    awk -v m="$plans" -v n="$n" -v f="$best_f" -v p="$best_p" \
+      'BEGIN { printf "%-10s %-8d %12.1f %12.1f %7.2fx\n", m, n, 1000 * f, 1000 * p, f / p }'
   done
-  awk -v n="$n" -v f="$best_f" -v p="$best_p" \
-    'BEGIN { printf "%-8d %12.1f %12.1f %7.2fx\n", n, 1000 * f, 1000 * p, f / p }'
 done
 echo "ratio = fCWT CPU time / podid CPU time (> 1: podid faster); best of $repeats interleaved runs"
