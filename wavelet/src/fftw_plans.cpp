@@ -101,9 +101,8 @@ fftw_plan MakePlan(Kind kind, int n, int howmany, unsigned flags) {
     const auto size = static_cast<std::size_t>(n) * static_cast<std::size_t>(howmany);
     ComplexBuffer in = AllocateComplex(size);
     ComplexBuffer out = AllocateComplex(size);
-    return fftw_plan_many_dft(1, &n, howmany, AsFftw(in.get()), nullptr, 1, n,
-                              AsFftw(out.get()), nullptr, 1, n, FFTW_BACKWARD,
-                              flags | FFTW_DESTROY_INPUT);
+    return fftw_plan_many_dft(1, &n, howmany, AsFftw(in.get()), nullptr, 1, n, AsFftw(out.get()),
+                              nullptr, 1, n, FFTW_BACKWARD, flags | FFTW_PRESERVE_INPUT);
   }
   if (kind == Kind::kRealForward) {
     RealBuffer in = AllocateReal(static_cast<std::size_t>(n));

@@ -8,15 +8,15 @@
 // are wanted. For any D dividing P with M = P / D >= K, write j = q D + r
 // (q < M, r < D): w^(b (q D + r)) = exp(2 pi i b q / M) w^(b r), so
 //   y_(q D + r) = sum_b [Y_b w^(b r)] exp(2 pi i b q / M),
-// D inverse DFTs of length M, the r-th of the band twiddled by w^(b r) (one
-// table value at b r mod P) and laid at slots b mod M (K <= M: no two bins
-// share a slot). The blocks are twiddled and transformed a batch of G at a
-// time (one FFTW plan of G inverses, G M points small enough to stay in the
-// L2 cache with their outputs) into contiguous blocks of the output (block r
-// holds y_r, y_(D+r), ..), and a gather pass interleaves them into the
-// column, a plain copy. Cost: D M log M + D K complex products + one pass
-// over P values instead of P log P. Exact: no approximation beyond rounding
-// (one exact-to-1-ulp table value per bin and block).
+// D inverse DFTs of length M, the r-th of the band twiddled by w^(b r) and
+// laid at slots b mod M (K <= M: no two bins share a slot); w^(b r) is the
+// exact table value (at b r mod P) every 8th block and w^(b (r - 1)) w^b (a
+// product with block r - 1, w^b read in order) in between. The blocks are twiddled and transformed
+// a batch of G at a time (one FFTW plan of G inverses, G M points small enough to stay in the L2
+// cache with their outputs) into contiguous blocks of the output (block r holds y_r, y_(D+r), ..),
+// and a gather pass interleaves them into the column, a plain copy. Cost: D M log M + D K complex
+// products + one pass over P values instead of P log P. Exact: no approximation beyond rounding (at
+// most 8 roundings per twiddled bin).
 
 #include <Eigen/Core>
 #include <complex>
@@ -59,7 +59,8 @@ class PrunedInverse {
   /// D = 1 simply y in order). spectrum: X_0 .. X_(P/2) of a real signal (X_-b =
   /// conj X_b), a >= -(P - 1) / 2, a + bins - 1 <= P / 2. work: WorkSize(P)
   /// entries of scratch (overwritten). `batch` divides d; `plan` is
-  /// Plan(d, batch), or at d = 1 an in-place plan of length P with work ==
+  /// Plan(d, batch) (which preserves its input: block r - 1 must survive its
+  /// transform), or at d = 1 an in-place plan of length P with work ==
   /// out (then P entries suffice); out and work must have fftw_malloc's
   /// alignment modulo 16 (any std::complex<double> array has it).
   void Execute(const Complex* spectrum,
