@@ -13,6 +13,12 @@
 namespace podid::wavelet::internal {
 namespace {
 
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define PODID_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define PODID_CLONES
+#endif
+
 // a * b written out: std::complex's operator* checks for NaN (a call to
 // __muldc3 on the slow path) and does not vectorise.
 inline void Multiply(const double* a, const double* b, double* out) {
@@ -20,6 +26,19 @@ inline void Multiply(const double* a, const double* b, double* out) {
   const double im = a[0] * b[1] + a[1] * b[0];
   out[0] = re;
   out[1] = im;
+}
+
+// out[k] = a[k] w[k], k < n complex values (out == a allowed).
+PODID_CLONES void MultiplyRun(const double* a, const double* w, double* out, Eigen::Index n) {
+  for (Eigen::Index k = 0; k < n; ++k) Multiply(a + 2 * k, w + 2 * k, out + 2 * k);
+}
+
+// to[k] = x[k] g[k], k < n: complex x, real g.
+PODID_CLONES void ScaleRun(const double* x, const double* g, double* to, Eigen::Index n) {
+  for (Eigen::Index k = 0; k < n; ++k) {
+    to[2 * k] = x[2 * k] * g[k];
+    to[2 * k + 1] = x[2 * k + 1] * g[k];
+  }
 }
 
 // emit(j, i) for every output j = q D + r < times and its block entry
@@ -133,11 +152,7 @@ void PrunedInverse::Execute(const Complex* spectrum,
     }
     const auto* x = reinterpret_cast<const double*>(spectrum + first + negative);
     auto* to = reinterpret_cast<double*>(dest + negative);
-    const double* g = filter + i_begin + negative;
-    for (Eigen::Index i = 0; i < count - negative; ++i) {
-      to[2 * i] = x[2 * i] * g[i];
-      to[2 * i + 1] = x[2 * i + 1] * g[i];
-    }
+    ScaleRun(x, filter + i_begin + negative, to, count - negative);
   };
   const auto clear = [&](Complex* block) {
     std::fill(block + tail, block + slot0, Complex(0.0, 0.0));
@@ -173,7 +188,11 @@ void PrunedInverse::Execute(const Complex* spectrum,
       const auto* v = reinterpret_cast<const double*>(from + (from_slots ? slot : i));
       auto* o = reinterpret_cast<double*>(to + slot);
       const double* w = tw + 2 * t;
-      for (Eigen::Index k = 0; k < n; ++k) Multiply(v + 2 * k, w + 2 * k * step, o + 2 * k);
+      if (step == 1) {
+        MultiplyRun(v, w, o, n);
+      } else {
+        for (Eigen::Index k = 0; k < n; ++k) Multiply(v + 2 * k, w + 2 * k * step, o + 2 * k);
+      }
       i += n;
     }
   };
