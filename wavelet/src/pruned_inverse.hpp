@@ -11,12 +11,14 @@
 // D inverse DFTs of length M, the r-th of the band twiddled by w^(b r) and
 // laid at slots b mod M (K <= M: no two bins share a slot); w^(b r) is the
 // exact table value (at b r mod P) every 8th block and w^(b (r - 1)) w^b (a
-// product with block r - 1, w^b read in order) in between. The blocks are twiddled and transformed
-// a batch of G at a time (one FFTW plan of G inverses, G M points small enough to stay in the L2
-// cache with their outputs) into contiguous blocks of the output (block r holds y_r, y_(D+r), ..),
-// and a gather pass interleaves them into the column, a plain copy. Cost: D M log M + D K complex
-// products + one pass over P values instead of P log P. Exact: no approximation beyond rounding (at
-// most 8 roundings per twiddled bin).
+// product with block r - 1, w^b read in order) in between. The blocks are
+// twiddled and transformed a batch of G at a time (one FFTW plan of G
+// inverses, G M points small enough to stay in the L2 cache with their
+// outputs) into contiguous blocks of the output (block r holds y_r, y_(D+r),
+// ..), and a gather pass interleaves them into the column, a plain copy.
+// Cost: D M log M + D K complex products + one pass over P values instead of
+// P log P. Exact: no approximation beyond rounding (at most 8 roundings per
+// twiddled bin).
 
 #include <Eigen/Core>
 #include <complex>
