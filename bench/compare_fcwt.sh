@@ -83,7 +83,8 @@ for plans in estimated measured; do
     fi
     best_f=1e9; best_p=1e9
     for r in $(seq "$repeats"); do
-      read -r f p <<<"$(time_pair "$plans" "$n")"
+      pair=$(time_pair "$plans" "$n")  # set -e: a failed timing stops the script
+      read -r f p <<<"$pair"
       best_f=$(awk -v a="$best_f" -v b="$f" 'BEGIN { print (b < a ? b : a) }')
       best_p=$(awk -v a="$best_p" -v b="$p" 'BEGIN { print (b < a ? b : a) }')
     done
