@@ -7,20 +7,12 @@
 #include <algorithm>
 
 #include "podid/core/error.hpp"
+#include "podid/core/target_clones.hpp"
 
 namespace podid::internal {
 namespace {
 
 using Eigen::Index;
-
-// Each dispatcher is built for x86-64-v3 and the baseline where GCC can pick
-// between them at load time (ifunc); elsewhere (another architecture, clang)
-// it is built once, for the target the build asks for.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define PODID_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define PODID_CLONES
-#endif
 
 // Rows per block of the Gram product: 16 columns x 256 rows = 32 KiB, so a
 // block's columns, once centred, are read from L1 by the M (M + 1) / 2 dot
@@ -71,12 +63,12 @@ template <int M>
   }
 }
 
-PODID_CLONES void CentredGramDispatch(
+PODID_CLONES_V3 void CentredGramDispatch(
     const double* mean, double* y, Index n, Index m, double* gram) {
   CentredGramKernel(mean, y, n, m, gram);
 }
 
-PODID_CLONES void TimesDispatch(
+PODID_CLONES_V3 void TimesDispatch(
     const double* y, Index n, Index m, const double* b, Index k, double* v) {
   switch (m) {
     case 1:

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "podid/core/error.hpp"
+#include "podid/core/target_clones.hpp"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -12,12 +13,6 @@
 
 namespace podid::wavelet::internal {
 namespace {
-
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define PODID_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define PODID_CLONES
-#endif
 
 // a * b written out: std::complex's operator* checks for NaN (a call to
 // __muldc3 on the slow path) and does not vectorise.
@@ -29,12 +24,12 @@ inline void Multiply(const double* a, const double* b, double* out) {
 }
 
 // out[k] = a[k] w[k], k < n complex values (out == a allowed).
-PODID_CLONES void MultiplyRun(const double* a, const double* w, double* out, Eigen::Index n) {
+PODID_CLONES_V3 void MultiplyRun(const double* a, const double* w, double* out, Eigen::Index n) {
   for (Eigen::Index k = 0; k < n; ++k) Multiply(a + 2 * k, w + 2 * k, out + 2 * k);
 }
 
 // to[k] = x[k] g[k], k < n: complex x, real g.
-PODID_CLONES void ScaleRun(const double* x, const double* g, double* to, Eigen::Index n) {
+PODID_CLONES_V3 void ScaleRun(const double* x, const double* g, double* to, Eigen::Index n) {
   for (Eigen::Index k = 0; k < n; ++k) {
     to[2 * k] = x[2 * k] * g[k];
     to[2 * k + 1] = x[2 * k + 1] * g[k];

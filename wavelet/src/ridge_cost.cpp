@@ -6,14 +6,10 @@
 #include <cstdint>
 #include <numbers>
 
+#include "podid/core/target_clones.hpp"
+
 namespace podid::wavelet::internal {
 namespace {
-
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define PODID_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define PODID_CLONES
-#endif
 
 // ln v for v >= kRidgeCostFloor, v finite, branch-free and in integer
 // selects only (GCC then vectorises loops over it): v = 2^e m with m in
@@ -52,7 +48,10 @@ namespace {
 
 }  // namespace
 
-PODID_CLONES void RidgeCost(const std::complex<double>* w, Eigen::Index n, double scale, double* out) {
+PODID_CLONES_V4 void RidgeCost(const std::complex<double>* w,
+                               Eigen::Index n,
+                               double scale,
+                               double* out) {
   const double* __restrict parts = reinterpret_cast<const double*>(w);
   double* __restrict cost = out;
   for (Eigen::Index i = 0; i < n; ++i) {
