@@ -15,8 +15,8 @@ namespace podid::wavelet::internal {
 /// huge pages when they are first touched (MADV_HUGEPAGE; honoured when THP
 /// is "madvise" or "always"): fewer page faults and TLB misses. fCWT's case
 /// at 10^4 samples x 300 frequencies (a 48 MB scalogram): a one-shot
-/// transform 53 -> 35 ms. Only from kMinBytes (small outputs fault cheaply)
-/// to kMaxBytes: at 10^5 samples (480 MB) one-shot calls varied from 427 to
+/// transform 56.7-58.9 -> 39.1-39.3 ms. Only from kMinBytes (small outputs
+/// fault cheaply) to kMaxBytes: at 10^5 samples (480 MB) one-shot calls varied from 427 to
 /// 1113 ms against 603-620 ms with 4 KiB pages (the kernel compacting memory
 /// for 240 huge pages on this VM). Pages already touched keep their size; a
 /// no-op elsewhere, and the advice is a hint whose result is not checked.
