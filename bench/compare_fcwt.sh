@@ -7,20 +7,28 @@
 #     fCWT:  single precision, power-of-2 zero padding, FFTW_ESTIMATE (its cwt()).
 #     podid: double precision, zero padding (the default) to a 7-smooth length,
 #            FFTW_ESTIMATE (BM_CwtFcwtCase/N/1/0 in bench/wavelet_benchmark.cpp).
-#   measured plans (each tool's fastest configuration: wisdom made once, then loaded)
+#   measured plans (wisdom made once with FFTW_MEASURE, then loaded)
 #     fCWT:  its optimisation plans (create_FFT_optimization_plan(N, FFTW_MEASURE),
 #            then FCWT(..., use_optimization_plan = true)).
 #     podid: FFTW_MEASURE plans kept in its wisdom cache (BM_CwtFcwtCase/N/1/1; the
 #            first, discarded run measures them, as `podid plan` does).
+#   patient plans (each tool's fastest configuration: the same with FFTW_PATIENT)
+#     fCWT:  create_FFT_optimization_plan(N, FFTW_PATIENT).
+#     podid: `podid plan --effort patient` for the case, then BM_CwtFcwtCase/N/1/1
+#            (which must find every plan in the wisdom: checked).
+#   FFTW_PATIENT planning takes minutes (about 1.5 min per tool at 10^4, 1.6 min for
+#   fCWT and 5.4 min for podid at 10^5); PLANS="estimated measured" skips it.
 # Both exclude one-time costs (podid's filters; fCWT's output allocation) and
 # report the best CPU time (one thread each: CPU time is what the transform
 # costs, and it is less disturbed than wall time on a shared machine) of
 # several runs, interleaved so both see the same load.
-# Usage: FCWT_DIR=/path/to/fCWT bash bench/compare_fcwt.sh BUILD_DIR [repeats]
+# Usage: FCWT_DIR=/path/to/fCWT [PLANS="estimated measured patient"] \
+#          bash bench/compare_fcwt.sh BUILD_DIR [repeats]
 # fCWT is not part of podid: without FCWT_DIR the script says so and exits 0.
 set -eu
 build=${1:?usage: FCWT_DIR=... bash bench/compare_fcwt.sh BUILD_DIR [repeats]}
 repeats=${2:-5}
+plans_list=${PLANS:-estimated measured patient}
 if [ -z "${FCWT_DIR:-}" ] || [ ! -f "$FCWT_DIR/src/fcwt/fcwt.cpp" ]; then
   echo "compare_fcwt: FCWT_DIR (an fCWT source tree with src/fcwt/fcwt.cpp) not set: skipped"
   exit 0
@@ -39,8 +47,9 @@ int main(int argc, char** argv) {
   const int n = std::atoi(argv[1]);
   const bool measured = argc > 2 && argv[2][0] == 'm';
   Morlet morlet(1.0f);
-  if (argc > 2 && argv[2][0] == 'p') {  // make the optimisation plans (wisdom files here)
-    FCWT(&morlet, 1, true, false).create_FFT_optimization_plan(n, FFTW_MEASURE);
+  if (argc > 3 && argv[2][0] == 'p') {  // make the optimisation plans (wisdom files here)
+    const int flags = argv[3][0] == 'p' ? FFTW_PATIENT : FFTW_MEASURE;
+    FCWT(&morlet, 1, true, false).create_FFT_optimization_plan(n, flags);
     return 0;
   }
   std::vector<float> x(n);
@@ -62,11 +71,13 @@ CPP
 # fCWT's own build flags (its CMakeLists.txt: -mavx -O2), one thread.
 g++ -O2 -mavx -fopenmp -std=c++17 -include cassert -include cstring -I"$FCWT_DIR/src/fcwt" \
   "$work/driver.cpp" "$FCWT_DIR/src/fcwt/fcwt.cpp" -o "$work/fcwt" -lfftw3f -lfftw3f_omp
-# One timing: "$1" estimated|measured, "$2" samples; prints fCWT's and podid's seconds.
+# One timing: "$1" estimated|measured|patient, "$2" samples; prints fCWT's and
+# podid's seconds. Each configuration has its own fCWT wisdom folder and podid cache.
 time_pair() {
-  local f p flag=0 mode=e
-  if [ "$1" = measured ]; then flag=1; mode=m; fi
-  f=$(cd "$work" && "$work/fcwt" "$2" "$mode")
+  local f p flag=1 mode=m
+  if [ "$1" = estimated ]; then flag=0; mode=e; fi
+  mkdir -p "$work/fcwt-$1"
+  f=$(cd "$work/fcwt-$1" && "$work/fcwt" "$2" "$mode")
   p=$(XDG_CACHE_HOME="$work/cache-$1" "$build/bench/wavelet_benchmark" \
       --benchmark_filter="BM_CwtFcwtCase/$2/1/$flag" --benchmark_format=csv 2>/dev/null |
       awk -F, '/BM_CwtFcwtCase/ { print $4 / 1000 }')
@@ -74,13 +85,32 @@ time_pair() {
   [ -n "$p" ] || { echo "compare_fcwt: no BM_CwtFcwtCase/$2/1/$flag result" >&2; exit 1; }
   echo "$f $p"
 }
-printf "%-10s %-8s %12s %12s %8s\n" plans samples "fCWT (ms)" "podid (ms)" ratio
-for plans in estimated measured; do
-  for n in 10000 100000; do
-    if [ "$plans" = measured ]; then  # wisdom made once, outside the timing
-      (cd "$work" && "$work/fcwt" "$n" plan >/dev/null)
-      time_pair measured "$n" >/dev/null
+# Wisdom for "$1" measured|patient at "$2" samples, made once outside the timing.
+make_wisdom() {
+  mkdir -p "$work/fcwt-$1"
+  (cd "$work/fcwt-$1" && "$work/fcwt" "$2" plan "$1" >/dev/null)
+  if [ "$1" = patient ]; then
+    # fCWT's case: 300 frequencies from 1 Hz at 60 voices per octave (to 2^(299/60) Hz).
+    XDG_CACHE_HOME="$work/cache-patient" "$build/apps/podid" plan --effort patient \
+      --samples "$2" --fs 64 --fmin 1 --fmax 31.63 --voices 60 --padding zero >/dev/null
+    local before
+    before=$(cksum <"$work/cache-patient/podid/fftw3-wisdom")
+    time_pair patient "$2" >/dev/null
+    if [ "$(cksum <"$work/cache-patient/podid/fftw3-wisdom")" != "$before" ]; then
+      echo "compare_fcwt: podid plan --effort patient missed a plan of BM_CwtFcwtCase/$2" >&2
+      exit 1
     fi
+  else
+    time_pair measured "$2" >/dev/null  # the first run measures and caches
+  fi
+}
+printf "%-10s %-8s %12s %12s %8s\n" plans samples "fCWT (ms)" "podid (ms)" ratio
+for plans in $plans_list; do
+  case "$plans" in estimated | measured | patient) ;; *)
+    echo "compare_fcwt: PLANS: expected estimated, measured or patient, got '$plans'" >&2; exit 1 ;;
+  esac
+  for n in 10000 100000; do
+    [ "$plans" = estimated ] || make_wisdom "$plans" "$n"
     best_f=1e9; best_p=1e9
     for r in $(seq "$repeats"); do
       pair=$(time_pair "$plans" "$n")  # set -e: a failed timing stops the script

@@ -26,6 +26,19 @@ ls "$out/cache/podid" | grep -qv '^fftw3-wisdom$' && fail "temporary files left 
 grep -q "expected --fs HZ" "$out/stderr" || fail "--fs message"
 "$podid" plan --samples 3 --fs 100 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--samples 3 not exit 1"
+"$podid" plan --samples 999 --fs 1000 --effort fast 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--effort fast not exit 1"
+grep -q "effort: fast not in {measure,patient}" "$out/stderr" || fail "--effort message: $(cat "$out/stderr")"
+# --effort patient measures again what FFTW_MEASURE wisdom covers (FFTW_PATIENT
+# is more rigorous), then finds it.
+"$podid" plan --samples 64 --fs 1000 --fmin 100 --fmax 400 --padding zero >"$out/plan4" ||
+  fail "plan 64 exited $?"
+"$podid" plan --samples 64 --fs 1000 --fmin 100 --fmax 400 --padding zero --effort patient \
+  >"$out/plan5" || fail "plan --effort patient exited $?"
+grep -q "measured [1-9][0-9]* plan(s) (FFTW_PATIENT)" "$out/plan5" || fail "patient: $(cat "$out/plan5")"
+"$podid" plan --samples 64 --fs 1000 --fmin 100 --fmax 400 --padding zero --effort patient \
+  >"$out/plan6" || fail "second plan --effort patient exited $?"
+grep -q "measured 0 plan(s) (FFTW_PATIENT)" "$out/plan6" || fail "patient again: $(cat "$out/plan6")"
 # An unwritable cache costs speed, never an error.
 XDG_CACHE_HOME=/proc/podid-no-such-dir "$podid" plan --samples 999 --fs 1000 --fmin 20 --fmax 400 \
   >"$out/plan3" || fail "plan with an unwritable cache exited $?"

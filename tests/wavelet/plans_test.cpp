@@ -84,6 +84,34 @@ TEST(FftWisdom, MeasuringSavesWisdomOnceAndItIsReused) {
   EXPECT_FALSE(second.saved);  // nothing new to write
 }
 
+TEST(FftWisdom, PatientEffortMeasuresAgainAndServesMeasureRequests) {
+  // FFTW_MEASURE wisdom does not satisfy FFTW_PATIENT (FFTW_WISDOM_ONLY finds
+  // no plan), so a patient request measures again; patient wisdom then
+  // serves both efforts, also in a new process reading the cache file.
+  ScopedCache cache("patient");
+  const FftLengths lengths{{150}, {126}, {{21, 4}}, {150}};  // no other test measures these
+  const PlanSummary measure = MeasureFftPlans(lengths, PlanEffort::kMeasure);
+  EXPECT_EQ(measure.measured, 4);
+  const PlanSummary patient = MeasureFftPlans(lengths, PlanEffort::kPatient);
+  EXPECT_EQ(patient.measured, 4);
+  EXPECT_EQ(patient.known, 0);
+  EXPECT_TRUE(patient.saved) << patient.message;
+  const PlanSummary again = MeasureFftPlans(lengths, PlanEffort::kPatient);
+  EXPECT_EQ(again.measured, 0);
+  EXPECT_EQ(again.known, 4);
+  EXPECT_EQ(MeasureFftPlans(lengths, PlanEffort::kMeasure).known, 4);
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {  // a fresh process state: only the cache file's wisdom
+    fftw_forget_wisdom();
+    const PlanSummary s = MeasureFftPlans(lengths, PlanEffort::kPatient);
+    ::_exit(s.measured == 0 && s.known == 4 ? 0 : 1);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+}
+
 TEST(FftWisdom, EstimatedPlansWriteNothing) {
   // kEstimate (the default) never measures and never writes the cache;
   // kMeasure measures what the cache lacks and stores it.

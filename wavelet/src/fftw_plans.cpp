@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -31,9 +32,14 @@ namespace {
 enum class Kind { kRealForward, kComplexBackward, kBatchedBackward, kComplexForward };
 constexpr int kMaxPlanLength = 1 << 27;  // 2 GiB of complex doubles
 
+// Planner effort, in increasing rigour: 0 FFTW_ESTIMATE, then the
+// PlanEffort values + 1 (1 FFTW_MEASURE, 2 FFTW_PATIENT).
+constexpr unsigned kEffortFlags[] = {FFTW_ESTIMATE, FFTW_MEASURE, FFTW_PATIENT};
+constexpr int kMostRigorous = 2;
+
 struct Entry {
   fftw_plan plan = nullptr;
-  bool measured = false;
+  int effort = 0;  // of kEffortFlags
 };
 
 // Plans live for the whole process and are destroyed at exit. A measured plan
@@ -116,28 +122,37 @@ fftw_plan MakePlan(Kind kind, int n, int howmany, unsigned flags) {
                           kind == Kind::kComplexForward ? FFTW_FORWARD : FFTW_BACKWARD, flags);
 }
 
-// Returns the plan, measuring it when `measure` and it is not measured yet.
+// Returns the plan of at least effort `wanted` (0: whatever is known, else
+// estimated), measuring it when wisdom of that effort is missing; a more
+// rigorous plan from the wisdom is taken when there is one (FFTW_WISDOM_ONLY
+// returns no plan unless wisdom at least as rigorous as its flags exists).
 // *measured_now says whether this call measured it.
-fftw_plan GetPlanLocked(State& state, Kind kind, int n, int howmany, bool measure,
-                        bool* measured_now) {
+fftw_plan GetPlanLocked(
+    State& state, Kind kind, int n, int howmany, int wanted, bool* measured_now) {
   PODID_CHECK(n >= 1 && howmany >= 1 && static_cast<long long>(n) * howmany <= kMaxPlanLength);
+  PODID_CHECK(wanted >= 0 && wanted <= kMostRigorous);
   *measured_now = false;
   LoadWisdomLocked(state);
   Entry& entry = state.plans[{kind, n, howmany}];
-  if (entry.plan != nullptr && (entry.measured || !measure)) return entry.plan;
-  fftw_plan plan = MakePlan(kind, n, howmany, FFTW_MEASURE | FFTW_WISDOM_ONLY);
-  bool measured = plan != nullptr;
-  if (plan == nullptr && measure) {
-    plan = MakePlan(kind, n, howmany, FFTW_MEASURE);
-    measured = *measured_now = true;
+  if (entry.plan != nullptr && (wanted == 0 || entry.effort >= wanted)) return entry.plan;
+  fftw_plan plan = nullptr;
+  int effort = 0;
+  for (int e = kMostRigorous; e >= std::max(wanted, 1) && plan == nullptr; --e) {
+    plan = MakePlan(kind, n, howmany, kEffortFlags[e] | FFTW_WISDOM_ONLY);
+    effort = e;
+  }
+  if (plan == nullptr && wanted > 0) {
+    plan = MakePlan(kind, n, howmany, kEffortFlags[wanted]);
+    effort = wanted;
+    *measured_now = true;
   } else if (plan == nullptr) {
-    if (entry.plan != nullptr) return entry.plan;  // already estimated
     plan = MakePlan(kind, n, howmany, FFTW_ESTIMATE);
+    effort = 0;
   }
   PODID_CHECK_MSG(plan != nullptr, "FFTW could not make a plan");
   if (entry.plan != nullptr) state.retired.push_back(entry.plan);
   entry.plan = plan;
-  entry.measured = measured;
+  entry.effort = effort;
   return plan;
 }
 
@@ -145,7 +160,7 @@ fftw_plan GetPlan(Kind kind, int n, int howmany, bool measure) {
   State& state = GlobalState();
   std::lock_guard<std::mutex> lock(state.mutex);
   bool measured_now = false;
-  fftw_plan plan = GetPlanLocked(state, kind, n, howmany, measure, &measured_now);
+  fftw_plan plan = GetPlanLocked(state, kind, n, howmany, measure ? 1 : 0, &measured_now);
   if (measured_now) SaveWisdomLocked();  // best effort: an unwritable cache only costs time
   return plan;
 }
@@ -216,7 +231,8 @@ std::string FftWisdomPath() {
   return "";
 }
 
-PlanSummary MeasureFftPlans(const FftLengths& lengths) {
+PlanSummary MeasureFftPlans(const FftLengths& lengths, PlanEffort effort) {
+  const int wanted = effort == PlanEffort::kPatient ? 2 : 1;
   for (const std::vector<int>* list :
        {&lengths.real_forward, &lengths.complex_backward, &lengths.complex_forward}) {
     for (int n : *list) {
@@ -239,7 +255,7 @@ PlanSummary MeasureFftPlans(const FftLengths& lengths) {
   std::lock_guard<std::mutex> lock(state.mutex);
   const auto plan = [&](internal::Kind kind, int n, int howmany) {
     bool measured_now = false;
-    internal::GetPlanLocked(state, kind, n, howmany, true, &measured_now);
+    internal::GetPlanLocked(state, kind, n, howmany, wanted, &measured_now);
     (measured_now ? summary.measured : summary.known) += 1;
   };
   for (int n : lengths.real_forward) plan(internal::Kind::kRealForward, n, 1);

@@ -6,9 +6,10 @@
 // (fftw_malloc-aligned) arrays is.
 //
 // Planning effort (podid/wavelet/plans.hpp): a length with wisdom in the
-// on-disk cache (or measured earlier in this process) gets its measured plan;
-// otherwise kEstimate plans with FFTW_ESTIMATE (microseconds) and kMeasure
-// measures (FFTW_MEASURE) and stores the wisdom in the cache.
+// on-disk cache (or measured earlier in this process) gets its most rigorous
+// measured plan (FFTW_PATIENT before FFTW_MEASURE); otherwise kEstimate plans
+// with FFTW_ESTIMATE (microseconds) and kMeasure measures (FFTW_MEASURE) and
+// stores the wisdom in the cache.
 
 #include <fftw3.h>
 

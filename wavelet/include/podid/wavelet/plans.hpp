@@ -11,6 +11,9 @@
 //                else $HOME/.cache/podid/fftw3-wisdom; no cache if neither is set.
 //   reading      once per process and cache path, before the first plan; a missing,
 //                unreadable or foreign (other FFTW version) file is ignored.
+//   effort       FFTW_MEASURE by default; MeasureFftPlans (`podid plan --effort patient`)
+//                can search harder (FFTW_PATIENT). A transform uses the most rigorous
+//                plan the wisdom holds for its length.
 //   writing      only after measuring (MeasureFftPlans, `podid plan`, or a transform
 //                with FftPlanning::kMeasure): the cache folder is created (0700) on
 //                first use, the file is merged with what is already there, written
@@ -43,9 +46,16 @@ struct PlanSummary {
   std::string message;  ///< why the cache was not written ("" when saved or nothing new)
 };
 
-/// Measures (FFTW_MEASURE) every listed plan that has no wisdom yet and saves
-/// the wisdom to FftWisdomPath(). Lengths are checked (1 .. 2^27); bad ones
-/// throw std::invalid_argument before anything is measured.
-PlanSummary MeasureFftPlans(const FftLengths& lengths);
+/// How hard MeasureFftPlans searches: FFTW's planner flags. Transforms take
+/// the most rigorous plan the wisdom holds for a length.
+enum class PlanEffort {
+  kMeasure,  ///< FFTW_MEASURE: about 14 s for fCWT's 10^5-sample case (docs/wavelet.md, "Planning")
+  kPatient,  ///< FFTW_PATIENT: minutes at 10^5 samples, for transforms about 1.07x faster
+};
+
+/// Measures every listed plan that has no wisdom of at least `effort` yet and
+/// saves the wisdom to FftWisdomPath(). Lengths are checked (1 .. 2^27); bad
+/// ones throw std::invalid_argument before anything is measured.
+PlanSummary MeasureFftPlans(const FftLengths& lengths, PlanEffort effort = PlanEffort::kMeasure);
 
 }  // namespace podid::wavelet
