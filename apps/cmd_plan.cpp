@@ -135,7 +135,7 @@ void AddPlanCommand(CLI::App& app) {
   command
       ->add_option("--effort", a->effort,
                    "measure (FFTW_MEASURE, seconds) or patient (FFTW_PATIENT: minutes at\n"
-                   "10^5 samples, transforms about 1.07x faster)")
+                   "10^5 samples, transforms up to about 1.07x faster)")
       ->check(CLI::IsMember({"measure", "patient"}))
       ->capture_default_str();
   command->callback([a] { Run(*a); });

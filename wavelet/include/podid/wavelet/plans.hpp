@@ -49,8 +49,8 @@ struct PlanSummary {
 /// How hard MeasureFftPlans searches: FFTW's planner flags. Transforms take
 /// the most rigorous plan the wisdom holds for a length.
 enum class PlanEffort {
-  kMeasure,  ///< FFTW_MEASURE: about 14 s for fCWT's 10^5-sample case (docs/wavelet.md, "Planning")
-  kPatient,  ///< FFTW_PATIENT: minutes at 10^5 samples, for transforms about 1.07x faster
+  kMeasure,  ///< FFTW_MEASURE: seconds (14 s for the plans of fCWT's 10^5-sample case)
+  kPatient,  ///< FFTW_PATIENT: minutes at 10^5 samples, for transforms up to about 1.07x faster
 };
 
 /// Measures every listed plan that has no wisdom of at least `effort` yet and
