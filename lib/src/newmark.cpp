@@ -83,6 +83,22 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     sbb_permutation_ = sbb_ldlt_.permutationP().indices();
     modal_status_ = "not used: sparse path";
     sab_sparse_ = s.topRightCorner(na_, nb_);
+    // Row-major copies for the step's products (see the header).
+    std::vector<Eigen::Triplet<double>> mc;
+    mc.reserve(static_cast<std::size_t>(mass_sparse_.nonZeros() + damping_sparse_.nonZeros()));
+    for (int j = 0; j < n_; ++j) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(mass_sparse_, j); it; ++it)
+        mc.emplace_back(it.row(), j, it.value());
+      for (Eigen::SparseMatrix<double>::InnerIterator it(damping_sparse_, j); it; ++it)
+        mc.emplace_back(it.row(), n_ + j, it.value());
+    }
+    mc_rows_.resize(n_, 2 * n_);
+    mc_rows_.setFromTriplets(mc.begin(), mc.end());
+    mc_rows_.makeCompressed();
+    sbb_lower_cols_ = sbb_ldlt_.matrixL().nestedExpression().triangularView<Eigen::StrictlyLower>();
+    sbb_lower_cols_.makeCompressed();
+    sbb_lower_rows_ = sbb_lower_cols_;
+    sbb_lower_rows_.makeCompressed();
     const Eigen::MatrixXd sba = Eigen::MatrixXd(s.bottomLeftCorner(nb_, na_));
     h_ = sbb_ldlt_.solve(sba);
     shat_ = Eigen::MatrixXd(s.topLeftCorner(na_, na_)) - sab_sparse_ * h_;
@@ -156,8 +172,7 @@ NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
     for (Eigen::VectorXd* v : {&da, &pa, &delta, &load_a}) v->setZero(na);
   }
   if (integrator.sparse_) {
-    u1.setZero(n);
-    u2.setZero(n);
+    u.setZero(2 * n);
     y.setZero(integrator.nb_);
   }
   for (Eigen::VectorXd* v : {&xa, &xa_n, &va, &fa, &ra, &dxa, &xa_trial}) v->setZero(na);
@@ -188,10 +203,11 @@ bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, bool has_load, int* it
     // bhat = rhs_a - S_ab y; w.rhs becomes [bhat; y] as in the dense path.
     const double dt = options_.step_s, g = options_.gamma, b = options_.beta;
     const auto x = w.z.head(n_), v = w.z.segment(n_, n_), acc = w.z.tail(n_);
-    w.u1 = a0_ * x + a2_ * v + a3_ * acc;
-    w.u2 = a1_ * x + (g / b - 1.0) * v + (dt * (g / (2.0 * b) - 1.0)) * acc;
-    w.rhs.noalias() = mass_sparse_ * w.u1;
-    w.rhs.noalias() += damping_sparse_ * w.u2;
+    w.u.head(n_) = a0_ * x + a2_ * v + a3_ * acc;
+    w.u.tail(n_) = a1_ * x + (g / b - 1.0) * v + (dt * (g / (2.0 * b) - 1.0)) * acc;
+    // [M, C] [u1; u2] row by row: a gather per row, where the column-major
+    // products scattered into rhs (a chain through memory per entry).
+    w.rhs.noalias() = mc_rows_ * w.u;
     if (has_load) AddLoad(w, w.rhs);
     // y = S_b^-1 rhs_b with the factor P^T L D L^T P, permutations done here:
     // Eigen's in-place permutation allocates a mask.
@@ -202,9 +218,28 @@ bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, bool has_load, int* it
     } else {
       for (int i = 0; i < nb_; ++i) w.y[p[i]] = rhs_b[i];
     }
-    sbb_ldlt_.matrixL().solveInPlace(w.y);
-    w.y.array() /= sbb_diagonal_.array();
-    sbb_ldlt_.matrixU().solveInPlace(w.y);
+    // L D L^T y' = y, each triangle as dot products: L by its rows, L^T by
+    // L's columns (unit diagonals). Eigen's column-major L solve scatters.
+    {
+      double* yv = w.y.data();
+      const int* begin = sbb_lower_rows_.outerIndexPtr();
+      const int* index = sbb_lower_rows_.innerIndexPtr();
+      const double* value = sbb_lower_rows_.valuePtr();
+      for (int i = 0; i < nb_; ++i) {
+        double sum = yv[i];
+        for (int k = begin[i]; k < begin[i + 1]; ++k) sum -= value[k] * yv[index[k]];
+        yv[i] = sum;
+      }
+      w.y.array() /= sbb_diagonal_.array();
+      begin = sbb_lower_cols_.outerIndexPtr();
+      index = sbb_lower_cols_.innerIndexPtr();
+      value = sbb_lower_cols_.valuePtr();
+      for (int i = nb_ - 1; i >= 0; --i) {
+        double sum = yv[i];
+        for (int k = begin[i]; k < begin[i + 1]; ++k) sum -= value[k] * yv[index[k]];
+        yv[i] = sum;
+      }
+    }
     if (p.size() == 0) {
       w.rhs.tail(nb_) = w.y;
     } else {

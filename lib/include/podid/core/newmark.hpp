@@ -193,8 +193,8 @@ class NewmarkWorkspace {
   Eigen::SparseMatrix<double> load_pattern;
   Eigen::MatrixXd load_y, load_bhat;  ///< n_b x K, n_a x K
   Eigen::VectorXd load_now;
-  Eigen::VectorXd u1, u2, y;  ///< sparse path: M and C operands (dim n), S_bb^-1 rhs_b (dim n_b)
-  Eigen::VectorXd u;          ///< dense condensed path: [u1; u2] (dim 2 n)
+  Eigen::VectorXd y;       ///< sparse path: S_bb^-1 rhs_b (dim n_b)
+  Eigen::VectorXd u;       ///< condensed paths: [u1; u2], the operands of M and C (dim 2 n)
   Eigen::MatrixXd ka, ca;  ///< tangents of the nonlinear forces (n_a x n_a)
   Eigen::MatrixXd jac, jac_a;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu, lu_a;
@@ -298,6 +298,12 @@ class NewmarkIntegrator {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> sbb_ldlt_, mass_ldlt_;
   Eigen::VectorXd sbb_diagonal_;    ///< D of S_bb's factor
   Eigen::VectorXi sbb_permutation_;  ///< its fill-reducing permutation (may be empty)
+  // The step's products as dot products, a gather per row instead of
+  // Eigen's scatter per entry for column-major operands (300 elements: 17.6
+  // -> 14.0 us per step, BM_Beam1sElements/300): [M, C] (n x 2n) by rows,
+  // the strictly lower part of S_bb's factor L by rows and by columns.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> mc_rows_, sbb_lower_rows_;
+  Eigen::SparseMatrix<double> sbb_lower_cols_;
   NonlinearForces nonlinear_;  ///< with `local` indices = permuted indices
   /// The modal path (dense condensed, proportional damping), or null.
   std::shared_ptr<const internal::ModalStep> modal_;
