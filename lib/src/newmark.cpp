@@ -220,26 +220,18 @@ bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, bool has_load, int* it
     }
     // L D L^T y' = y, each triangle as dot products: L by its rows, L^T by
     // L's columns (unit diagonals). Eigen's column-major L solve scatters.
-    {
-      double* yv = w.y.data();
-      const int* begin = sbb_lower_rows_.outerIndexPtr();
-      const int* index = sbb_lower_rows_.innerIndexPtr();
-      const double* value = sbb_lower_rows_.valuePtr();
-      for (int i = 0; i < nb_; ++i) {
-        double sum = yv[i];
-        for (int k = begin[i]; k < begin[i + 1]; ++k) sum -= value[k] * yv[index[k]];
-        yv[i] = sum;
-      }
-      w.y.array() /= sbb_diagonal_.array();
-      begin = sbb_lower_cols_.outerIndexPtr();
-      index = sbb_lower_cols_.innerIndexPtr();
-      value = sbb_lower_cols_.valuePtr();
-      for (int i = nb_ - 1; i >= 0; --i) {
-        double sum = yv[i];
-        for (int k = begin[i]; k < begin[i + 1]; ++k) sum -= value[k] * yv[index[k]];
-        yv[i] = sum;
-      }
-    }
+    // y_i -= (outer vector i of t) . y, t a compressed strictly triangular factor.
+    const auto subtract = [&w](const auto& t, int i) {
+      const int* index = t.innerIndexPtr();
+      const double* value = t.valuePtr();
+      double sum = w.y[i];
+      for (int k = t.outerIndexPtr()[i]; k < t.outerIndexPtr()[i + 1]; ++k)
+        sum -= value[k] * w.y[index[k]];
+      w.y[i] = sum;
+    };
+    for (int i = 0; i < nb_; ++i) subtract(sbb_lower_rows_, i);
+    w.y.array() /= sbb_diagonal_.array();
+    for (int i = nb_ - 1; i >= 0; --i) subtract(sbb_lower_cols_, i);
     if (p.size() == 0) {
       w.rhs.tail(nb_) = w.y;
     } else {
