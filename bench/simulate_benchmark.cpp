@@ -52,6 +52,7 @@ void RunLoop(benchmark::State& state,
     benchmark::DoNotOptimize(recording.displacement.data());
   }
   if (!summary.IsSolutionUsable()) state.SkipWithError(summary.message.c_str());
+  if (integrator.sparse()) state.SetLabel(integrator.sparse_status());
   const double steps = integrator.options().steps;
   state.counters["steps"] = steps;
   state.counters["modal"] = integrator.modal() ? 1.0 : 0.0;
@@ -200,6 +201,7 @@ void BM_Imported10kDofs(benchmark::State& state) {
   Eigen::VectorXd force = Eigen::VectorXd::Zero(model.dofs());
   force[model.dofs() - 1] = 1.0;
   SimulationSummary summary;
+  std::string label;
   for (auto _ : state) {
     StaticSolveSummary static_summary;
     const State initial{SolveStatic(model, force, StaticSolveOptions{}, &static_summary),
@@ -209,8 +211,10 @@ void BM_Imported10kDofs(benchmark::State& state) {
     recording.dofs = {model.dofs() / 2, model.dofs() - 1};
     summary = integrator.Run(initial, ExternalLoad{}, &recording);
     benchmark::DoNotOptimize(recording.displacement.data());
+    label = integrator.sparse_status();
   }
   if (!summary.IsSolutionUsable()) state.SkipWithError(summary.message.c_str());
+  state.SetLabel(label);
   state.counters["dofs"] = model.dofs();
   state.counters["newton_per_step"] = static_cast<double>(summary.newton_iterations) / options.steps;
   state.counters["peak_rss_MB"] = static_cast<double>(testing::PeakRssBytes()) / (1024.0 * 1024.0);

@@ -8,6 +8,7 @@ pkg_check_modules(MATIO REQUIRED IMPORTED_TARGET GLOBAL matio)
 pkg_check_modules(HDF5 REQUIRED IMPORTED_TARGET GLOBAL hdf5)
 find_package(ZLIB REQUIRED)  # .mat structure checks inflate compressed variables
 find_package(GSL REQUIRED)
+find_package(METIS REQUIRED)  # cmake/FindMETIS.cmake
 find_package(NLopt REQUIRED)
 find_package(tomlplusplus REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)

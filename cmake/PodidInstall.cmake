@@ -15,5 +15,5 @@ configure_package_config_file(cmake/podidConfig.cmake.in
 write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/podidConfigVersion.cmake
   COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/podidConfig.cmake
-  ${CMAKE_CURRENT_BINARY_DIR}/podidConfigVersion.cmake
+  ${CMAKE_CURRENT_BINARY_DIR}/podidConfigVersion.cmake ${CMAKE_CURRENT_SOURCE_DIR}/cmake/FindMETIS.cmake
   DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/podid)

@@ -4,7 +4,7 @@
 set -euo pipefail
 packages=(
   g++ cmake ninja-build pkg-config git
-  libeigen3-dev libspectra-dev libfftw3-dev libgsl-dev libnlopt-cxx-dev libmatio-dev libhdf5-dev zlib1g-dev
+  libeigen3-dev libspectra-dev libmetis-dev libfftw3-dev libgsl-dev libnlopt-cxx-dev libmatio-dev libhdf5-dev zlib1g-dev
   libtomlplusplus-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox python3 python3-numpy python3-scipy python3-pywt

@@ -14,6 +14,8 @@
 #include "newmark_kernels.hpp"
 #include "newmark_modal.hpp"
 #include "podid/core/error.hpp"
+#include "sparse_ordering.hpp"
+#include "sparse_step.hpp"
 
 namespace podid {
 namespace {
@@ -67,40 +69,52 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
   // indices are already permuted indices.
   nonlinear_ = model.nonlinear();
   sparse_ = options.type == IntegratorType::kModifiedNewmark && n_ > options.dense_dof_limit;
+  coefficients_ = {a0_, a1_, a2_, a3_, a4_, a5_, dt, g, options.max_displacement};
+  v0_velocity_ = 1.0 - g / b;
+  v0_acceleration_ = dt * (1.0 - g / (2.0 * b));
+  // The Newmark update of the condensed paths, dense and sparse.
+  update_ = internal::SelectUpdateKernel(options.cpu_dispatch);
 
   if (sparse_) {
     // No n x n dense matrix: M, C, K stay sparse and S_b is factorised once
-    // (sparse LDL^T, fill-reducing ordering). eqs. 28-29: H = S_b^-1 S_ba
-    // (n_b x n_a) and Shat = S_a - S_ab H, both computed once.
+    // (sparse LDL^T). eqs. 28-29: H = S_b^-1 S_ba (n_b x n_a) and
+    // Shat = S_a - S_ab H, both computed once.
+    auto s_of = [&] {
+      Eigen::SparseMatrix<double> s =
+          a0_ * mass_sparse_ + a1_ * damping_sparse_ + stiffness_sparse_;
+      s.makeCompressed();
+      return s;
+    };
+    // The `b` dofs in the order of S_b's factor (nested dissection, then the
+    // elimination tree level by level: sparse_ordering.hpp), applied to the
+    // integrator's permutation so that the step permutes nothing.
+    const internal::SparseOrdering ordering = internal::ChainBreakingOrdering(
+        Eigen::SparseMatrix<double>(s_of().bottomRightCorner(nb_, nb_)));
+    const std::vector<int> b(perm_.begin() + na_, perm_.end());
+    for (int k = 0; k < nb_; ++k) perm_[na_ + k] = b[ordering.order[k]];
+    for (int k = 0; k < n_; ++k) inv_perm_[perm_[k]] = k;
+    mass_sparse_ = permute(model.mass());
+    damping_sparse_ = permute(model.damping());
+    stiffness_sparse_ = permute(model.stiffness());
+    const Eigen::SparseMatrix<double> s = s_of();
     mass_ldlt_.compute(mass_sparse_);
     PODID_CHECK_MSG(mass_ldlt_.info() == Eigen::Success, "M must be positive definite");
-    Eigen::SparseMatrix<double> s = a0_ * mass_sparse_ + a1_ * damping_sparse_ + stiffness_sparse_;
-    s.makeCompressed();
-    const Eigen::SparseMatrix<double> sbb = s.bottomRightCorner(nb_, nb_);
-    sbb_ldlt_.compute(sbb);
-    PODID_CHECK_MSG(sbb_ldlt_.info() == Eigen::Success, "S_b must be positive definite");
-    sbb_diagonal_ = sbb_ldlt_.vectorD();
-    sbb_permutation_ = sbb_ldlt_.permutationP().indices();
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower,
+                                Eigen::NaturalOrdering<int>>
+        sbb_ldlt(s.bottomRightCorner(nb_, nb_));
+    PODID_CHECK_MSG(sbb_ldlt.info() == Eigen::Success, "S_b must be positive definite");
+    const Eigen::SparseMatrix<double> lower =
+        sbb_ldlt.matrixL().nestedExpression().triangularView<Eigen::StrictlyLower>();
+    sparse_step_ = std::make_shared<const internal::SparseStep>(mass_sparse_, damping_sparse_, na_,
+                                                                lower, sbb_ldlt.vectorD());
+    std::ostringstream status;
+    status << ordering.method << ": elimination tree of height " << ordering.tree_height << " for "
+           << nb_ << " rows, " << lower.nonZeros() << " nonzeros below L's diagonal";
+    sparse_status_ = status.str();
     modal_status_ = "not used: sparse path";
     sab_sparse_ = s.topRightCorner(na_, nb_);
-    // Row-major copies for the step's products (see the header).
-    std::vector<Eigen::Triplet<double>> mc;
-    mc.reserve(static_cast<std::size_t>(mass_sparse_.nonZeros() + damping_sparse_.nonZeros()));
-    for (int j = 0; j < n_; ++j) {
-      for (Eigen::SparseMatrix<double>::InnerIterator it(mass_sparse_, j); it; ++it)
-        mc.emplace_back(it.row(), j, it.value());
-      for (Eigen::SparseMatrix<double>::InnerIterator it(damping_sparse_, j); it; ++it)
-        mc.emplace_back(it.row(), n_ + j, it.value());
-    }
-    mc_rows_.resize(n_, 2 * n_);
-    mc_rows_.setFromTriplets(mc.begin(), mc.end());
-    mc_rows_.makeCompressed();
-    sbb_lower_cols_ = sbb_ldlt_.matrixL().nestedExpression().triangularView<Eigen::StrictlyLower>();
-    sbb_lower_cols_.makeCompressed();
-    sbb_lower_rows_ = sbb_lower_cols_;
-    sbb_lower_rows_.makeCompressed();
     const Eigen::MatrixXd sba = Eigen::MatrixXd(s.bottomLeftCorner(nb_, na_));
-    h_ = sbb_ldlt_.solve(sba);
+    h_ = sbb_ldlt.solve(sba);
     shat_ = Eigen::MatrixXd(s.topLeftCorner(na_, na_)) - sab_sparse_ * h_;
     return;
   }
@@ -129,7 +143,6 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     h_ = sbb_inv_ * s_.bottomLeftCorner(nb_, na_);
     shat_ = s_.topLeftCorner(na_, na_) - sab_ * h_;
     multiply_small_ = internal::SelectMultiplyKernel(options.cpu_dispatch);
-    update_ = internal::SelectUpdateKernel(options.cpu_dispatch);
     // One product per step gives both: [bhat; y] = T [M, C] [u1; u2].
     Eigen::MatrixXd mc(n_, 2 * n_);
     mc << mass_, damping_;
@@ -143,9 +156,6 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
       shat_scalar_ = shat_(0, 0);
     }
   }
-  coefficients_ = {a0_, a1_, a2_, a3_, a4_, a5_, dt, g, options.max_displacement};
-  v0_velocity_ = 1.0 - g / b;
-  v0_acceleration_ = dt * (1.0 - g / (2.0 * b));
   if (options.type != IntegratorType::kModifiedNewmark) {
     modal_status_ = "not used: full Newton";
   } else if (!options.modal) {
@@ -162,18 +172,13 @@ NewmarkWorkspace::NewmarkWorkspace(const NewmarkIntegrator& integrator) {
   const int n = integrator.n_, na = integrator.na_;
   z.setZero(3 * n);
   for (Eigen::VectorXd* v : {&x_new, &rhs, &r, &dx}) v->setZero(n);
-  if (!integrator.sparse_ && integrator.options_.type == IntegratorType::kModifiedNewmark)
-    u.setZero(2 * n);
+  if (integrator.options_.type == IntegratorType::kModifiedNewmark) u.setZero(2 * n);
   if (integrator.modal_) {
     const int n_pad = integrator.modal_->n_pad;
     modal_state.setZero(3 * n_pad);
     for (Eigen::VectorXd* v : {&modal_d, &modal_p, &modal_load_next}) v->setZero(n_pad);
     modal_pa_lanes.setZero(4 * na);
     for (Eigen::VectorXd* v : {&da, &pa, &delta, &load_a}) v->setZero(na);
-  }
-  if (integrator.sparse_) {
-    u.setZero(2 * n);
-    y.setZero(integrator.nb_);
   }
   for (Eigen::VectorXd* v : {&xa, &xa_n, &va, &fa, &ra, &dxa, &xa_trial}) v->setZero(na);
   ka.setZero(na, na);
@@ -200,45 +205,14 @@ bool NewmarkIntegrator::StepModified(NewmarkWorkspace& w, bool has_load, int* it
                                      double* residual) const {
   if (sparse_) {
     // rhs = M u1 + C u2 + g (eq. 23's known part), y = S_b^-1 rhs_b and
-    // bhat = rhs_a - S_ab y; w.rhs becomes [bhat; y] as in the dense path.
-    const double dt = options_.step_s, g = options_.gamma, b = options_.beta;
-    const auto x = w.z.head(n_), v = w.z.segment(n_, n_), acc = w.z.tail(n_);
-    w.u.head(n_) = a0_ * x + a2_ * v + a3_ * acc;
-    w.u.tail(n_) = a1_ * x + (g / b - 1.0) * v + (dt * (g / (2.0 * b) - 1.0)) * acc;
-    // [M, C] [u1; u2] row by row: a gather per row, where the column-major
-    // products scattered into rhs (a chain through memory per entry).
-    w.rhs.noalias() = mc_rows_ * w.u;
-    if (has_load) AddLoad(w, w.rhs);
-    // y = S_b^-1 rhs_b with the factor P^T L D L^T P, permutations done here:
-    // Eigen's in-place permutation allocates a mask.
-    const Eigen::VectorXi& p = sbb_permutation_;
-    const auto rhs_b = w.rhs.tail(nb_);
-    if (p.size() == 0) {
-      w.y = rhs_b;
-    } else {
-      for (int i = 0; i < nb_; ++i) w.y[p[i]] = rhs_b[i];
+    // bhat = rhs_a - S_ab y: w.rhs becomes [bhat; y] as in the dense path.
+    // Run() keeps w.u = [u1; u2] of the current state (fused with the update).
+    if (has_load) {
+      w.rhs.setZero();
+      AddLoad(w, w.rhs);
     }
-    // L D L^T y' = y, each triangle as dot products: L by its rows, L^T by
-    // L's columns (unit diagonals). Eigen's column-major L solve scatters.
-    // y_i -= (outer vector i of t) . y, t a compressed strictly triangular factor.
-    const auto subtract = [&w](const auto& t, int i) {
-      const int* index = t.innerIndexPtr();
-      const double* value = t.valuePtr();
-      double sum = w.y[i];
-      for (int k = t.outerIndexPtr()[i]; k < t.outerIndexPtr()[i + 1]; ++k)
-        sum -= value[k] * w.y[index[k]];
-      w.y[i] = sum;
-    };
-    for (int i = 0; i < nb_; ++i) subtract(sbb_lower_rows_, i);
-    w.y.array() /= sbb_diagonal_.array();
-    for (int i = nb_ - 1; i >= 0; --i) subtract(sbb_lower_cols_, i);
-    if (p.size() == 0) {
-      w.rhs.tail(nb_) = w.y;
-    } else {
-      for (int i = 0; i < nb_; ++i) w.rhs[na_ + i] = w.y[p[i]];
-      w.y = w.rhs.tail(nb_);
-    }
-    if (na_ > 0) w.rhs.head(na_).noalias() -= sab_sparse_ * w.y;
+    sparse_step_->Apply(w.u.data(), has_load, w.rhs.data());
+    if (na_ > 0) w.rhs.head(na_).noalias() -= sab_sparse_ * w.rhs.tail(nb_);
   } else {
     // y = S_b^-1 rhs_b and bhat = rhs_a - S_ab y (the right side of eq. 29 at
     // x_b = y): w.rhs = [bhat; y] = T [M, C] [u1; u2] (see the header).
@@ -485,7 +459,7 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
   const bool dense_condensed = options_.type == IntegratorType::kModifiedNewmark && !sparse_;
   // One nonlinear dof on the dense path: the fused step (StepDenseScalar).
   const bool dense_scalar = dense_condensed && na_ == 1;
-  if (dense_condensed) {
+  if (dense_condensed || sparse_) {
     w.u.head(n_) = a0_ * x + a2_ * v + a3_ * acc;
     w.u.tail(n_) = a1_ * x + a4_ * v + a5_ * acc;
   }
@@ -517,7 +491,7 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
       summary.failure_residual = residual;
       break;
     }
-    if (dense_condensed && !dense_scalar) {
+    if ((dense_condensed && !dense_scalar) || sparse_) {
       // The bounds check, the Newmark update and the next step's u in one kernel.
       bounded = update_(coefficients_, n_, nullptr, nullptr, 0.0, w.x_new.data(), w.z.data(), w.u.data());
     } else if (!dense_condensed) {

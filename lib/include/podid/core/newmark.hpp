@@ -166,6 +166,7 @@ class NewmarkIntegrator;
 
 namespace internal {
 struct ModalStep;
+struct SparseStep;
 struct ModalRunner;
 /// The Newmark relations' coefficients (above) and the divergence bound, as
 /// the dense condensed path's update kernel takes them (newmark_kernels.hpp).
@@ -193,7 +194,6 @@ class NewmarkWorkspace {
   Eigen::SparseMatrix<double> load_pattern;
   Eigen::MatrixXd load_y, load_bhat;  ///< n_b x K, n_a x K
   Eigen::VectorXd load_now;
-  Eigen::VectorXd y;       ///< sparse path: S_bb^-1 rhs_b (dim n_b)
   Eigen::VectorXd u;       ///< condensed paths: [u1; u2], the operands of M and C (dim 2 n)
   Eigen::MatrixXd ka, ca;  ///< tangents of the nonlinear forces (n_a x n_a)
   Eigen::MatrixXd jac, jac_a;
@@ -223,6 +223,10 @@ class NewmarkIntegrator {
   /// modal_status() says why or why not.
   bool modal() const { return modal_ != nullptr; }
   const std::string& modal_status() const { return modal_status_; }
+  /// The sparse path's ordering of S_bb's factor: method, elimination tree
+  /// height (the triangular solves' dependency chain) and nonzeros; empty on
+  /// the dense path.
+  const std::string& sparse_status() const { return sparse_status_; }
   int nonlinear_dofs() const { return na_; }
   /// New coefficients of the nonlinear elements (NonlinearForces::
   /// SetCoefficients): no matrix depends on them, nothing is refactored.
@@ -279,7 +283,7 @@ class NewmarkIntegrator {
   Eigen::MatrixXd sbb_inv_, sab_, h_, shat_, condensed_mc_;
   /// out = A u for condensed_mc_ (column-major rows x cols): SSE2 or AVX2 + FMA kernel.
   void (*multiply_small_)(const double* a, int rows, int cols, const double* u, double* out) = nullptr;
-  /// The Newmark update of the dense condensed path (newmark_kernels.hpp):
+  /// The Newmark update of the condensed paths, dense and sparse (newmark_kernels.hpp):
   /// portable or AVX2, the same bits.
   bool (*update_)(const internal::NewmarkCoefficients& c, int n, const double* y, const double* h,
                   double x_a, double* x_new, double* z, double* u) = nullptr;
@@ -295,15 +299,11 @@ class NewmarkIntegrator {
   bool sparse_ = false;
   // Permuted M, C, K (always; the dense copies above exist only on the dense path).
   Eigen::SparseMatrix<double> mass_sparse_, damping_sparse_, stiffness_sparse_, sab_sparse_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> sbb_ldlt_, mass_ldlt_;
-  Eigen::VectorXd sbb_diagonal_;    ///< D of S_bb's factor
-  Eigen::VectorXi sbb_permutation_;  ///< its fill-reducing permutation (may be empty)
-  // The step's products as dot products, a gather per row instead of
-  // Eigen's scatter per entry for column-major operands (300 elements: 17.6
-  // -> 14.0 us per step, BM_Beam1sElements/300): [M, C] (n x 2n) by rows,
-  // the strictly lower part of S_bb's factor L by rows and by columns.
-  Eigen::SparseMatrix<double, Eigen::RowMajor> mc_rows_, sbb_lower_rows_;
-  Eigen::SparseMatrix<double> sbb_lower_cols_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> mass_ldlt_;
+  /// [M, C] u and y = S_bb^-1 rhs_b by rows (sparse_step.hpp); the `b` dofs
+  /// are in the order of S_bb's factor (sparse_ordering.hpp).
+  std::shared_ptr<const internal::SparseStep> sparse_step_;
+  std::string sparse_status_;
   NonlinearForces nonlinear_;  ///< with `local` indices = permuted indices
   /// The modal path (dense condensed, proportional damping), or null.
   std::shared_ptr<const internal::ModalStep> modal_;
