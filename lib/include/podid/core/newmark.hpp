@@ -298,7 +298,9 @@ class NewmarkIntegrator {
   // Sparse path (modified method, n > kDenseDofLimit).
   bool sparse_ = false;
   // Permuted M, C, K (always; the dense copies above exist only on the dense path).
-  Eigen::SparseMatrix<double> mass_sparse_, damping_sparse_, stiffness_sparse_, sab_sparse_;
+  Eigen::SparseMatrix<double> mass_sparse_, damping_sparse_, stiffness_sparse_;
+  /// S_ab (n_a x n_b) by rows: a product over its nonzeros, not over n_b columns.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> sab_sparse_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> mass_ldlt_;
   /// [M, C] u and y = S_bb^-1 rhs_b by rows (sparse_step.hpp); the `b` dofs
   /// are in the order of S_bb's factor (sparse_ordering.hpp).
