@@ -18,9 +18,11 @@
 //    eq. 28. Both solve the same equations, so they agree to the Newton tolerance.
 //    Up to kDenseDofLimit dofs the condensation is dense (S_b^-1 precomputed,
 //    one n x 3n product per step: fastest for small models). Above it, M, C
-//    and S_bb are sparse and S_bb is factorised once (SimplicialLDLT, AMD
-//    ordering): no dense n x n matrix is formed, set-up and a step cost
-//    O(nnz(M) + nnz(C) + nnz(L)), linear in n for banded models.
+//    and S_bb are sparse and S_bb is factorised once (SimplicialLDLT in
+//    METIS's nested-dissection order, listed level by level so that the
+//    triangular solves' rows overlap: sparse_status()): no dense n x n matrix
+//    is formed, set-up and a step cost O(nnz(M) + nnz(C) + nnz(L)), linear in
+//    n for banded models.
 //  The full-Newton reference integrator is dense (n x n jacobian) at any size.
 //  On the dense condensed path, when the undamped modes also diagonalise C
 //  (proportional damping: Rayleigh, or none), the linear part is integrated
