@@ -15,13 +15,13 @@ namespace {
 // two threads interleaving that would leave METIS's handler installed. Orders
 // are computed once per integrator, so one at a time costs nothing.
 std::mutex metis_mutex;
-constexpr const char* kNoEdges = "no off-diagonal entries";
 
-// METIS's nested dissection of the graph of `a` (diagonal left out), or false
-// with the reason.
+// METIS's nested dissection of the graph of `a` (diagonal left out), or the
+// natural order when the graph has no edges (nothing to fill, no chain); with
+// *method saying which. False with the reason in *method if METIS fails.
 bool NestedDissection(const Eigen::SparseMatrix<double>& a,
                       std::vector<int>* order,
-                      std::string* why) {
+                      std::string* method) {
   const int n = static_cast<int>(a.cols());
   std::vector<idx_t> xadj(static_cast<std::size_t>(n) + 1, 0), adjncy;
   adjncy.reserve(static_cast<std::size_t>(a.nonZeros()));
@@ -31,8 +31,10 @@ bool NestedDissection(const Eigen::SparseMatrix<double>& a,
     xadj[static_cast<std::size_t>(j) + 1] = static_cast<idx_t>(adjncy.size());
   }
   if (adjncy.empty()) {
-    *why = kNoEdges;
-    return false;
+    order->resize(static_cast<std::size_t>(n));
+    std::iota(order->begin(), order->end(), 0);
+    *method = "natural (no off-diagonal entries)";
+    return true;
   }
   idx_t options[METIS_NOPTIONS];
   METIS_SetDefaultOptions(options);
@@ -46,11 +48,12 @@ bool NestedDissection(const Eigen::SparseMatrix<double>& a,
                           iperm.data());
   }
   if (status != METIS_OK) {
-    *why = "METIS_NodeND returned " + std::to_string(status);
+    *method = "METIS_NodeND returned " + std::to_string(status);
     return false;
   }
   // METIS: row k of the permuted matrix is row perm[k] of `a`.
   order->assign(perm.begin(), perm.end());
+  *method = "METIS nested dissection";
   return true;
 }
 
@@ -100,20 +103,13 @@ SparseOrdering LevelSorted(const Eigen::SparseMatrix<double>& a, std::vector<int
 SparseOrdering ChainBreakingOrdering(const Eigen::SparseMatrix<double>& a) {
   const int n = static_cast<int>(a.cols());
   std::vector<int> order;
-  std::string why, method;
-  if (NestedDissection(a, &order, &why)) {
-    method = "METIS nested dissection";
-  } else if (why == kNoEdges) {
-    // Nothing to fill and nothing to chain.
-    order.resize(static_cast<std::size_t>(n));
-    std::iota(order.begin(), order.end(), 0);
-    method = "natural (" + why + ")";
-  } else {
+  std::string method;
+  if (!NestedDissection(a, &order, &method)) {
     Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> p;
     Eigen::AMDOrdering<int>()(a, p);
     // Eigen's ordering permutation maps a new position to the old row.
     order.assign(p.indices().data(), p.indices().data() + n);
-    method = "AMD (" + why + ")";
+    method = "AMD (" + method + ")";
   }
   SparseOrdering result = LevelSorted(a, std::move(order));
   result.method = std::move(method);
