@@ -213,6 +213,26 @@ template <int kNa, bool kVector>
   const double* __restrict const sensors = w.modal_sensors.data();
   double* __restrict const out = w.modal_out.data();
   auto record = [&](const double* v, double* column0, int row) {
+    // Up to 8 sensors in the AVX2 build: modes outer, both row blocks' sums in
+    // registers (the same additions in the same order), 3 of the reference
+    // step's 39 ns; the SSE2 build would spill them (0.7x).
+    if (kVector && sensor_rows <= 8) {
+      V4 acc0 = {0.0, 0.0, 0.0, 0.0}, acc1 = {0.0, 0.0, 0.0, 0.0}, column;
+      const bool two = sensor_rows == 8;
+      for (int i = 0; i < n; ++i) {
+        const double value = v[i];
+        const double* at = sensors + static_cast<std::ptrdiff_t>(i) * sensor_rows;
+        __builtin_memcpy(&column, at, sizeof column);
+        acc0 += column * value;
+        if (two) {
+          __builtin_memcpy(&column, at + 4, sizeof column);
+          acc1 += column * value;
+        }
+      }
+      for (int k = 0; k < n_recorded; ++k)
+        column0[static_cast<std::ptrdiff_t>(k) * rows + row] = k < 4 ? acc0[k] : acc1[k - 4];
+      return;
+    }
     for (int r = 0; r < sensor_rows; r += 4) {
       V4 acc = {0.0, 0.0, 0.0, 0.0}, column;
       for (int i = 0; i < n; ++i) {
@@ -221,7 +241,8 @@ template <int kNa, bool kVector>
       }
       __builtin_memcpy(out + r, &acc, sizeof acc);
     }
-    for (int k = 0; k < n_recorded; ++k) column0[static_cast<std::ptrdiff_t>(k) * rows + row] = out[k];
+    for (int k = 0; k < n_recorded; ++k)
+      column0[static_cast<std::ptrdiff_t>(k) * rows + row] = out[k];
   };
   double* const rec_x = recording->displacement.data();
   double* const rec_v = recording->record_velocity ? recording->velocity.data() : nullptr;
