@@ -488,11 +488,12 @@ void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, Evaluatio
     w.pod = std::make_unique<PodSolver>(ResponsePodOptions());
   }
   if (condition) {
-    w.pod_result = w.pod->Compute(conditioned.sensors);
+    w.pod->Compute(conditioned.sensors);
   } else {
-    w.pod_result = w.pod->ComputeFromSamples(w.simulator->sensor_values());
+    w.pod->ComputeFromSamples(w.simulator->sensor_values());
   }
-  PodResult& pod = w.pod_result;  // copy-assigned: its buffers are reused
+  w.pod->SwapResult(&w.pod_result);  // no copy; the solver refills the old buffers next time
+  PodResult& pod = w.pod_result;
   result->pod_method = pod.method;
   if (pod.IsDegenerate()) return fail("simulated response: " + pod.message);  // e.g. no excitation
   AlignToReference(measured_pod_, &pod, &w.alignment);

@@ -44,6 +44,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "podid/core/time_series.hpp"
@@ -151,6 +152,9 @@ class PodSolver {
   const PodResult& ComputeFromSamples(const Eigen::Ref<const Eigen::MatrixXd>& values);
 
   const PodResult& result() const { return result_; }
+  /// Exchanges the result's buffers with *other's, no copy: *other receives
+  /// the last result, and the next Compute() refills the buffers it gave.
+  void SwapResult(PodResult* other) noexcept { std::swap(result_, *other); }
   const PodOptions& options() const { return options_; }
 
  private:
