@@ -261,6 +261,23 @@ TEST(Pod, ReusedSolverGivesTheSameResult) {
   }
 }
 
+// SwapResult hands the result over without a copy; the solver's next
+// Compute refills the buffers it got back and leaves the taken result alone.
+TEST(Pod, SwappedResultIsTheComputedOneAndStaysIntact) {
+  const Eigen::MatrixXd x = ReadSnapshots("measured_knl50_T0.1.csv");
+  const PodResult expected = ComputePod(x);
+  PodSolver solver;
+  solver.Compute(x);
+  PodResult kept;
+  solver.SwapResult(&kept);
+  EXPECT_EQ(solver.result().modes(), 0);  // the solver holds kept's former (empty) buffers
+  solver.Compute(RandomMatrix(6, 501, 4));
+  EXPECT_TRUE(ExpectMatricesNear(kept.poms, expected.poms, 0.0));
+  EXPECT_TRUE(ExpectMatricesNear(kept.time_modes, expected.time_modes, 0.0));
+  EXPECT_TRUE(ExpectMatricesNear(kept.singular_values, expected.singular_values, 0.0));
+  EXPECT_EQ(solver.result().samples, 501);
+}
+
 // ------------------------------------------------------- paper's figures
 
 TEST(Pod, FirstPomOfMeasuredDataHoldsMoreThan60PercentOfEnergy) {
