@@ -338,24 +338,36 @@ TEST(NewmarkModalTest, LinearModelWithoutElementsEqualsTheDensePath) {
 
 TEST(NewmarkModalTest, DispatchedLoopGivesThePortableBits) {
   // The AVX2 build of the loop has no FMA in its target: the same roundings
-  // in the same order, so the same bits (as the dense update kernels).
+  // in the same order, so the same bits (as the dense update kernels). Its
+  // record has its own loop for up to 8 sensors (one or two row blocks in
+  // registers): 3, 6 (the case's) and 8 sensors, and 12 through the general loop.
   const CaseSpec spec = ReferenceCase({"force.type=\"harmonic\"", "force.node=3", "force.amplitude=1",
                                        "force.frequency=30"});
   const BeamModel model = BeamModel::Build(spec);
   NewmarkOptions options = ModalOptions(spec);
-  Recording a, b;
-  a.dofs = b.dofs = SensorDofs(spec);
-  a.record_velocity = b.record_velocity = true;
   const State initial = InitialState(spec, model);
   const ExternalLoad load = BuildLoad(spec, model);
   const NewmarkIntegrator dispatched(model, options);
   options.cpu_dispatch = false;
   const NewmarkIntegrator portable(model, options);
   ASSERT_TRUE(dispatched.modal() && portable.modal()) << portable.modal_status();
-  ASSERT_TRUE(dispatched.Run(initial, load, &a).IsSolutionUsable());
-  ASSERT_TRUE(portable.Run(initial, load, &b).IsSolutionUsable());
-  EXPECT_TRUE(a.displacement == b.displacement);
-  EXPECT_TRUE(a.velocity == b.velocity);
+  std::vector<int> all;
+  for (int d = 0; d < model.dofs(); ++d) all.push_back(d);
+  ASSERT_EQ(all.size(), 12u);
+  for (const std::vector<int>& dofs :
+       {SensorDofs(spec), std::vector<int>(all.begin(), all.begin() + 3),
+        std::vector<int>(all.begin(), all.begin() + 8), all}) {
+    SCOPED_TRACE(std::to_string(dofs.size()) + " sensors");
+    Recording a, b;
+    a.dofs = b.dofs = dofs;
+    a.record_velocity = b.record_velocity = true;
+    a.record_acceleration = b.record_acceleration = dofs.size() == 8;
+    ASSERT_TRUE(dispatched.Run(initial, load, &a).IsSolutionUsable());
+    ASSERT_TRUE(portable.Run(initial, load, &b).IsSolutionUsable());
+    EXPECT_TRUE(a.displacement == b.displacement);
+    EXPECT_TRUE(a.velocity == b.velocity);
+    EXPECT_TRUE(a.acceleration == b.acceleration);
+  }
 }
 
 TEST(NewmarkModalTest, DivergenceIsReportedAtTheDensePathsStep) {
