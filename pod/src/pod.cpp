@@ -512,28 +512,9 @@ void AlignToReference(const PodResult& reference, PodResult* result, PodAlignmen
 
   PodResult& r = *result;
   const bool has_v = r.time_modes.cols() == k;
-  bool identity = true;
-  for (Index i = 0; i < k; ++i) identity = identity && order[static_cast<std::size_t>(i)] == i;
-  alignment->sign.assign(static_cast<std::size_t>(k), 1);
-  if (identity) {
-    // The usual case: modes already in the reference's order, only signs
-    // (in place, no copy of V).
-    for (Index i = 0; i < kr; ++i) {
-      if (reference.poms.col(i).dot(r.poms.col(i)) < 0.0) {
-        alignment->sign[static_cast<std::size_t>(i)] = -1;
-        r.poms.col(i) *= -1.0;
-        if (has_v) r.time_modes.col(i) *= -1.0;
-      }
-    }
-    double cumulative = 0.0;
-    for (Index i = 0; i < k; ++i) {
-      cumulative += r.energy_fraction(i);
-      r.cumulative_energy(i) = cumulative;
-    }
-    return;
-  }
   // new column i = old column order[i]: each cycle of the permutation by
-  // swaps of columns, in place (a copy of V was 1 % of an objective evaluation).
+  // swaps of columns, in place (a copy of V was 1 % of an objective
+  // evaluation); the usual identity order swaps nothing.
   std::vector<int>& done = alignment->sign;  // reused as "placed" flags, then the signs
   done.assign(static_cast<std::size_t>(k), 0);
   for (Index start = 0; start < k; ++start) {
