@@ -70,6 +70,29 @@ Eigen::VectorXi ProgrammePath(const Eigen::VectorXd& x, double lambda, const Eig
   return programme.Path();
 }
 
+// The same through PushLast: the first `pushed` columns one by one, the rest
+// at once, read frequency-major (strides 1, freqs) or time-major (a transposed
+// copy: strides times, 1), as the streamed ridge's two callers lay them out.
+Eigen::VectorXi PushLastPath(const Eigen::VectorXd& x,
+                             double lambda,
+                             const Eigen::MatrixXd& cost,
+                             Eigen::Index pushed,
+                             bool time_major,
+                             Eigen::Index* cells = nullptr) {
+  internal::RidgeProgramme programme(x, lambda, false);
+  programme.Reset(cost.cols());
+  for (Eigen::Index j = 0; j < pushed; ++j) programme.Push(cost.col(j).data());
+  const Eigen::Index rest = cost.cols() - pushed;
+  if (time_major) {
+    const Eigen::MatrixXd by_time = cost.rightCols(rest).transpose();
+    programme.PushLast(by_time.data(), rest, by_time.rows(), 1);
+  } else {
+    programme.PushLast(cost.col(pushed).data(), rest, 1, cost.rows());
+  }
+  if (cells != nullptr) *cells = programme.last_cells();
+  return programme.Path();
+}
+
 // The path's objective, sum cost + lambda sum dx^2, restarting at -1.
 double PathTotal(const Eigen::VectorXd& x, double lambda, const Eigen::MatrixXd& cost, const Eigen::VectorXi& path) {
   double total = 0.0;
@@ -114,6 +137,53 @@ TEST(RidgeProgramme, EqualsEveryPredecessorMinimisationExactlyWithTiesAndForbidd
     const Eigen::VectorXi path = ProgrammePath(x, lambda, cost);
     ASSERT_EQ(path, expected) << "trial " << trial << ", " << freqs << " frequencies, " << times
                               << " times, lambda " << lambda;
+    // PushLast (bounded) from any column, both layouts: bounds prune no
+    // optimal cell, and exact sums keep every tie as Push breaks it.
+    const Eigen::Index pushed = static_cast<Eigen::Index>(rng() % static_cast<unsigned>(times));
+    ASSERT_EQ(PushLastPath(x, lambda, cost, pushed, trial % 2 == 0), expected)
+        << "trial " << trial << ", PushLast after " << pushed << " of " << times << " columns";
+  }
+}
+
+TEST(RidgeProgramme, PushLastGivesPushsPathOnClearAndNoisyRidges) {
+  // Real costs as the ridge has them: -log|W| of a drifting Gaussian ridge
+  // (clear: the bounds skip most cells) plus noise of growing amplitude
+  // (noisy: weak bounds, most cells computed), in both layouts. The
+  // optimal cells and their totals are Push's own, so the paths are
+  // identical, not merely of equal total.
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (int trial = 0; trial < 60; ++trial) {
+    const Eigen::Index freqs = 30 + static_cast<Eigen::Index>(rng() % 130);
+    const Eigen::Index times = 50 + static_cast<Eigen::Index>(rng() % 300);
+    const Eigen::VectorXd x =
+        (Eigen::VectorXd::LinSpaced(freqs, 0.0, static_cast<double>(freqs - 1)) *
+         (std::log(2.0) / 24.0))
+            .array() +
+        std::log(5.0);
+    const double lambda = 1.0 + 30.0 * uniform(rng);
+    const double noise = trial % 3 == 0 ? 0.0 : trial % 3 == 1 ? 0.05 : 3.0;
+    Eigen::MatrixXd cost(freqs, times);
+    double centre = static_cast<double>(freqs) / 3.0;
+    for (Eigen::Index j = 0; j < times; ++j) {
+      centre = std::clamp(centre + 0.3 * (uniform(rng) - 0.5), 0.0, static_cast<double>(freqs - 1));
+      for (Eigen::Index k = 0; k < freqs; ++k) {
+        const double d = (static_cast<double>(k) - centre) / 6.0;
+        cost(k, j) = 0.5 * d * d + 0.002 * static_cast<double>(j) + noise * uniform(rng);
+      }
+    }
+    const Eigen::VectorXi expected = ProgrammePath(x, lambda, cost);
+    for (const bool time_major : {false, true}) {
+      Eigen::Index cells = 0;
+      ASSERT_EQ(PushLastPath(x, lambda, cost, 0, time_major, &cells), expected)
+          << "trial " << trial << ", noise " << noise << (time_major ? ", time-major" : "");
+      // A clear ridge keeps its bounds (2-45 % of the cells computed here;
+      // a bound short of the optimum would empty a column and fall back to all).
+      if (noise == 0.0) {
+        EXPECT_LT(cells, freqs * times / 2) << "trial " << trial;
+      }
+    }
+    EXPECT_EQ(PushLastPath(x, lambda, cost, times / 2, false), expected) << "trial " << trial;
   }
 }
 
@@ -143,8 +213,10 @@ TEST(RidgeProgramme, ReachesTheBruteForceOptimumOnRandomRealCosts) {
     }
     const double optimum = PathTotal(x, lambda, cost, BruteForcePath(x, lambda, cost));
     const double total = PathTotal(x, lambda, cost, ProgrammePath(x, lambda, cost));
+    const double last = PathTotal(x, lambda, cost, PushLastPath(x, lambda, cost, 0, false));
     ASSERT_TRUE(std::isfinite(optimum));
     EXPECT_NEAR(total, optimum, kRelative * optimum) << "trial " << trial;
+    EXPECT_NEAR(last, optimum, kRelative * optimum) << "trial " << trial << ", PushLast";
   }
 }
 

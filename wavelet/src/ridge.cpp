@@ -119,7 +119,7 @@ std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeO
   for (int r = 0; r < options.ridges; ++r) {
     internal::RidgeProgramme programme(x, lambda, options.method == RidgeMethod::kMaximum);
     programme.Reset(times);
-    for (Eigen::Index j = 0; j < times; ++j) programme.Push(cost.col(j).data());
+    programme.PushLast(cost.data(), times, 1, freqs);
     Eigen::VectorXi path = programme.Path();
     for (Eigen::Index j = 0; j < times && r + 1 < options.ridges; ++j) {
       if (path(j) < 0) continue;

@@ -48,7 +48,9 @@ RidgeProgramme::RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool max
 
 double RidgeProgramme::Bytes(Eigen::Index frequencies, Eigen::Index times, bool maximum) {
   const double cells = static_cast<double>(frequencies) * static_cast<double>(times);
-  return (maximum ? 0.0 : Width(frequencies) * cells) + 4.0 * static_cast<double>(times);
+  // Back-pointers, best_, and PushLast's lows_, lows_at_, rest_.
+  return (maximum ? 0.0 : Width(frequencies) * cells + 20.0 * static_cast<double>(times)) +
+         4.0 * static_cast<double>(times);
 }
 
 void RidgeProgramme::Reset(Eigen::Index times) {
@@ -60,6 +62,10 @@ void RidgeProgramme::Reset(Eigen::Index times) {
   back16_.resize(width_ == 2 ? cells : 0);
   back32_.resize(width_ == 4 ? cells : 0);
   best_.resize(static_cast<std::size_t>(times));
+  const std::size_t bounded = maximum_ ? 0 : static_cast<std::size_t>(times);
+  lows_.resize(bounded);
+  lows_at_.resize(bounded);
+  rest_.resize(bounded);
 }
 
 std::int64_t RidgeProgramme::Back(Eigen::Index k, Eigen::Index j) const {
@@ -100,25 +106,195 @@ void RidgeProgramme::Push(const double* cost, Eigen::Index stride) {
     prev_ = column.array() + floor;
     FillColumn(j, static_cast<std::uint32_t>(before));
   } else {
-    const std::size_t first = static_cast<std::size_t>(j * freqs);
-    if (width_ == 1) {
-      Relax(cost, stride, back8_.data() + first);
-    } else if (width_ == 2) {
-      Relax(cost, stride, back16_.data() + first);
-    } else {
-      Relax(cost, stride, back32_.data() + first);
-    }
+    RelaxInto<false>(cost, stride, j, Bounds{0, freqs - 1, 0, freqs - 1, 0.0, 0.0, kInf});
   }
   best_[static_cast<std::size_t>(j)] = Argmin(prev_);
+}
+
+void RidgeProgramme::PushLast(const double* cost,
+                              Eigen::Index count,
+                              Eigen::Index freq_stride,
+                              Eigen::Index time_stride) {
+  PODID_CHECK(count >= 1 && pushed_ + count == times_);
+  Push(cost, freq_stride);
+  last_cells_ = x_.size();
+  if (count == 1 || PushBounded(cost, count, freq_stride, time_stride)) return;
+  last_cells_ = count * x_.size();
+  for (Eigen::Index i = 1; i < count; ++i) Push(cost + i * time_stride, freq_stride);
+}
+
+template <bool kBounded>
+void RidgeProgramme::RelaxInto(const double* cost,
+                               Eigen::Index stride,
+                               Eigen::Index j,
+                               const Bounds& bounds) {
+  const std::size_t first = static_cast<std::size_t>(j * x_.size());
+  if (width_ == 1) {
+    Relax<kBounded>(cost, stride, back8_.data() + first, bounds);
+  } else if (width_ == 2) {
+    Relax<kBounded>(cost, stride, back16_.data() + first, bounds);
+  } else {
+    Relax<kBounded>(cost, stride, back32_.data() + first, bounds);
+  }
+}
+
+// PushLast's columns 1..count-1 (column 0 pushed), pruned by bounds:
+//  - rest_i = sum of the later columns' minimum costs, so total_i(q) + rest_i
+//    is at most the cost of the best complete path through (q, i);
+//  - bound = the cost of a complete path (the smaller of the columns'
+//    argmins and a greedy walk), plus a rounding allowance.
+// A cell whose total + rest exceeds the bound lies on no optimal path, nor
+// does its predecessor on one (a predecessor's total + rest is at most its
+// successor's), so the optimal path and its totals are those of Push; a
+// cell not computed at all has cost + min prev + rest above the bound, and a
+// column's q beyond the reach of the candidates [p_first, p_last] by
+// lambda dx^2 > bound - (lowest cost + min prev + rest) has too.
+// False, with the programme back after column 0, if the bounds do not apply
+// (a column with no finite cost: the path restarts there) or some column
+// kept no cell (impossible unless the allowance is short).
+bool RidgeProgramme::PushBounded(const double* cost,
+                                 Eigen::Index count,
+                                 Eigen::Index freq_stride,
+                                 Eigen::Index time_stride) {
+  if (maximum_ || lambda_ == 0.0) return false;
+  const Eigen::Index freqs = x_.size(), j0 = pushed_ - 1;
+  const int start = best_[static_cast<std::size_t>(j0)];
+  if (start < 0) return false;
+  // The columns' minima (first argmin), walking the contiguous direction.
+  double* lows = lows_.data();
+  int* at = lows_at_.data();
+  std::fill(lows + 1, lows + count, kInf);
+  std::fill(at + 1, at + count, -1);
+  const auto column = [&](Eigen::Index i) { return cost + i * time_stride; };
+  if (time_stride < freq_stride) {
+    for (Eigen::Index k = 0; k < freqs; ++k) {
+      const double* c = cost + k * freq_stride;
+      for (Eigen::Index i = 1; i < count; ++i) {
+        const double value = c[i * time_stride];
+        at[i] = value < lows[i] ? static_cast<int>(k) : at[i];
+        lows[i] = value < lows[i] ? value : lows[i];
+      }
+    }
+  } else {
+    for (Eigen::Index i = 1; i < count; ++i) {
+      const double* c = column(i);
+      for (Eigen::Index k = 0; k < freqs; ++k) {
+        if (c[k * freq_stride] < lows[i]) {
+          lows[i] = c[k * freq_stride];
+          at[i] = static_cast<int>(k);
+        }
+      }
+    }
+  }
+  double* rest = rest_.data();
+  rest[count - 1] = 0.0;
+  double magnitude = 1.0 + std::abs(prev_(start));
+  for (Eigen::Index i = count - 1; i >= 1; --i) {
+    if (!(lows[i] < kInf)) return false;
+    rest[i - 1] = rest[i] + lows[i];
+    magnitude += std::abs(lows[i]);
+  }
+  // Two complete paths from column 0's best: the columns' argmins, and a
+  // greedy walk (each step the cheapest within 2 bins of the last, penalty included).
+  const double lambda = lambda_;
+  const double* xs = x_.data();
+  double by_argmin = prev_(start), greedy = prev_(start);
+  Eigen::Index k_argmin = start, k_greedy = start;
+  for (Eigen::Index i = 1; i < count; ++i) {
+    const double dx = xs[at[i]] - xs[k_argmin];
+    by_argmin += lows[i] + lambda * dx * dx;
+    k_argmin = at[i];
+    const double* c = column(i);
+    double step = kInf;
+    Eigen::Index to = k_greedy;
+    for (Eigen::Index k = std::max<Eigen::Index>(0, k_greedy - 2);
+         k <= std::min(freqs - 1, k_greedy + 2); ++k) {
+      const double d = xs[k] - xs[k_greedy];
+      const double value = c[k * freq_stride] + lambda * d * d;
+      if (value < step) {
+        step = value;
+        to = k;
+      }
+    }
+    greedy += step;
+    k_greedy = to;
+  }
+  const double complete = std::min(by_argmin, greedy);
+  if (!std::isfinite(complete)) return false;
+  // Every total here is a sum of at most `count` + 1 terms, each of size
+  // below `magnitude` (path costs and penalties alike within the complete
+  // path's cost); each is rounded to eps relative: 16 count eps magnitude
+  // covers the totals' and the bound's own errors several times over.
+  const double bound = complete + 16.0 * static_cast<double>(count + 1) *
+                                      std::numeric_limits<double>::epsilon() *
+                                      (magnitude + std::abs(complete));
+  first_totals_ = prev_;
+  // Column 0's survivors.
+  Eigen::Index p_first = freqs, p_last = -1;
+  for (Eigen::Index p = 0; p < freqs; ++p) {
+    if (prev_(p) + rest[0] <= bound) {
+      p_first = std::min(p_first, p);
+      p_last = p;
+    } else {
+      prev_(p) = kInf;
+    }
+  }
+  if (p_last < 0) {  // column 0 kept no cell
+    prev_ = first_totals_;
+    return false;
+  }
+  double floor = prev_(start);
+  for (Eigen::Index i = 1; i < count; ++i) {
+    const Eigen::Index j = j0 + i;
+    pushed_ = j + 1;
+    // The reach: no q beyond lambda dx^2 > bound - (lowest cost + floor + rest).
+    const double budget = bound - (lows[i] + floor + rest[i]);
+    Eigen::Index q_first = p_first, q_last = p_last;
+    while (q_first > 0 &&
+           lambda * (xs[p_first] - xs[q_first - 1]) * (xs[p_first] - xs[q_first - 1]) <= budget)
+      --q_first;
+    while (q_last + 1 < freqs &&
+           lambda * (xs[q_last + 1] - xs[p_last]) * (xs[q_last + 1] - xs[p_last]) <= budget)
+      ++q_last;
+    RelaxInto<true>(column(i), freq_stride, j,
+                    Bounds{p_first, p_last, q_first, q_last, floor, rest[i], bound});
+    last_cells_ += q_last - q_first + 1;
+    // Survivors, the new floor and the column's best (first argmin).
+    p_first = freqs;
+    p_last = -1;
+    floor = kInf;
+    int best = -1;
+    for (Eigen::Index q = q_first; q <= q_last; ++q) {
+      const double total = prev_(q);
+      if (total < kInf) {
+        p_first = std::min(p_first, q);
+        p_last = q;
+      }
+      if (total < floor) {
+        floor = total;
+        best = static_cast<int>(q);
+      }
+    }
+    if (best < 0) {  // nothing kept: back to column 0, unbounded
+      prev_ = first_totals_;
+      pushed_ = j0 + 1;
+      return false;
+    }
+    best_[static_cast<std::size_t>(j)] = best;
+  }
+  return true;
 }
 
 // One column of the envelope. Intersections z = num / den (den > 0) are
 // compared by cross-multiplying: no division on the stack's dependency chain.
 // Raw pointers: through the members, every store to the stack would reload
 // them (they may alias), 1.2x slower.
-template <typename Index>
-void RidgeProgramme::Relax(const double* cost, Eigen::Index stride, Index* back) {
-  const Eigen::Index freqs = x_.size();
+template <bool kBounded, typename Index>
+void RidgeProgramme::Relax(const double* cost,
+                           Eigen::Index stride,
+                           Index* back,
+                           const Bounds& bounds) {
+  const Eigen::Index p_end = bounds.p_last + 1;
   const double* xs = x_.data();
   const double* pv = prev_.data();
   const double* x2 = x2_.data();
@@ -131,9 +307,9 @@ void RidgeProgramme::Relax(const double* cost, Eigen::Index stride, Index* back)
   // The first finite parabola is the stack's bottom, zn = -inf: no later
   // one pops it (num * 1 <= -inf is false for finite num), so the pop loop
   // needs no bound check.
-  Eigen::Index first = 0;
-  while (first < freqs && !std::isfinite(pv[first])) ++first;
-  PODID_CHECK(first < freqs);  // before >= 0: prev has a finite entry
+  Eigen::Index first = bounds.p_first;
+  while (first < p_end && !std::isfinite(pv[first])) ++first;
+  PODID_CHECK(first < p_end);  // before >= 0: prev has a finite entry
   Eigen::Index top = 0;
   v[0] = first;
   xv[0] = xs[first];
@@ -143,8 +319,8 @@ void RidgeProgramme::Relax(const double* cost, Eigen::Index stride, Index* back)
   // The top's entries also in registers: the next parabola's test does not
   // wait for the stores it just made (7 % of the programme).
   double top_h = hs[0], top_x = xv[0], top_zn = zn[0], top_zd = zd[0];
-  for (Eigen::Index p = first + 1; p < freqs; ++p) {
-    if (!std::isfinite(pv[p])) continue;  // forbidden or unreachable
+  for (Eigen::Index p = first + 1; p < p_end; ++p) {
+    if (!std::isfinite(pv[p])) continue;  // forbidden, unreachable or (bounded) pruned
     const double hp = pv[p] + x2[p];
     const double tx = xs[p];
     double num = hp - top_h;
@@ -169,13 +345,19 @@ void RidgeProgramme::Relax(const double* cost, Eigen::Index stride, Index* back)
   zd[top + 1] = 1.0;
   double* out = next_.data();
   Eigen::Index e = 0;
-  for (Eigen::Index q = 0; q < freqs; ++q) {
+  for (Eigen::Index q = bounds.q_first; q <= bounds.q_last; ++q) {
+    const double c = cost[q * stride];
+    if (kBounded && !(c + bounds.floor + bounds.rest <= bounds.bound)) {
+      out[q] = kInf;
+      continue;
+    }
     const double xq = xs[q];
     while (zn[e + 1] < xq * zd[e + 1]) ++e;
     const Eigen::Index p = v[e];
     const double dx = xq - xs[p];
-    out[q] = cost[q * stride] + pv[p] + lambda * dx * dx;
+    out[q] = c + pv[p] + lambda * dx * dx;
     back[q] = static_cast<Index>(p);
+    if (kBounded && !(out[q] + bounds.rest <= bounds.bound)) out[q] = kInf;
   }
   std::swap(prev_, next_);
 }

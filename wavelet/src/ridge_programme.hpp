@@ -24,21 +24,49 @@ class RidgeProgramme {
   /// any constant, finite or +inf (forbidden); an all-+inf column has no ridge.
   /// cost(k) is cost[k * stride].
   void Push(const double* cost, Eigen::Index stride = 1);
+  /// Pushes the path's last `count` columns at once (none may follow; column
+  /// i's cost(k) is cost[i * time_stride + k * freq_stride]). The same path as
+  /// `count` Push calls, but knowing every remaining column it skips the cells
+  /// no optimal path can pass: a cell's total so far plus the remaining
+  /// columns' smallest costs above the cost of a cheap complete path (the
+  /// columns' argmins, or a greedy walk). On a clear ridge that leaves a few
+  /// per cent of the cells.
+  void PushLast(const double* cost,
+                Eigen::Index count,
+                Eigen::Index freq_stride,
+                Eigen::Index time_stride);
+  /// Cells the last PushLast computed (count x n_freq if no bound applied).
+  Eigen::Index last_cells() const { return last_cells_; }
   /// The path (dim times, -1 where a column had no finite cost), after every column.
   Eigen::VectorXi Path() const;
 
  private:
   std::int64_t Back(Eigen::Index k, Eigen::Index j) const;
   void FillColumn(Eigen::Index j, std::uint32_t value);  // every back-pointer of column j
-  template <typename Index>
-  void Relax(const double* cost, Eigen::Index stride, Index* back);
+  // Relaxes next_ from prev_ (then swaps them). Unbounded: every finite
+  // prev(p) a candidate, every q computed. Bounded (PushLast): candidates
+  // p in [p_first, p_last] (the rest +inf), q in [q_first, q_last] computed
+  // only if cost(q) + floor + rest <= bound, kept only if total + rest <=
+  // bound (else +inf), where floor = min prev and rest = the later columns' minima.
+  struct Bounds {
+    Eigen::Index p_first, p_last, q_first, q_last;
+    double floor, rest, bound;
+  };
+  template <bool kBounded, typename Index>
+  void Relax(const double* cost, Eigen::Index stride, Index* back, const Bounds& bounds);
+  template <bool kBounded>
+  void RelaxInto(const double* cost, Eigen::Index stride, Eigen::Index j, const Bounds& bounds);
+  bool PushBounded(const double* cost,
+                   Eigen::Index count,
+                   Eigen::Index freq_stride,
+                   Eigen::Index time_stride);
 
   Eigen::VectorXd x_, x2_;
   double lambda_;
   bool maximum_;
   int width_;  // bytes per back-pointer
   std::int64_t none_;  // the back-pointer meaning "restart": all bits set
-  Eigen::Index times_ = 0, pushed_ = 0;
+  Eigen::Index times_ = 0, pushed_ = 0, last_cells_ = 0;
   // (freq, time) frequency-fastest, in the one of width_ bytes.
   std::vector<std::uint8_t> back8_;
   std::vector<std::uint16_t> back16_;
@@ -47,6 +75,11 @@ class RidgeProgramme {
   Eigen::VectorXd prev_, next_;
   std::vector<Eigen::Index> v_;        // the envelope's parabolas
   std::vector<double> h_, xv_, zn_, zd_;  // their prev + lambda x^2, x; intersections zn / zd
+  // PushLast: each column's smallest cost and its argmin, the sums of the later minima.
+  std::vector<double> lows_, rest_;
+  std::vector<int> lows_at_;
+  Eigen::VectorXd
+      first_totals_;  // prev_ after PushLast's first column (its fallback restarts there)
 };
 
 }  // namespace podid::wavelet::internal

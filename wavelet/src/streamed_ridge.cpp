@@ -67,7 +67,7 @@ struct RidgeFrequencyEstimator::Impl {
   bool Pipelined() const;
   void Streamed(const Eigen::Ref<const Eigen::VectorXd>& signal);
   void BlockCost(Eigen::Index block, Eigen::MatrixXd* into, bool threaded);
-  void PushBlock(Eigen::Index count, const Eigen::MatrixXd& from);
+  void PushBlock(Eigen::Index count, const Eigen::MatrixXd& from, bool last);
   bool PipelinedPass();
   template <class Store>
   void SynthesiseScales(const std::vector<int>& slot,
@@ -164,7 +164,7 @@ void RidgeFrequencyEstimator::Impl::Streamed(const Eigen::Ref<const Eigen::Vecto
   if (!Pipelined() || !PipelinedPass()) {
     for (Eigen::Index block = 0; block < b.blocks(); ++block) {
       BlockCost(block, &cost, Threaded());
-      PushBlock(b.block_times(block), cost);
+      PushBlock(b.block_times(block), cost, block + 1 == b.blocks());
     }
   }
   Track(programme->Path());
@@ -189,9 +189,16 @@ void RidgeFrequencyEstimator::Impl::BlockCost(Eigen::Index block,
 
 // The programme reads a time column: transpose tiles of kTile times into
 // frequency-major order (a strided read of a large block would miss the
-// cache at every frequency). Throws nothing.
-void RidgeFrequencyEstimator::Impl::PushBlock(Eigen::Index count, const Eigen::MatrixXd& from) {
+// cache at every frequency). The last block goes to PushLast whole, which
+// reads a few cells a column (strided). Throws nothing.
+void RidgeFrequencyEstimator::Impl::PushBlock(Eigen::Index count,
+                                              const Eigen::MatrixXd& from,
+                                              bool last) {
   const Eigen::Index freqs = from.cols();
+  if (last) {
+    programme->PushLast(from.data(), count, from.rows(), 1);
+    return;
+  }
   for (Eigen::Index i0 = 0; i0 < count; i0 += kTile) {
     const Eigen::Index tile_times = std::min(kTile, count - i0);
     tile.leftCols(tile_times) = from.block(i0, 0, tile_times, freqs).transpose();
@@ -228,7 +235,12 @@ bool RidgeFrequencyEstimator::Impl::PipelinedPass() {
   for (Eigen::Index block = 0; block < blocks; ++block) {
     filled.acquire();
     const Eigen::MatrixXd& from = columns[block % 2];
-    for (Eigen::Index i = 0; i < band->block_times(block); ++i) programme->Push(from.col(i).data());
+    if (block + 1 == blocks) {
+      programme->PushLast(from.data(), band->block_times(block), 1, from.rows());
+    } else {
+      for (Eigen::Index i = 0; i < band->block_times(block); ++i)
+        programme->Push(from.col(i).data());
+    }
     free_slots.release();
   }
   producer.join();
