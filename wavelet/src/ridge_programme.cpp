@@ -49,7 +49,7 @@ RidgeProgramme::RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool max
 double RidgeProgramme::Bytes(Eigen::Index frequencies, Eigen::Index times, bool maximum) {
   const double cells = static_cast<double>(frequencies) * static_cast<double>(times);
   // Back-pointers, best_, and PushLast's lows_, lows_at_, rest_.
-  return (maximum ? 0.0 : Width(frequencies) * cells + 20.0 * static_cast<double>(times)) +
+  return (maximum ? 0.0 : Width(frequencies) * cells + 24.0 * static_cast<double>(times)) +
          4.0 * static_cast<double>(times);
 }
 
@@ -160,30 +160,27 @@ bool RidgeProgramme::PushBounded(const double* cost,
   const Eigen::Index freqs = x_.size(), j0 = pushed_ - 1;
   const int start = best_[static_cast<std::size_t>(j0)];
   if (start < 0) return false;
-  // The columns' minima (first argmin), walking the contiguous direction.
+  // The columns' minima and an argmin of each (vectorised along time when
+  // time is contiguous: the streamed ridge's blocks).
   double* lows = lows_.data();
-  int* at = lows_at_.data();
-  std::fill(lows + 1, lows + count, kInf);
-  std::fill(at + 1, at + count, -1);
+  double* at = lows_at_.data();
   const auto column = [&](Eigen::Index i) { return cost + i * time_stride; };
-  if (time_stride < freq_stride) {
+  if (time_stride == 1) {
+    Eigen::Map<Eigen::ArrayXd> low(lows + 1, count - 1), arg(at + 1, count - 1);
+    low.setConstant(kInf);
+    arg.setZero();
     for (Eigen::Index k = 0; k < freqs; ++k) {
-      const double* c = cost + k * freq_stride;
-      for (Eigen::Index i = 1; i < count; ++i) {
-        const double value = c[i * time_stride];
-        at[i] = value < lows[i] ? static_cast<int>(k) : at[i];
-        lows[i] = value < lows[i] ? value : lows[i];
-      }
+      const Eigen::Map<const Eigen::ArrayXd> c(cost + k * freq_stride + 1, count - 1);
+      arg = (c < low).select(static_cast<double>(k), arg);
+      low = low.min(c);
     }
   } else {
     for (Eigen::Index i = 1; i < count; ++i) {
-      const double* c = column(i);
-      for (Eigen::Index k = 0; k < freqs; ++k) {
-        if (c[k * freq_stride] < lows[i]) {
-          lows[i] = c[k * freq_stride];
-          at[i] = static_cast<int>(k);
-        }
-      }
+      const Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>> c(
+          column(i), freqs, Eigen::InnerStride<>(freq_stride));
+      Eigen::Index k = 0;
+      lows[i] = c.minCoeff(&k);
+      at[i] = static_cast<double>(k);
     }
   }
   double* rest = rest_.data();
@@ -201,9 +198,10 @@ bool RidgeProgramme::PushBounded(const double* cost,
   double by_argmin = prev_(start), greedy = prev_(start);
   Eigen::Index k_argmin = start, k_greedy = start;
   for (Eigen::Index i = 1; i < count; ++i) {
-    const double dx = xs[at[i]] - xs[k_argmin];
+    const Eigen::Index k = static_cast<Eigen::Index>(at[i]);
+    const double dx = xs[k] - xs[k_argmin];
     by_argmin += lows[i] + lambda * dx * dx;
-    k_argmin = at[i];
+    k_argmin = k;
     const double* c = column(i);
     double step = kInf;
     Eigen::Index to = k_greedy;

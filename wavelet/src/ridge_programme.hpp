@@ -76,8 +76,7 @@ class RidgeProgramme {
   std::vector<Eigen::Index> v_;        // the envelope's parabolas
   std::vector<double> h_, xv_, zn_, zd_;  // their prev + lambda x^2, x; intersections zn / zd
   // PushLast: each column's smallest cost and its argmin, the sums of the later minima.
-  std::vector<double> lows_, rest_;
-  std::vector<int> lows_at_;
+  std::vector<double> lows_, rest_, lows_at_;  // lows_at_: an argmin, as a double (vectorised)
   Eigen::VectorXd
       first_totals_;  // prev_ after PushLast's first column (its fallback restarts there)
 };
