@@ -162,8 +162,7 @@ bool BandTransform::Layout(Eigen::Index samples, double step_s, double max_block
   backward_ = BatchedBackwardPlan(static_cast<int>(mb_), 1, measure);
   segment_ = AllocateReal(static_cast<std::size_t>(pb_));
   spectrum_ = AllocateComplex(static_cast<std::size_t>(pb_ / 2 + 1));
-  work_ = AllocateComplex(static_cast<std::size_t>(mb_));
-  inverse_ = AllocateComplex(static_cast<std::size_t>(mb_));
+  own_ = MakeScratch();
   signal_.resize(blocks_ > 1 ? n_ : 0);
   return true;
 }
@@ -229,23 +228,64 @@ void BandTransform::LoadBlock(Eigen::Index b) {
 }
 
 const Complex* BandTransform::Synthesise(Eigen::Index k, bool derivative) const {
-  return SynthesiseInto(k, derivative, work_.get(), inverse_.get());
+  return SynthesiseInto(k, derivative, &own_);
 }
 
 BandTransform::Scratch BandTransform::MakeScratch() const {
-  return {AllocateComplex(static_cast<std::size_t>(mb_)),
-          AllocateComplex(static_cast<std::size_t>(mb_))};
+  Scratch scratch;
+  scratch.work = AllocateComplex(static_cast<std::size_t>(mb_));
+  scratch.inverse = AllocateComplex(static_cast<std::size_t>(mb_));
+  return scratch;
 }
 
 const Complex* BandTransform::Synthesise(Eigen::Index k, bool derivative, Scratch* scratch) const {
-  return SynthesiseInto(k, derivative, scratch->work.get(), scratch->inverse.get());
+  return SynthesiseInto(k, derivative, scratch);
 }
 
-// Writes only `w` and `inverse`: with distinct buffers, calls run on several threads.
+namespace {
+
+// Zeroes w over the circular range [first, first + size) mod m except the
+// band's [start, start + band) mod m (the band's slots are written next).
+void ClearOutsideBand(Complex* w,
+                      Eigen::Index m,
+                      Eigen::Index first,
+                      Eigen::Index size,
+                      Eigen::Index start,
+                      Eigen::Index band) {
+  // Both ranges as at most two linear pieces each; the band's are disjoint.
+  const Eigen::Index old_pieces[2][2] = {{first, std::min(first + size, m)},
+                                         {0, std::max<Eigen::Index>(0, first + size - m)}};
+  const Eigen::Index band_pieces[2][2] = {{start, std::min(start + band, m)},
+                                          {0, std::max<Eigen::Index>(0, start + band - m)}};
+  for (const auto& piece : old_pieces) {
+    // piece minus the band pieces: walk it left to right, skipping their overlaps.
+    Eigen::Index at = piece[0];
+    while (at < piece[1]) {
+      Eigen::Index stop = piece[1];
+      bool inside = false;
+      for (const auto& b : band_pieces) {
+        if (b[0] < b[1] && at >= b[0] && at < b[1]) {
+          at = b[1];
+          inside = true;
+          break;
+        }
+        if (b[0] > at && b[0] < stop) stop = b[0];
+      }
+      if (inside) continue;
+      std::fill(w + at, w + stop, Complex(0.0, 0.0));
+      at = stop;
+    }
+  }
+}
+
+}  // namespace
+
+// Writes only the scratch's buffers: with distinct ones, calls run on several threads.
 const Complex* BandTransform::SynthesiseInto(Eigen::Index k,
                                              bool derivative,
-                                             Complex* w,
-                                             Complex* inverse) const {
+                                             Scratch* scratch) const {
+  Complex* w = scratch->work.get();
+  Complex* inverse = scratch->inverse.get();
   PODID_CHECK(loaded_ >= 0 && k >= 0 && k < scales_s_.size());
   const auto& filter = filters_[static_cast<std::size_t>(k)];
   const Eigen::Index a = band_first_[static_cast<std::size_t>(k)];
@@ -258,12 +298,13 @@ const Complex* BandTransform::SynthesiseInto(Eigen::Index k,
   // conjugates of positive ones (a real signal).
   const Eigen::Index start = ((a % mb_) + mb_) % mb_;
   const Eigen::Index end = start + size;  // one past the band, unwrapped
-  if (end <= mb_) {
-    std::fill(w, w + start, Complex(0.0, 0.0));
-    std::fill(w + end, w + mb_, Complex(0.0, 0.0));
+  if (scratch->dirty_size < 0) {
+    ClearOutsideBand(w, mb_, 0, mb_, start, size);
   } else {
-    std::fill(w + end - mb_, w + start, Complex(0.0, 0.0));
+    ClearOutsideBand(w, mb_, scratch->dirty_first, scratch->dirty_size, start, size);
   }
+  scratch->dirty_first = start;
+  scratch->dirty_size = size;
   const auto slot = [&](Eigen::Index i) { return start + i < mb_ ? start + i : start + i - mb_; };
   const Eigen::Index negative = std::min<Eigen::Index>(size, std::max<Eigen::Index>(0, -a));
   if (derivative) {

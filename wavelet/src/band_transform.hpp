@@ -52,6 +52,10 @@ class BandTransform {
   /// one thread; the plans and the loaded spectrum are shared, read-only).
   struct Scratch {
     ComplexBuffer work, inverse;
+    // work's slots [dirty_first, dirty_first + dirty_size) mod Mb may be
+    // non-zero (the last band written; -1: all): only those outside the
+    // next band need clearing (the inverse preserves its input).
+    Eigen::Index dirty_first = 0, dirty_size = -1;
   };
   /// For the current layout (re-make it after a Layout() that returned true).
   Scratch MakeScratch() const;
@@ -102,8 +106,7 @@ class BandTransform {
   double Extension(Eigen::Index i) const;  // the record's extension at input sample i
   const std::complex<double>* SynthesiseInto(Eigen::Index k,
                                              bool derivative,
-                                             std::complex<double>* work,
-                                             std::complex<double>* inverse) const;
+                                             Scratch* scratch) const;
 
   CwtOptions options_;
   CwtTransform reference_;  // the full record's P and M (nothing planned)
@@ -121,7 +124,7 @@ class BandTransform {
   fftw_plan forward_ = nullptr, backward_ = nullptr;
   RealBuffer segment_;
   ComplexBuffer spectrum_;
-  mutable ComplexBuffer work_, inverse_;  // the inverse FFT's input and output
+  mutable Scratch own_;  // the inverse FFT's input and output for Synthesise(k, derivative)
 };
 
 }  // namespace podid::wavelet::internal
