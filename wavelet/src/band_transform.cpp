@@ -297,7 +297,6 @@ const Complex* BandTransform::SynthesiseInto(Eigen::Index k,
   // band's slots are written, the rest zeroed; negative bins are the
   // conjugates of positive ones (a real signal).
   const Eigen::Index start = ((a % mb_) + mb_) % mb_;
-  const Eigen::Index end = start + size;  // one past the band, unwrapped
   if (scratch->dirty_size < 0) {
     ClearOutsideBand(w, mb_, 0, mb_, start, size);
   } else {
@@ -315,13 +314,15 @@ const Complex* BandTransform::SynthesiseInto(Eigen::Index k,
     }
   } else {
     for (Eigen::Index i = 0; i < negative; ++i) w[slot(i)] = std::conj(x[-(a + i)]) * gain[i];
-    if (end <= mb_) {  // the positive bins in one contiguous run
-      const Complex* in = x + (a + negative);
-      Complex* out = w + start + negative;
-      for (Eigen::Index i = negative; i < size; ++i, ++in, ++out) *out = *in * gain[i];
-    } else {
-      for (Eigen::Index i = negative; i < size; ++i) w[slot(i)] = x[a + i] * gain[i];
-    }
+    // The positive bins in at most two contiguous runs: up to the buffer's
+    // end, then from slot 0 (a per-bin slot test kept the wrapped band scalar).
+    const Eigen::Index split = std::clamp(mb_ - start, negative, size);  // the first i that wraps
+    const auto run = [&](Eigen::Index from, Eigen::Index to, Complex* out) {
+      const Complex* in = x + (a + from);
+      for (Eigen::Index i = from; i < to; ++i, ++in, ++out) *out = *in * gain[i];
+    };
+    run(negative, split, w + start + negative);
+    run(split, size, w + (start + split - mb_));
   }
   fftw_execute_dft(backward_, AsFftw(w), AsFftw(inverse));
   return inverse + h_ / d_;
