@@ -93,6 +93,33 @@ Eigen::VectorXi PushLastPath(const Eigen::VectorXd& x,
   return programme.Path();
 }
 
+// A ridge's cost, freqs x times: cost(k, j) = scale ((k - c_j) / width)^2 +
+// slope j + noise U(0, 1), each cell forbidden (+inf) with probability
+// `forbidden`; the centre c starts at start * freqs and moves by up to
+// +-drift / 2 bins a column.
+struct Ridge {
+  double start, drift, width, scale, slope, noise, forbidden;
+};
+Eigen::MatrixXd DriftingRidge(std::mt19937& rng,
+                              Eigen::Index freqs,
+                              Eigen::Index times,
+                              const Ridge& ridge) {
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  Eigen::MatrixXd cost(freqs, times);
+  double centre = ridge.start * static_cast<double>(freqs);
+  for (Eigen::Index j = 0; j < times; ++j) {
+    centre = std::clamp(centre + ridge.drift * (uniform(rng) - 0.5), 0.0,
+                        static_cast<double>(freqs - 1));
+    for (Eigen::Index k = 0; k < freqs; ++k) {
+      const double d = (static_cast<double>(k) - centre) / ridge.width;
+      cost(k, j) =
+          ridge.scale * d * d + ridge.slope * static_cast<double>(j) + ridge.noise * uniform(rng);
+      if (ridge.forbidden > 0.0 && uniform(rng) < ridge.forbidden) cost(k, j) = kInf;
+    }
+  }
+  return cost;
+}
+
 // The path's objective, sum cost + lambda sum dx^2, restarting at -1.
 double PathTotal(const Eigen::VectorXd& x, double lambda, const Eigen::MatrixXd& cost, const Eigen::VectorXi& path) {
   double total = 0.0;
@@ -163,15 +190,8 @@ TEST(RidgeProgramme, PushLastGivesPushsPathOnClearAndNoisyRidges) {
         std::log(5.0);
     const double lambda = 1.0 + 30.0 * uniform(rng);
     const double noise = trial % 3 == 0 ? 0.0 : trial % 3 == 1 ? 0.05 : 3.0;
-    Eigen::MatrixXd cost(freqs, times);
-    double centre = static_cast<double>(freqs) / 3.0;
-    for (Eigen::Index j = 0; j < times; ++j) {
-      centre = std::clamp(centre + 0.3 * (uniform(rng) - 0.5), 0.0, static_cast<double>(freqs - 1));
-      for (Eigen::Index k = 0; k < freqs; ++k) {
-        const double d = (static_cast<double>(k) - centre) / 6.0;
-        cost(k, j) = 0.5 * d * d + 0.002 * static_cast<double>(j) + noise * uniform(rng);
-      }
-    }
+    const Eigen::MatrixXd cost =
+        DriftingRidge(rng, freqs, times, {1.0 / 3.0, 0.3, 6.0, 0.5, 0.002, noise, 0.0});
     const Eigen::VectorXi expected = ProgrammePath(x, lambda, cost);
     for (const bool time_major : {false, true}) {
       Eigen::Index cells = 0;
@@ -202,15 +222,8 @@ TEST(RidgeProgramme, ReachesTheBruteForceOptimumOnRandomRealCosts) {
             .array() +
         std::log(10.0);
     const double lambda = 5.0 + 30.0 * uniform(rng);
-    Eigen::MatrixXd cost(freqs, times);
-    double centre = static_cast<double>(freqs) / 2.0;
-    for (Eigen::Index j = 0; j < times; ++j) {
-      centre = std::clamp(centre + 2.0 * (uniform(rng) - 0.5), 0.0, static_cast<double>(freqs - 1));
-      for (Eigen::Index k = 0; k < freqs; ++k) {
-        const double d = (static_cast<double>(k) - centre) / 8.0;
-        cost(k, j) = d * d + 3.0 * uniform(rng) + (uniform(rng) < 0.02 ? kInf : 0.0);
-      }
-    }
+    const Eigen::MatrixXd cost =
+        DriftingRidge(rng, freqs, times, {0.5, 2.0, 8.0, 1.0, 0.0, 3.0, 0.02});
     const double optimum = PathTotal(x, lambda, cost, BruteForcePath(x, lambda, cost));
     const double total = PathTotal(x, lambda, cost, ProgrammePath(x, lambda, cost));
     const double last = PathTotal(x, lambda, cost, PushLastPath(x, lambda, cost, 0, false));
