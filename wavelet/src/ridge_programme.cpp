@@ -79,6 +79,7 @@ RidgeProgramme::RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool max
   for (Eigen::Index p = 0; p < x_.size(); ++p) x2_(p) = lambda_ * x_(p) * x_(p);
   prev_.resize(x_.size());
   next_.resize(x_.size());
+  first_totals_.resize(x_.size());  // PushLast copies prev_ here: no allocation then
   v_.resize(static_cast<std::size_t>(x_.size()));
   h_.resize(static_cast<std::size_t>(x_.size()));
   xv_.resize(static_cast<std::size_t>(x_.size()));
