@@ -1,6 +1,8 @@
 // The ridge's dynamic programme (internal RidgeProgramme: the lower envelope
 // of parabolas per column, Felzenszwalb & Huttenlocher) against an
 // independent O(n_freq^2) minimisation over every predecessor.
+#include "../../wavelet/src/ridge_programme.hpp"  // internal: the dynamic programme
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -10,7 +12,7 @@
 #include <random>
 #include <vector>
 
-#include "../../wavelet/src/ridge_programme.hpp"  // internal: the dynamic programme
+#include "../../wavelet/src/ridge_cost.hpp"  // internal: RidgeCostOfPower
 
 namespace podid::wavelet {
 namespace {
@@ -88,6 +90,32 @@ Eigen::VectorXi PushLastPath(const Eigen::VectorXd& x,
     programme.PushLast(by_time.data(), rest, by_time.rows(), 1);
   } else {
     programme.PushLast(cost.col(pushed).data(), rest, 1, cost.rows());
+  }
+  if (cells != nullptr) *cells = programme.last_cells();
+  return programme.Path();
+}
+
+// The same through PushLastPowers, from powers (freqs x times).
+Eigen::VectorXi PushLastPowersPath(const Eigen::VectorXd& x,
+                                   double lambda,
+                                   bool maximum,
+                                   const Eigen::MatrixXd& power,
+                                   Eigen::Index pushed,
+                                   bool time_major,
+                                   Eigen::Index* cells = nullptr) {
+  internal::RidgeProgramme programme(x, lambda, maximum);
+  programme.Reset(power.cols());
+  Eigen::VectorXd cost(power.rows());
+  for (Eigen::Index j = 0; j < pushed; ++j) {
+    internal::RidgeCostOfPower(power.col(j).data(), power.rows(), cost.data());
+    programme.Push(cost.data());
+  }
+  const Eigen::Index rest = power.cols() - pushed;
+  if (time_major) {
+    const Eigen::MatrixXd by_time = power.rightCols(rest).transpose();
+    programme.PushLastPowers(by_time.data(), rest, by_time.rows(), 1);
+  } else {
+    programme.PushLastPowers(power.col(pushed).data(), rest, 1, power.rows());
   }
   if (cells != nullptr) *cells = programme.last_cells();
   return programme.Path();
@@ -204,6 +232,60 @@ TEST(RidgeProgramme, PushLastGivesPushsPathOnClearAndNoisyRidges) {
       }
     }
     EXPECT_EQ(PushLastPath(x, lambda, cost, times / 2, false), expected) << "trial " << trial;
+  }
+}
+
+TEST(RidgeProgramme, PushLastPowersGivesPushsPathOnTheSameCosts) {
+  // PushLastPowers computes -log|W| = RidgeCostOfPower(|W|^2) only where its
+  // bounds need it; Push gets every cell's, computed the same way, so the
+  // paths must be identical. Clear ridges (few cells computed), noisy ones,
+  // and flat ones whose powers differ by a few ulp: there RidgeCostOfPower,
+  // not monotone to the last bit, may cost a larger power more, which the
+  // column minima's allowance must cover. lambda = 0 and the maximum method
+  // take no bounds (every column's costs computed).
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (int trial = 0; trial < 90; ++trial) {
+    const Eigen::Index freqs = 30 + static_cast<Eigen::Index>(rng() % 130);
+    const Eigen::Index times = 50 + static_cast<Eigen::Index>(rng() % 300);
+    const Eigen::VectorXd x =
+        (Eigen::VectorXd::LinSpaced(freqs, 0.0, static_cast<double>(freqs - 1)) *
+         (std::log(2.0) / 32.0))
+            .array() +
+        std::log(10.0);
+    const int kind = trial % 6;  // 0 clear, 1 noisy, 2 very noisy, 3 flat, 4 lambda 0, 5 maximum
+    const double lambda = kind == 4 ? 0.0 : 1.0 + 30.0 * uniform(rng);
+    Eigen::MatrixXd power(freqs, times);
+    if (kind == 3) {
+      // 1 + m ulp, m in 0..7, and a faint ridge a few ulp above the rest.
+      const Eigen::Index centre = static_cast<Eigen::Index>(rng() % static_cast<unsigned>(freqs));
+      for (Eigen::Index j = 0; j < times; ++j)
+        for (Eigen::Index k = 0; k < freqs; ++k)
+          power(k, j) = 1.0 + static_cast<double>(rng() % 8 + (k == centre ? 6 : 0)) *
+                                  std::numeric_limits<double>::epsilon();
+    } else {
+      const double noise = kind == 1 ? 0.05 : kind == 2 ? 3.0 : 0.0;
+      const Eigen::MatrixXd cost =
+          DriftingRidge(rng, freqs, times, {1.0 / 3.0, 0.3, 6.0, 0.5, 0.002, noise, 0.0});
+      power = (-2.0 * cost.array()).exp().matrix();  // cost = -0.5 ln(power)
+    }
+    Eigen::MatrixXd cost(freqs, times);
+    for (Eigen::Index j = 0; j < times; ++j)
+      internal::RidgeCostOfPower(power.col(j).data(), freqs, cost.col(j).data());
+    internal::RidgeProgramme reference(x, lambda, kind == 5);
+    reference.Reset(times);
+    for (Eigen::Index j = 0; j < times; ++j) reference.Push(cost.col(j).data());
+    const Eigen::VectorXi expected = reference.Path();
+    for (const bool time_major : {false, true}) {
+      Eigen::Index cells = 0;
+      ASSERT_EQ(PushLastPowersPath(x, lambda, kind == 5, power, 0, time_major, &cells), expected)
+          << "trial " << trial << ", kind " << kind << (time_major ? ", time-major" : "");
+      if (kind == 0) {
+        EXPECT_LT(cells, freqs * times / 2) << "trial " << trial;
+      }
+    }
+    EXPECT_EQ(PushLastPowersPath(x, lambda, kind == 5, power, times / 2, false), expected)
+        << "trial " << trial << ", kind " << kind;
   }
 }
 

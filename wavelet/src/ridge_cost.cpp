@@ -48,16 +48,39 @@ namespace {
 
 }  // namespace
 
-PODID_CLONES_V4 void RidgeCost(const std::complex<double>* w,
-                               Eigen::Index n,
-                               double scale,
-                               double* out) {
+PODID_CLONES_V4 void RidgePower(const std::complex<double>* w,
+                                Eigen::Index n,
+                                double scale,
+                                double* power) {
   const double* __restrict parts = reinterpret_cast<const double*>(w);
-  double* __restrict cost = out;
+  double* __restrict out = power;
   for (Eigen::Index i = 0; i < n; ++i) {
     const double re = parts[2 * i] * scale, im = parts[2 * i + 1] * scale;
-    cost[i] = MinusHalfLogFloored(re * re + im * im);
+    out[i] = re * re + im * im;
   }
+}
+
+// Runs of 8 as one vector each, the tail too (padded): the ridge programme
+// asks for a few cells at a time, where a scalar tail was the whole cost.
+PODID_CLONES_V4 void RidgeCostOfPower(const double* power, Eigen::Index n, double* cost) {
+  constexpr Eigen::Index kLanes = 8;
+  Eigen::Index i = 0;
+  for (; i + kLanes <= n; i += kLanes) {
+    double out[kLanes];
+    for (Eigen::Index l = 0; l < kLanes; ++l) out[l] = MinusHalfLogFloored(power[i + l]);
+    std::copy(out, out + kLanes, cost + i);  // after the reads: cost == power allowed
+  }
+  if (i == n) return;
+  double in[kLanes], out[kLanes];
+  std::fill(in, in + kLanes, 1.0);
+  std::copy(power + i, power + n, in);
+  for (Eigen::Index l = 0; l < kLanes; ++l) out[l] = MinusHalfLogFloored(in[l]);
+  std::copy(out, out + (n - i), cost + i);
+}
+
+void RidgeCost(const std::complex<double>* w, Eigen::Index n, double scale, double* out) {
+  RidgePower(w, n, scale, out);
+  RidgeCostOfPower(out, n, out);
 }
 
 }  // namespace podid::wavelet::internal

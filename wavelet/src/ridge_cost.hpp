@@ -13,9 +13,18 @@ namespace podid::wavelet::internal {
 /// coefficient that can matter, far above the subnormal range.
 inline constexpr double kRidgeCostFloor = 1e-300;
 
-/// out[i] = -0.5 ln(max(|scale w[i]|^2, kRidgeCostFloor)) for i < n, within
-/// 4 ulp of max(1, |ln|) (measured 1 ulp; test RidgeCost.*). Finite w only;
-/// scale: a power of 2 bringing the peak |W| near 1.
+/// power[i] = |scale w[i]|^2 for i < n. Finite w only; scale: a power of 2
+/// bringing the peak |W| near 1.
+void RidgePower(const std::complex<double>* w, Eigen::Index n, double scale, double* power);
+
+/// cost[i] = -0.5 ln(max(power[i], kRidgeCostFloor)) for i < n (cost == power
+/// allowed), within 4 ulp of max(1, |ln|) (measured 1 ulp; test RidgeCost.*).
+/// Finite power >= 0 only. Not monotone to the last bit: a larger power may
+/// cost up to 8 ulp of max(1, |ln|) more (RidgeProgramme allows for it).
+void RidgeCostOfPower(const double* power, Eigen::Index n, double* cost);
+
+/// RidgePower then RidgeCostOfPower: the same bits as the two calls, so a
+/// cost computed from powers later (RidgeProgramme::PushLastPowers) is this one.
 void RidgeCost(const std::complex<double>* w, Eigen::Index n, double scale, double* out);
 
 }  // namespace podid::wavelet::internal

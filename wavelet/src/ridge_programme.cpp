@@ -1,6 +1,7 @@
 // The ridge's dynamic programme, one column at a time (ridge_programme.hpp).
 #include "ridge_programme.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -8,6 +9,7 @@
 
 #include "podid/core/error.hpp"
 #include "podid/core/target_clones.hpp"
+#include "ridge_cost.hpp"
 
 namespace podid::wavelet::internal {
 namespace {
@@ -33,11 +35,46 @@ int Argmin(const Vector& total) {
 
 }  // namespace
 
-// low[i], arg[i] = the minimum over k < freqs of cost[k * freq_stride + i] and
-// an argmin of it (as a double), for i < count: time contiguous. Blocks of 8
-// times keep their minima in one GCC vector (one AVX-512 register, two AVX2,
-// four SSE2) over every k: one load a cell.
+// low[i], arg[i] = the minimum (kMax: maximum) over k < freqs of
+// cost[k * freq_stride + i] and its first arg (as a double), for i < count:
+// time contiguous. Blocks of 8 times keep their extrema in one GCC vector (one
+// AVX-512 register, two AVX2, four SSE2) over every k: one load a cell.
 using V8 = double __attribute__((vector_size(64)));
+
+template <bool kMax>
+[[gnu::always_inline]] inline void ColumnExtrema(const double* cost,
+                                                 Eigen::Index count,
+                                                 Eigen::Index freqs,
+                                                 Eigen::Index freq_stride,
+                                                 double* low,
+                                                 double* arg) {
+  constexpr Eigen::Index kLanes = 8;
+  constexpr double kStart = kMax ? -kInf : kInf;
+  Eigen::Index i = 0;
+  for (; i + kLanes <= count; i += kLanes) {
+    V8 l = V8{} + kStart, a = V8{};
+    for (Eigen::Index k = 0; k < freqs; ++k) {
+      V8 c;
+      std::memcpy(&c, cost + k * freq_stride + i, sizeof c);
+      const auto better = kMax ? c > l : c < l;
+      a = better ? V8{} + static_cast<double>(k) : a;
+      l = better ? c : l;
+    }
+    std::memcpy(low + i, &l, sizeof l);
+    std::memcpy(arg + i, &a, sizeof a);
+  }
+  for (; i < count; ++i) {
+    low[i] = kStart;
+    arg[i] = 0.0;
+    for (Eigen::Index k = 0; k < freqs; ++k) {
+      const double c = cost[k * freq_stride + i];
+      if (kMax ? c > low[i] : c < low[i]) {
+        low[i] = c;
+        arg[i] = static_cast<double>(k);
+      }
+    }
+  }
+}
 
 PODID_CLONES_V4 void ColumnMinima(const double* cost,
                                   Eigen::Index count,
@@ -45,30 +82,16 @@ PODID_CLONES_V4 void ColumnMinima(const double* cost,
                                   Eigen::Index freq_stride,
                                   double* low,
                                   double* arg) {
-  constexpr Eigen::Index kLanes = 8;
-  Eigen::Index i = 0;
-  for (; i + kLanes <= count; i += kLanes) {
-    V8 l = V8{} + kInf, a = V8{};
-    for (Eigen::Index k = 0; k < freqs; ++k) {
-      V8 c;
-      std::memcpy(&c, cost + k * freq_stride + i, sizeof c);
-      const auto less = c < l;
-      a = less ? V8{} + static_cast<double>(k) : a;
-      l = less ? c : l;
-    }
-    std::memcpy(low + i, &l, sizeof l);
-    std::memcpy(arg + i, &a, sizeof a);
-  }
-  for (; i < count; ++i) {
-    low[i] = kInf;
-    arg[i] = 0.0;
-    for (Eigen::Index k = 0; k < freqs; ++k) {
-      if (cost[k * freq_stride + i] < low[i]) {
-        low[i] = cost[k * freq_stride + i];
-        arg[i] = static_cast<double>(k);
-      }
-    }
-  }
+  ColumnExtrema<false>(cost, count, freqs, freq_stride, low, arg);
+}
+
+PODID_CLONES_V4 void ColumnMaxima(const double* power,
+                                  Eigen::Index count,
+                                  Eigen::Index freqs,
+                                  Eigen::Index freq_stride,
+                                  double* high,
+                                  double* arg) {
+  ColumnExtrema<true>(power, count, freqs, freq_stride, high, arg);
 }
 
 RidgeProgramme::RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool maximum)
@@ -80,6 +103,7 @@ RidgeProgramme::RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool max
   prev_.resize(x_.size());
   next_.resize(x_.size());
   first_totals_.resize(x_.size());  // PushLast copies prev_ here: no allocation then
+  window_.resize(x_.size());
   v_.resize(static_cast<std::size_t>(x_.size()));
   h_.resize(static_cast<std::size_t>(x_.size()));
   xv_.resize(static_cast<std::size_t>(x_.size()));
@@ -89,8 +113,10 @@ RidgeProgramme::RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool max
 
 double RidgeProgramme::Bytes(Eigen::Index frequencies, Eigen::Index times, bool maximum) {
   const double cells = static_cast<double>(frequencies) * static_cast<double>(times);
-  // Back-pointers, best_, and PushLast's lows_, lows_at_, rest_.
-  return (maximum ? 0.0 : Width(frequencies) * cells + 24.0 * static_cast<double>(times)) +
+  // Back-pointers, best_, and PushLast's lows_, lows_at_, at_cost_, rest_, near_.
+  return (maximum ? 0.0
+                  : Width(frequencies) * cells +
+                        (32.0 + 8.0 * (2 * kNear + 1)) * static_cast<double>(times)) +
          4.0 * static_cast<double>(times);
 }
 
@@ -106,7 +132,10 @@ void RidgeProgramme::Reset(Eigen::Index times) {
   const std::size_t bounded = maximum_ ? 0 : static_cast<std::size_t>(times);
   lows_.resize(bounded);
   lows_at_.resize(bounded);
+  at_cost_.resize(bounded);
   rest_.resize(bounded);
+  near_.resize(bounded * (2 * kNear + 1));
+  near_valid_ = false;
 }
 
 std::int64_t RidgeProgramme::Back(Eigen::Index k, Eigen::Index j) const {
@@ -156,12 +185,58 @@ void RidgeProgramme::PushLast(const double* cost,
                               Eigen::Index count,
                               Eigen::Index freq_stride,
                               Eigen::Index time_stride) {
+  PushColumns(Columns{cost, freq_stride, time_stride, false}, count);
+}
+
+void RidgeProgramme::PushLastPowers(const double* power,
+                                    Eigen::Index count,
+                                    Eigen::Index freq_stride,
+                                    Eigen::Index time_stride) {
+  PushColumns(Columns{power, freq_stride, time_stride, true}, count);
+}
+
+RidgeProgramme::CostView RidgeProgramme::Costs(const Columns& c,
+                                               Eigen::Index i,
+                                               Eigen::Index k_first,
+                                               Eigen::Index k_last) {
+  const double* at = c.data + i * c.time_stride;
+  if (!c.power) return {at, c.freq_stride};
+  double* window = window_.data();
+  // [k_first, k_last] minus the cached cells: at most two runs to compute.
+  Eigen::Index runs[2][2] = {{k_first, k_last}, {1, 0}};
+  if (near_valid_ && i >= 1) {
+    const Eigen::Index centre = static_cast<Eigen::Index>(lows_at_[static_cast<std::size_t>(i)]);
+    const Eigen::Index first = std::max(k_first, centre - kNear),
+                       last = std::min(k_last, centre + kNear);
+    if (first <= last) {
+      const double* near = near_.data() + i * (2 * kNear + 1) + (kNear - centre);
+      for (Eigen::Index k = first; k <= last; ++k) window[k] = near[k];
+      runs[0][1] = first - 1;
+      runs[1][0] = last + 1;
+      runs[1][1] = k_last;
+    }
+  }
+  for (const auto& run : runs) {
+    if (run[0] > run[1]) continue;
+    for (Eigen::Index k = run[0]; k <= run[1]; ++k) window[k] = at[k * c.freq_stride];
+    RidgeCostOfPower(window + run[0], run[1] - run[0] + 1, window + run[0]);
+  }
+  return {window, 1};
+}
+
+void RidgeProgramme::PushColumns(const Columns& c, Eigen::Index count) {
   PODID_CHECK(count >= 1 && pushed_ + count == times_);
-  Push(cost, freq_stride);
-  last_cells_ = x_.size();
-  if (count == 1 || PushBounded(cost, count, freq_stride, time_stride)) return;
-  last_cells_ = count * x_.size();
-  for (Eigen::Index i = 1; i < count; ++i) Push(cost + i * time_stride, freq_stride);
+  near_valid_ = false;
+  const Eigen::Index freqs = x_.size();
+  CostView column = Costs(c, 0, 0, freqs - 1);
+  Push(column.at, column.stride);
+  last_cells_ = freqs;
+  if (count == 1 || PushBounded(c, count)) return;
+  last_cells_ = count * freqs;
+  for (Eigen::Index i = 1; i < count; ++i) {
+    column = Costs(c, i, 0, freqs - 1);
+    Push(column.at, column.stride);
+  }
 }
 
 template <bool kBounded>
@@ -193,29 +268,49 @@ void RidgeProgramme::RelaxInto(const double* cost,
 // False, with the programme back after column 0, if the bounds do not apply
 // (a column with no finite cost: the path restarts there) or some column
 // kept no cell (impossible unless the allowance is short).
-bool RidgeProgramme::PushBounded(const double* cost,
-                                 Eigen::Index count,
-                                 Eigen::Index freq_stride,
-                                 Eigen::Index time_stride) {
+bool RidgeProgramme::PushBounded(const Columns& c, Eigen::Index count) {
   if (maximum_ || lambda_ == 0.0) return false;
   const Eigen::Index freqs = x_.size(), j0 = pushed_ - 1;
   const int start = best_[static_cast<std::size_t>(j0)];
   if (start < 0) return false;
   // The columns' minima and an argmin of each (vectorised along time when
-  // time is contiguous: the streamed ridge's blocks).
+  // time is contiguous: the streamed ridge's blocks). From powers: the
+  // largest power's cost, less what RidgeCostOfPower's rounding may put
+  // between it and a smaller power's (8 ulp of max(1, |ln|); twice that here).
   double* lows = lows_.data();
   double* at = lows_at_.data();
-  const auto column = [&](Eigen::Index i) { return cost + i * time_stride; };
-  if (time_stride == 1) {
-    ColumnMinima(cost + 1, count - 1, freqs, freq_stride, lows + 1, at + 1);
+  double* exact = c.power ? at_cost_.data() : lows;  // the cost at the argmin
+  if (c.time_stride == 1) {
+    (c.power ? ColumnMaxima : ColumnMinima)(c.data + 1, count - 1, freqs, c.freq_stride, lows + 1,
+                                            at + 1);
   } else {
     for (Eigen::Index i = 1; i < count; ++i) {
-      const Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>> c(
-          column(i), freqs, Eigen::InnerStride<>(freq_stride));
+      const Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>> column(
+          c.data + i * c.time_stride, freqs, Eigen::InnerStride<>(c.freq_stride));
       Eigen::Index k = 0;
-      lows[i] = c.minCoeff(&k);
+      lows[i] = c.power ? column.maxCoeff(&k) : column.minCoeff(&k);
       at[i] = static_cast<double>(k);
     }
+  }
+  if (c.power) {
+    RidgeCostOfPower(lows + 1, count - 1, exact + 1);
+    constexpr double kMonotone = 16.0 * std::numeric_limits<double>::epsilon();
+    for (Eigen::Index i = 1; i < count; ++i)
+      lows[i] = exact[i] - kMonotone * std::max(1.0, std::abs(exact[i]));
+    // The cells near each column's largest power, where a clear ridge's
+    // greedy walk and bounded columns mostly read (padding: power 1).
+    constexpr Eigen::Index kWidth = 2 * kNear + 1;
+    double* near = near_.data();
+    for (Eigen::Index i = 1; i < count; ++i) {
+      const double* column = c.data + i * c.time_stride;
+      const Eigen::Index centre = static_cast<Eigen::Index>(at[i]);
+      for (Eigen::Index r = 0; r < kWidth; ++r) {
+        const Eigen::Index k = centre - kNear + r;
+        near[i * kWidth + r] = k >= 0 && k < freqs ? column[k * c.freq_stride] : 1.0;
+      }
+    }
+    RidgeCostOfPower(near + kWidth, (count - 1) * kWidth, near + kWidth);
+    near_valid_ = true;
   }
   double* rest = rest_.data();
   rest[count - 1] = 0.0;
@@ -234,15 +329,16 @@ bool RidgeProgramme::PushBounded(const double* cost,
   for (Eigen::Index i = 1; i < count; ++i) {
     const Eigen::Index k = static_cast<Eigen::Index>(at[i]);
     const double dx = xs[k] - xs[k_argmin];
-    by_argmin += lows[i] + lambda * dx * dx;
+    by_argmin += exact[i] + lambda * dx * dx;
     k_argmin = k;
-    const double* c = column(i);
+    const Eigen::Index k_first = std::max<Eigen::Index>(0, k_greedy - 2);
+    const Eigen::Index k_last = std::min(freqs - 1, k_greedy + 2);
+    const CostView cost = Costs(c, i, k_first, k_last);
     double step = kInf;
     Eigen::Index to = k_greedy;
-    for (Eigen::Index k = std::max<Eigen::Index>(0, k_greedy - 2);
-         k <= std::min(freqs - 1, k_greedy + 2); ++k) {
+    for (Eigen::Index k = k_first; k <= k_last; ++k) {
       const double d = xs[k] - xs[k_greedy];
-      const double value = c[k * freq_stride] + lambda * d * d;
+      const double value = cost.at[k * cost.stride] + lambda * d * d;
       if (value < step) {
         step = value;
         to = k;
@@ -288,7 +384,8 @@ bool RidgeProgramme::PushBounded(const double* cost,
     while (q_last + 1 < freqs &&
            lambda * (xs[q_last + 1] - xs[p_last]) * (xs[q_last + 1] - xs[p_last]) <= budget)
       ++q_last;
-    RelaxInto<true>(column(i), freq_stride, j,
+    const CostView cost = Costs(c, i, q_first, q_last);
+    RelaxInto<true>(cost.at, cost.stride, j,
                     Bounds{p_first, p_last, q_first, q_last, floor, rest[i], bound});
     last_cells_ += q_last - q_first + 1;
     // Survivors, the new floor and the column's best (first argmin).

@@ -35,6 +35,14 @@ class RidgeProgramme {
                 Eigen::Index count,
                 Eigen::Index freq_stride,
                 Eigen::Index time_stride);
+  /// PushLast from |W|^2: cost(k) = RidgeCostOfPower(power(k)) (ridge_cost.hpp),
+  /// computed only for the cells the bounds leave (the logarithm of every cell
+  /// was 8 % of an objective evaluation), so the same path as PushLast on
+  /// those costs. Column i's power(k) is power[i * time_stride + k * freq_stride].
+  void PushLastPowers(const double* power,
+                      Eigen::Index count,
+                      Eigen::Index freq_stride,
+                      Eigen::Index time_stride);
   /// Cells the last PushLast computed (count x n_freq if no bound applied).
   Eigen::Index last_cells() const { return last_cells_; }
   /// The path (dim times, -1 where a column had no finite cost), after every column.
@@ -56,10 +64,21 @@ class RidgeProgramme {
   void Relax(const double* cost, Eigen::Index stride, Index* back, const Bounds& bounds);
   template <bool kBounded>
   void RelaxInto(const double* cost, Eigen::Index stride, Eigen::Index j, const Bounds& bounds);
-  bool PushBounded(const double* cost,
-                   Eigen::Index count,
-                   Eigen::Index freq_stride,
-                   Eigen::Index time_stride);
+  // PushLast's columns: costs, or powers whose costs are computed on demand.
+  struct Columns {
+    const double* data;
+    Eigen::Index freq_stride, time_stride;
+    bool power;
+  };
+  // Column i's costs for k in [k_first, k_last]: at[k * stride] (the data
+  // itself, or window_ filled from the powers).
+  struct CostView {
+    const double* at;
+    Eigen::Index stride;
+  };
+  CostView Costs(const Columns& c, Eigen::Index i, Eigen::Index k_first, Eigen::Index k_last);
+  void PushColumns(const Columns& c, Eigen::Index count);
+  bool PushBounded(const Columns& c, Eigen::Index count);
 
   Eigen::VectorXd x_, x2_;
   double lambda_;
@@ -75,8 +94,16 @@ class RidgeProgramme {
   Eigen::VectorXd prev_, next_;
   std::vector<Eigen::Index> v_;        // the envelope's parabolas
   std::vector<double> h_, xv_, zn_, zd_;  // their prev + lambda x^2, x; intersections zn / zd
-  // PushLast: each column's smallest cost and its argmin, the sums of the later minima.
-  std::vector<double> lows_, rest_, lows_at_;  // lows_at_: an argmin, as a double (vectorised)
+  // PushLast: a lower bound on each column's smallest cost (the smallest cost
+  // itself for costs), an argmin and its cost, the sums of the later bounds.
+  std::vector<double> lows_, rest_, lows_at_, at_cost_;  // lows_at_: as a double (vectorised)
+  Eigen::VectorXd window_;  // PushLastPowers: a column's costs, computed from its powers
+  // PushLastPowers: the costs of the cells within kNear of each column's
+  // largest power, computed in one vectorised pass (one call per column
+  // waited on the logarithm's latency), if near_valid_.
+  static constexpr Eigen::Index kNear = 4;
+  std::vector<double> near_;
+  bool near_valid_ = false;
   Eigen::VectorXd
       first_totals_;  // prev_ after PushLast's first column (its fallback restarts there)
 };

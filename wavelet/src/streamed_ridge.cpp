@@ -49,8 +49,8 @@ struct RidgeFrequencyEstimator::Impl {
   std::unique_ptr<internal::BandTransform> band;
   std::unique_ptr<internal::RidgeProgramme> programme;
   Eigen::MatrixXcd kept;      // one block: W of every scale (block times x freqs), unscaled
-  Eigen::MatrixXd cost;       // -log|W| of a block (block times x freqs)
-  Eigen::MatrixXd columns[2];  // a pipeline's blocks of costs, frequency-major (Pipelined)
+  Eigen::MatrixXd cost;       // -log|W| of a block, |W|^2 of the last (block times x freqs)
+  Eigen::MatrixXd columns[2];  // a pipeline's blocks of costs (powers: the last), frequency-major
   internal::BandTransform::Scratch scratch;  // the second thread's FFT buffers (Threaded)
   std::vector<int> all_scales;               // k at index k: every scale's slot is its own column
   Eigen::MatrixXd tile;       // kTile times of cost, frequency-major
@@ -66,7 +66,7 @@ struct RidgeFrequencyEstimator::Impl {
   bool Threaded() const { return options.cwt.threads >= 2; }
   bool Pipelined() const;
   void Streamed(const Eigen::Ref<const Eigen::VectorXd>& signal);
-  void BlockCost(Eigen::Index block, Eigen::MatrixXd* into, bool threaded);
+  void BlockCost(Eigen::Index block, Eigen::MatrixXd* into, bool threaded, bool power);
   void PushBlock(Eigen::Index count, const Eigen::MatrixXd& from, bool last);
   bool PipelinedPass();
   template <class Store>
@@ -163,25 +163,32 @@ void RidgeFrequencyEstimator::Impl::Streamed(const Eigen::Ref<const Eigen::Vecto
   programme->Reset(b.times());
   if (!Pipelined() || !PipelinedPass()) {
     for (Eigen::Index block = 0; block < b.blocks(); ++block) {
-      BlockCost(block, &cost, Threaded());
-      PushBlock(b.block_times(block), cost, block + 1 == b.blocks());
+      const bool last = block + 1 == b.blocks();
+      BlockCost(block, &cost, Threaded(), last);
+      PushBlock(b.block_times(block), cost, last);
     }
   }
   Track(programme->Path());
 }
 
-// -log|W| of every scale at the block's output times into *into's columns,
-// on two threads if `threaded`. Throws nothing (PODID_CHECK aborts; every
-// buffer exists): it may run on the pipeline's thread.
+// -log|W| (power: |W|^2, for PushLastPowers) of every scale at the block's
+// output times into *into's columns, on two threads if `threaded`. Throws
+// nothing (PODID_CHECK aborts; every buffer exists): it may run on the
+// pipeline's thread.
 void RidgeFrequencyEstimator::Impl::BlockCost(Eigen::Index block,
                                               Eigen::MatrixXd* into,
-                                              bool threaded) {
+                                              bool threaded,
+                                              bool power) {
   internal::BandTransform& b = *band;
   b.LoadBlock(block);
   const Eigen::Index count = b.block_times(block);
   const bool keep = b.blocks() == 1;
   SynthesiseScales(all_scales, false, count, threaded, [&](int k, const Complex* w) {
-    internal::RidgeCost(w, count, 1.0, into->col(k).data());
+    if (power) {
+      internal::RidgePower(w, count, 1.0, into->col(k).data());
+    } else {
+      internal::RidgeCost(w, count, 1.0, into->col(k).data());
+    }
     // Unscaled: Track multiplies by output_scale (a power of 2, exact).
     if (keep) std::copy(w, w + count, kept.col(k).data());
   });
@@ -189,14 +196,14 @@ void RidgeFrequencyEstimator::Impl::BlockCost(Eigen::Index block,
 
 // The programme reads a time column: transpose tiles of kTile times into
 // frequency-major order (a strided read of a large block would miss the
-// cache at every frequency). The last block goes to PushLast whole, which
-// reads a few cells a column (strided). Throws nothing.
+// cache at every frequency). The last block (powers) goes to PushLastPowers
+// whole, which reads a few cells a column (strided). Throws nothing.
 void RidgeFrequencyEstimator::Impl::PushBlock(Eigen::Index count,
                                               const Eigen::MatrixXd& from,
                                               bool last) {
   const Eigen::Index freqs = from.cols();
   if (last) {
-    programme->PushLast(from.data(), count, from.rows(), 1);
+    programme->PushLastPowers(from.data(), count, from.rows(), 1);
     return;
   }
   for (Eigen::Index i0 = 0; i0 < count; i0 += kTile) {
@@ -219,7 +226,7 @@ bool RidgeFrequencyEstimator::Impl::PipelinedPass() {
     producer = std::thread([&]() noexcept {
       for (Eigen::Index block = 0; block < blocks; ++block) {
         free_slots.acquire();
-        BlockCost(block, &cost, false);
+        BlockCost(block, &cost, false, block + 1 == blocks);
         const Eigen::Index count = band->block_times(block), freqs = cost.cols();
         Eigen::MatrixXd& to = columns[block % 2];
         for (Eigen::Index i0 = 0; i0 < count; i0 += kTile) {
@@ -236,7 +243,7 @@ bool RidgeFrequencyEstimator::Impl::PipelinedPass() {
     filled.acquire();
     const Eigen::MatrixXd& from = columns[block % 2];
     if (block + 1 == blocks) {
-      programme->PushLast(from.data(), band->block_times(block), 1, from.rows());
+      programme->PushLastPowers(from.data(), band->block_times(block), 1, from.rows());
     } else {
       for (Eigen::Index i = 0; i < band->block_times(block); ++i)
         programme->Push(from.col(i).data());
