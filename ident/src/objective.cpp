@@ -485,7 +485,11 @@ void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, Evaluatio
     if (!summary.IsSolutionUsable()) return fail(summary.message);
   }
   if (!w.pod) {
-    w.pod = std::make_unique<PodSolver>(ResponsePodOptions());
+    // V after the alignment, of the compared modes only (1 of 6 on the
+    // reference beam; all six and their flips were 5 % of an evaluation).
+    PodOptions options = ResponsePodOptions();
+    options.compute_time_modes = false;
+    w.pod = std::make_unique<PodSolver>(options);
   }
   if (condition) {
     w.pod->Compute(conditioned.sensors);
@@ -499,6 +503,8 @@ void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, Evaluatio
   AlignToReference(measured_pod_, &pod, &w.alignment);
 
   const int k = compared_modes_;
+  if (needed_.v != 0 || needed_.f != 0) w.pod->TimeModes(pod, k, &w.time_modes);
+  const Eigen::MatrixXd& v = w.time_modes;
   const PodResult& m = measured_pod_;
   if (needed_.u != 0) terms.u = (pod.poms.leftCols(k) - m.poms.leftCols(k)).squaredNorm();
   if (needed_.s != 0) {
@@ -506,7 +512,7 @@ void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, Evaluatio
     if (options_.relative_sigma) diff /= m.singular_values.head(k).array();
     terms.s = diff.square().sum();
   }
-  if (needed_.v != 0) terms.v = (pod.time_modes.leftCols(k) - m.time_modes.leftCols(k)).squaredNorm();
+  if (needed_.v != 0) terms.v = (v - m.time_modes.leftCols(k)).squaredNorm();
   if (needed_.f != 0) {
     if (static_cast<int>(measured_ridges_.size()) != k) {
       return fail("the measured ridges were not prepared");  // an invariant of the constructor
@@ -520,7 +526,7 @@ void ObjectiveFunction::EvaluateOrThrow(const Eigen::VectorXd& values, Evaluatio
     double total = 0.0;
     for (int mode = 0; mode < k; ++mode) {
       wavelet::RidgeFrequencyEstimator& estimator = *w.mode_ridges[mode];
-      const wavelet::RidgeTrack& sim_track = estimator.Estimate(pod.time_modes.col(mode), measured_.step_s());
+      const wavelet::RidgeTrack& sim_track = estimator.Estimate(v.col(mode), measured_.step_s());
       const wavelet::RidgeTrack& meas_track = measured_ridges_[mode];
       if (sim_track.size() != meas_track.size()) {
         return fail("the simulated ridge of mode " + ToText(mode + 1) + " has " +

@@ -419,6 +419,40 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
   return r;
 }
 
+void PodSolver::TimeModes(const PodResult& result, Eigen::Index count, Eigen::MatrixXd* v) {
+  using Eigen::Index;
+  Workspace& w = *workspace_;
+  const Index m = result.sensors, n = result.samples;
+  if (w.weighted) {
+    ThrowInvalid("PodSolver::TimeModes", "an unweighted POD", "a solver with PodOptions.weighting");
+  }
+  if (count < 0 || count > result.modes()) {
+    ThrowInvalid("PodSolver::TimeModes: count", "0.." + std::to_string(result.modes()),
+                 std::to_string(count));
+  }
+  if (w.yt.rows() != n || w.yt.cols() != m || result.poms.rows() != m ||
+      result.singular_values.size() != result.modes()) {
+    ThrowInvalid("PodSolver::TimeModes", "the result of this solver's last Compute()",
+                 "a result of " + Shape(m, n) + " and data of " + Shape(w.yt.cols(), w.yt.rows()));
+  }
+  // As ComputeImpl forms V: coefficients u_j / sigma_j, then Y^T times them.
+  w.coefficients.resize(m, count);
+  for (Index j = 0; j < count; ++j) {
+    const double s = result.singular_values(j);
+    if (s == 0.0) {
+      w.coefficients.col(j).setZero();
+    } else {
+      w.coefficients.col(j) = result.poms.col(j) / s;
+    }
+  }
+  v->resize(n, count);
+  if (m <= internal::kSmallKernelMaxSensors) {
+    internal::SmallTimesSmall(w.yt, w.coefficients, *v);
+  } else {
+    v->noalias() = w.yt * w.coefficients;
+  }
+}
+
 PodResult ComputePod(const Eigen::Ref<const Eigen::MatrixXd>& x, const PodOptions& options) {
   PodSolver solver(options);
   return solver.Compute(x);

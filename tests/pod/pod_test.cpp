@@ -278,6 +278,63 @@ TEST(Pod, SwappedResultIsTheComputedOneAndStaysIntact) {
   EXPECT_EQ(solver.result().samples, 501);
 }
 
+// TimeModes forms V after the fact, for a result aligned (permuted and
+// flipped) to a reference: the direct method's V bit for bit (the same
+// coefficients, the same kernel), the snapshot and SVD methods' to rounding
+// (kTolerance: unit columns of a well-conditioned random Y; 1e-12 is a few
+// thousand roundings).
+TEST(Pod, TimeModesAfterAlignmentEqualTheComputedOnes) {
+  constexpr double kTolerance = 1e-12;
+  const std::vector<int> permutation = {2, 0, 1, 3};  // new j <- old permutation[j]
+  const std::vector<double> flips = {1, -1, 1, -1};
+  for (const PodMethod method : {PodMethod::kDirect, PodMethod::kSnapshot, PodMethod::kSvd}) {
+    // Direct: 6 sensors (the small kernel) and 20 (Eigen's product).
+    for (const Eigen::Index m : {Eigen::Index{6}, Eigen::Index{20}}) {
+      const Eigen::Index n = method == PodMethod::kSnapshot ? 15 : 400;
+      const Eigen::MatrixXd x = RandomMatrix(m, n, 9) + Eigen::MatrixXd::Constant(m, n, 3.0);
+      PodOptions with = WithMethod(method);
+      const PodResult full = ComputePod(x, with);
+      // The reference: full's first 4 modes permuted and flipped; aligning
+      // full to it reorders full as the reference.
+      PodResult reference = full;
+      reference.poms.conservativeResize(m, 4);
+      reference.singular_values.conservativeResize(4);
+      for (Eigen::Index j = 0; j < 4; ++j) {
+        reference.poms.col(j) = flips[static_cast<std::size_t>(j)] *
+                                full.poms.col(permutation[static_cast<std::size_t>(j)]);
+      }
+      PodResult expected = full;
+      AlignToReference(reference, &expected);
+      with.compute_time_modes = false;
+      PodSolver solver(with);
+      PodResult aligned;
+      solver.Compute(x);
+      solver.SwapResult(&aligned);
+      EXPECT_EQ(aligned.time_modes.size(), 0);
+      AlignToReference(reference, &aligned);
+      Eigen::MatrixXd v;
+      solver.TimeModes(aligned, 3, &v);
+      ASSERT_EQ(v.rows(), n);
+      ASSERT_EQ(v.cols(), 3);
+      const double tolerance = method == PodMethod::kDirect && m == 6 ? 0.0 : kTolerance;
+      EXPECT_TRUE(ExpectMatricesNear(v, expected.time_modes.leftCols(3), tolerance))
+          << ToString(method) << ", " << m << " sensors";
+      solver.TimeModes(aligned, 0, &v);
+      EXPECT_EQ(v.cols(), 0);
+      EXPECT_THROW(solver.TimeModes(aligned, aligned.modes() + 1, &v), std::invalid_argument);
+      EXPECT_THROW(solver.TimeModes(ComputePod(RandomMatrix(m, n + 1, 2), with), 1, &v),
+                   std::invalid_argument);
+    }
+  }
+  PodOptions weighted;
+  weighted.weighting = Eigen::MatrixXd::Identity(6, 6) * 2.0;
+  weighted.compute_time_modes = false;
+  PodSolver solver(weighted);
+  const PodResult& r = solver.Compute(RandomMatrix(6, 100, 3));
+  Eigen::MatrixXd v;
+  EXPECT_THROW(solver.TimeModes(r, 1, &v), std::invalid_argument);
+}
+
 // ------------------------------------------------------- paper's figures
 
 TEST(Pod, FirstPomOfMeasuredDataHoldsMoreThan60PercentOfEnergy) {

@@ -168,7 +168,8 @@ class EvaluationWorkspace {
   std::unique_ptr<Simulator> simulator;
   Eigen::VectorXd document_values;  ///< the kDocument parameters' values simulated
   std::unique_ptr<PodSolver> pod;
-  PodResult pod_result;    ///< the simulated POD, aligned to the measured one
+  PodResult pod_result;        ///< the simulated POD, aligned to the measured one (no V)
+  Eigen::MatrixXd time_modes;  ///< its compared modes' V (PodSolver::TimeModes)
   PodAlignment alignment;  ///< AlignToReference's buffers
   std::unique_ptr<wavelet::RidgeFrequencyEstimator> ridge;
   std::vector<std::unique_ptr<wavelet::RidgeFrequencyEstimator>> mode_ridges;

@@ -151,6 +151,17 @@ class PodSolver {
   /// recording), no copy. The same result as Compute(values.transpose()).
   const PodResult& ComputeFromSamples(const Eigen::Ref<const Eigen::MatrixXd>& values);
 
+  /// *v = the first `count` time modes of `result`, the last Compute()'s
+  /// (also after SwapResult, and reordered and flipped by AlignToReference)
+  /// when it ran without compute_time_modes: v_j = Y^T u_j / sigma_j (zero
+  /// where sigma_j = 0) from the centred data this solver keeps, so that a
+  /// caller forms only the modes it uses (an objective: 1 of 6 on the
+  /// reference beam). The unweighted direct method's V bit for bit, the
+  /// other methods' to rounding. v is resized to N x count (no allocation
+  /// once it has that size). Throws std::invalid_argument for a weighted
+  /// solver, count outside 0..result.modes() or a result of another shape.
+  void TimeModes(const PodResult& result, Eigen::Index count, Eigen::MatrixXd* v);
+
   const PodResult& result() const { return result_; }
   /// Exchanges the result's buffers with *other's, no copy: *other receives
   /// the last result, and the next Compute() refills the buffers it gave.
