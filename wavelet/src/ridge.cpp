@@ -177,15 +177,17 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
   track.inside_coi.setConstant(times, false);
   const auto& s = scalogram.scales_s;
   const auto& w = scalogram.coefficients;
+  const double ridge_transform = wavelet.FourierTransform(kappa);
   std::vector<internal::RidgeSample> samples(static_cast<std::size_t>(times));
   for (Eigen::Index j = 0; j < times; ++j) {
     const int k = path(j);
     if (k < 0) continue;
     track.inside_coi(j) = scalogram.InsideCoi(j, k);
     track.grid_frequency_Hz(j) = scalogram.frequencies_Hz(k);
-    const internal::RidgeSample& r = samples[static_cast<std::size_t>(j)] = internal::RefineRidgeSample(
-        wavelet, s, k, w(j, k > 0 ? k - 1 : k), w(j, k), w(j, k + 1 < freqs ? k + 1 : k),
-        scalogram.coefficient_scale, options.parabolic_refinement);
+    const internal::RidgeSample& r = samples[static_cast<std::size_t>(j)] =
+        internal::RefineRidgeSample(wavelet, ridge_transform, s, k, w(j, k > 0 ? k - 1 : k),
+                                    w(j, k), w(j, k + 1 < freqs ? k + 1 : k),
+                                    scalogram.coefficient_scale, options.parabolic_refinement);
     track.amplitude(j) = r.amplitude;
     if (options.estimator == FrequencyEstimator::kScale) {
       track.frequency_Hz(j) = options.parabolic_refinement
@@ -249,7 +251,27 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
 
 namespace internal {
 
+namespace {
+
+// |W|^2 is safe to form (no overflow, no subnormal) for |re|, |im| within
+// these: sqrt of the largest double / 2 and of the smallest normal * 2^54.
+constexpr double kSafeHigh = 0x1p+510, kSafeLow = 0x1p-480;
+
+bool SquaresAreSafe(std::complex<double> w) {
+  const double top = std::max(std::abs(w.real()), std::abs(w.imag()));
+  return top < kSafeHigh && top > kSafeLow;
+}
+
+// log|W|: half the log of |W|^2 where that is safe (std::abs is hypot,
+// 3 of the ridge track's 10 libm calls a sample), else log(hypot).
+double LogMagnitude(std::complex<double> w) {
+  return SquaresAreSafe(w) ? 0.5 * std::log(std::norm(w)) : std::log(std::abs(w));
+}
+
+}  // namespace
+
 RidgeSample RefineRidgeSample(const MorletWavelet& wavelet,
+                              double ridge_transform,
                               const Eigen::VectorXd& s,
                               int k,
                               std::complex<double> wa,
@@ -258,12 +280,11 @@ RidgeSample RefineRidgeSample(const MorletWavelet& wavelet,
                               double unit,
                               bool parabolic_refinement) {
   const Eigen::Index freqs = s.size();
-  // std::abs is hypot: no overflow for any finite W.
-  const double yb = std::log(std::abs(wb));
+  const double yb = LogMagnitude(wb);
   double scale = s(k), peak = yb;
   if (k > 0 && k + 1 < freqs && std::isfinite(yb)) {
-    const double ya = std::log(std::abs(wa));
-    const double yc = std::log(std::abs(wc));
+    const double ya = LogMagnitude(wa);
+    const double yc = LogMagnitude(wc);
     if (std::isfinite(ya) && std::isfinite(yc) && yb >= ya && yb >= yc && (yb > ya || yb > yc)) {
       // Parabola through (s_{k-1}, ya), (s_k, yb), (s_{k+1}, yc) (divided differences).
       const double a = s(k - 1), b = s(k), c = s(k + 1);
@@ -277,7 +298,9 @@ RidgeSample RefineRidgeSample(const MorletWavelet& wavelet,
   }
   RidgeSample r;
   r.vertex_s = scale;
-  r.amplitude = std::exp(peak) * unit / wavelet.UnitCosineMagnitude(scale);
+  // wavelet.UnitCosineMagnitude(scale), its constant computed once.
+  const double n = wavelet.normalisation == Normalisation::kAmplitude ? 1.0 : std::sqrt(scale);
+  r.amplitude = std::exp(peak) * unit / (0.5 * n * ridge_transform);
   r.neighbour = k;
   if (parabolic_refinement && scale != s(k)) {
     const int n = scale > s(k) ? k - 1 : k + 1;  // scales descend with k
@@ -287,7 +310,14 @@ RidgeSample RefineRidgeSample(const MorletWavelet& wavelet,
 }
 
 double PhaseFrequency_Hz(std::complex<double> w, std::complex<double> dw_dt) {
-  return w != 0.0 ? std::imag(dw_dt / w) / (2.0 * std::numbers::pi) : kNaN;
+  if (w == 0.0) return kNaN;
+  // Im(dw conj(w)) / |w|^2 without the complex division's scaling (a libgcc
+  // call, __divdc3) where nothing can overflow or underflow.
+  if (SquaresAreSafe(w) && SquaresAreSafe(dw_dt)) {
+    return (dw_dt.imag() * w.real() - dw_dt.real() * w.imag()) /
+           (std::norm(w) * (2.0 * std::numbers::pi));
+  }
+  return std::imag(dw_dt / w) / (2.0 * std::numbers::pi);
 }
 
 }  // namespace internal

@@ -17,8 +17,11 @@ struct RidgeSample {
 };
 
 /// From the coefficients at k - 1, k, k + 1 (wa and wc are ignored at the
-/// grid's ends); `unit` is Scalogram::coefficient_scale.
+/// grid's ends); `unit` is Scalogram::coefficient_scale; ridge_transform:
+/// wavelet.FourierTransform(wavelet.RidgeAngularFrequency()), computed once
+/// by the caller (UnitCosineMagnitude's constant).
 RidgeSample RefineRidgeSample(const MorletWavelet& wavelet,
+                              double ridge_transform,
                               const Eigen::VectorXd& scales_s,
                               int k,
                               std::complex<double> wa,
@@ -27,8 +30,9 @@ RidgeSample RefineRidgeSample(const MorletWavelet& wavelet,
                               double unit,
                               bool parabolic_refinement);
 
-/// Im(conj(W) dW/dt) / (2 pi |W|^2) = Im((dW/dt) / W) / (2 pi) (the complex
-/// division scales internally: no overflow); NaN where W = 0.
+/// Im(conj(W) dW/dt) / (2 pi |W|^2) = Im((dW/dt) / W) / (2 pi): written out
+/// where |W|^2 and the products are far from overflow and underflow, else by
+/// the complex division (which scales internally); NaN where W = 0.
 double PhaseFrequency_Hz(std::complex<double> w, std::complex<double> dw_dt);
 
 }  // namespace podid::wavelet::internal
