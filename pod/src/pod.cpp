@@ -121,6 +121,36 @@ double NoiseSigmaThreshold(double noise_std, Eigen::Index sensors, Eigen::Index 
 }
 
 // Every buffer a Compute() needs; sized on the first call of a shape.
+namespace {
+
+// V = Y^T U diag(1 / sigma) for the first `count` modes (zero columns for
+// zero modes): the unweighted direct method's time modes (eq. 17), from
+// centred yt = Y^T (N x M). *v is resized to N x count.
+void DirectTimeModes(const Eigen::MatrixXd& yt,
+                     const Eigen::MatrixXd& poms,
+                     const Eigen::VectorXd& sigma,
+                     Eigen::Index count,
+                     Eigen::MatrixXd* coefficients,
+                     Eigen::MatrixXd* v) {
+  coefficients->resize(yt.cols(), count);
+  for (Eigen::Index j = 0; j < count; ++j) {
+    const double s = sigma(j);
+    if (s == 0.0) {
+      coefficients->col(j).setZero();
+    } else {
+      coefficients->col(j) = poms.col(j) / s;
+    }
+  }
+  v->resize(yt.rows(), count);
+  if (yt.cols() <= internal::kSmallKernelMaxSensors) {
+    internal::SmallTimesSmall(yt, *coefficients, *v);
+  } else {
+    v->noalias() = yt * *coefficients;
+  }
+}
+
+}  // namespace
+
 struct PodSolver::Workspace {
   bool weighted = false;
   Eigen::MatrixXd upper;         // L^T (M x M), W = L L^T
@@ -302,21 +332,7 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
           if (!w.weighted && ConventionSign(r.poms.col(j)) < 0.0) r.poms.col(j) *= -1.0;
         }
         if (options_.compute_time_modes) {
-          // V = Y^T Psi diag(1 / sigma), zero columns for zero modes.
-          w.coefficients.resize(m, k);
-          for (Index j = 0; j < k; ++j) {
-            const double s = w.sigma_all(j);
-            if (s == 0.0) {
-              w.coefficients.col(j).setZero();
-            } else {
-              w.coefficients.col(j) = r.poms.col(j) / s;
-            }
-          }
-          if (m <= internal::kSmallKernelMaxSensors) {
-            internal::SmallTimesSmall(w.yt, w.coefficients, r.time_modes);
-          } else {
-            r.time_modes.noalias() = w.yt * w.coefficients;
-          }
+          DirectTimeModes(w.yt, r.poms, w.sigma_all, k, &w.coefficients, &r.time_modes);
         }
       } else {
         // eq. 10: phi_k = sum_j a_kj v_j; V = A.
@@ -435,22 +451,7 @@ void PodSolver::TimeModes(const PodResult& result, Eigen::Index count, Eigen::Ma
     ThrowInvalid("PodSolver::TimeModes", "the result of this solver's last Compute()",
                  "a result of " + Shape(m, n) + " and data of " + Shape(w.yt.cols(), w.yt.rows()));
   }
-  // As ComputeImpl forms V: coefficients u_j / sigma_j, then Y^T times them.
-  w.coefficients.resize(m, count);
-  for (Index j = 0; j < count; ++j) {
-    const double s = result.singular_values(j);
-    if (s == 0.0) {
-      w.coefficients.col(j).setZero();
-    } else {
-      w.coefficients.col(j) = result.poms.col(j) / s;
-    }
-  }
-  v->resize(n, count);
-  if (m <= internal::kSmallKernelMaxSensors) {
-    internal::SmallTimesSmall(w.yt, w.coefficients, *v);
-  } else {
-    v->noalias() = w.yt * w.coefficients;
-  }
+  DirectTimeModes(w.yt, result.poms, result.singular_values, count, &w.coefficients, v);
 }
 
 PodResult ComputePod(const Eigen::Ref<const Eigen::MatrixXd>& x, const PodOptions& options) {

@@ -148,6 +148,14 @@ Eigen::MatrixXd DriftingRidge(std::mt19937& rng,
   return cost;
 }
 
+// ln f of `freqs` log-spaced frequencies from `lowest_Hz`, `voices` an octave.
+Eigen::VectorXd LogFrequencies(Eigen::Index freqs, int voices, double lowest_Hz) {
+  return (Eigen::VectorXd::LinSpaced(freqs, 0.0, static_cast<double>(freqs - 1)) *
+          (std::log(2.0) / voices))
+             .array() +
+         std::log(lowest_Hz);
+}
+
 // The path's objective, sum cost + lambda sum dx^2, restarting at -1.
 double PathTotal(const Eigen::VectorXd& x, double lambda, const Eigen::MatrixXd& cost, const Eigen::VectorXi& path) {
   double total = 0.0;
@@ -211,11 +219,7 @@ TEST(RidgeProgramme, PushLastGivesPushsPathOnClearAndNoisyRidges) {
   for (int trial = 0; trial < 60; ++trial) {
     const Eigen::Index freqs = 30 + static_cast<Eigen::Index>(rng() % 130);
     const Eigen::Index times = 50 + static_cast<Eigen::Index>(rng() % 300);
-    const Eigen::VectorXd x =
-        (Eigen::VectorXd::LinSpaced(freqs, 0.0, static_cast<double>(freqs - 1)) *
-         (std::log(2.0) / 24.0))
-            .array() +
-        std::log(5.0);
+    const Eigen::VectorXd x = LogFrequencies(freqs, 24, 5.0);
     const double lambda = 1.0 + 30.0 * uniform(rng);
     const double noise = trial % 3 == 0 ? 0.0 : trial % 3 == 1 ? 0.05 : 3.0;
     const Eigen::MatrixXd cost =
@@ -248,11 +252,7 @@ TEST(RidgeProgramme, PushLastPowersGivesPushsPathOnTheSameCosts) {
   for (int trial = 0; trial < 90; ++trial) {
     const Eigen::Index freqs = 30 + static_cast<Eigen::Index>(rng() % 130);
     const Eigen::Index times = 50 + static_cast<Eigen::Index>(rng() % 300);
-    const Eigen::VectorXd x =
-        (Eigen::VectorXd::LinSpaced(freqs, 0.0, static_cast<double>(freqs - 1)) *
-         (std::log(2.0) / 32.0))
-            .array() +
-        std::log(10.0);
+    const Eigen::VectorXd x = LogFrequencies(freqs, 32, 10.0);
     const int kind = trial % 6;  // 0 clear, 1 noisy, 2 very noisy, 3 flat, 4 lambda 0, 5 maximum
     const double lambda = kind == 4 ? 0.0 : 1.0 + 30.0 * uniform(rng);
     Eigen::MatrixXd power(freqs, times);
@@ -299,10 +299,7 @@ TEST(RidgeProgramme, ReachesTheBruteForceOptimumOnRandomRealCosts) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   for (int trial = 0; trial < 40; ++trial) {
     const Eigen::Index freqs = 20 + static_cast<Eigen::Index>(rng() % 140), times = 200;
-    const Eigen::VectorXd x =
-        (Eigen::VectorXd::LinSpaced(freqs, 0.0, static_cast<double>(freqs - 1)) * (std::log(2.0) / 32.0))
-            .array() +
-        std::log(10.0);
+    const Eigen::VectorXd x = LogFrequencies(freqs, 32, 10.0);
     const double lambda = 5.0 + 30.0 * uniform(rng);
     const Eigen::MatrixXd cost =
         DriftingRidge(rng, freqs, times, {0.5, 2.0, 8.0, 1.0, 0.0, 3.0, 0.02});
