@@ -237,7 +237,9 @@ class ObjectiveFunction {
   SimulationResult SimulateAt(const Eigen::VectorXd& values, EvaluationWorkspace* workspace) const;
   /// The POD of a simulated response as Evaluate computes it: mean removed,
   /// time modes, all modes (for the MAC matching of swapped modes), the
-  /// compared ones accurate.
+  /// compared ones accurate. (Evaluate itself skips the time modes and forms
+  /// those of the compared modes after the alignment, PodSolver::TimeModes:
+  /// the same values.)
   PodOptions ResponsePodOptions() const;
   /// Simulated sensors as Evaluate compares them: with the measured record's
   /// [data] conditioning (detrend, filter) applied (ConditionSimulated).
