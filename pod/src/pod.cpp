@@ -120,7 +120,6 @@ double NoiseSigmaThreshold(double noise_std, Eigen::Index sensors, Eigen::Index 
          (std::sqrt(static_cast<double>(sensors)) + std::sqrt(static_cast<double>(samples)));
 }
 
-// Every buffer a Compute() needs; sized on the first call of a shape.
 namespace {
 
 // V = Y^T U diag(1 / sigma) for the first `count` modes (zero columns for
@@ -151,6 +150,7 @@ void DirectTimeModes(const Eigen::MatrixXd& yt,
 
 }  // namespace
 
+// Every buffer a Compute() needs; sized on the first call of a shape.
 struct PodSolver::Workspace {
   bool weighted = false;
   Eigen::MatrixXd upper;         // L^T (M x M), W = L L^T
