@@ -75,47 +75,38 @@ Eigen::VectorXi ProgrammePath(const Eigen::VectorXd& x, double lambda, const Eig
 // The same through PushLast: the first `pushed` columns one by one, the rest
 // at once, read frequency-major (strides 1, freqs) or time-major (a transposed
 // copy: strides times, 1), as the streamed ridge's two callers lay them out.
+// With `powers`, `data` holds |W|^2 (freqs x times): the first columns get
+// RidgeCostOfPower's costs, the rest go to PushLastPowers.
 Eigen::VectorXi PushLastPath(const Eigen::VectorXd& x,
                              double lambda,
-                             const Eigen::MatrixXd& cost,
+                             const Eigen::MatrixXd& data,
                              Eigen::Index pushed,
                              bool time_major,
-                             Eigen::Index* cells = nullptr) {
-  internal::RidgeProgramme programme(x, lambda, false);
-  programme.Reset(cost.cols());
-  for (Eigen::Index j = 0; j < pushed; ++j) programme.Push(cost.col(j).data());
-  const Eigen::Index rest = cost.cols() - pushed;
-  if (time_major) {
-    const Eigen::MatrixXd by_time = cost.rightCols(rest).transpose();
-    programme.PushLast(by_time.data(), rest, by_time.rows(), 1);
-  } else {
-    programme.PushLast(cost.col(pushed).data(), rest, 1, cost.rows());
-  }
-  if (cells != nullptr) *cells = programme.last_cells();
-  return programme.Path();
-}
-
-// The same through PushLastPowers, from powers (freqs x times).
-Eigen::VectorXi PushLastPowersPath(const Eigen::VectorXd& x,
-                                   double lambda,
-                                   bool maximum,
-                                   const Eigen::MatrixXd& power,
-                                   Eigen::Index pushed,
-                                   bool time_major,
-                                   Eigen::Index* cells = nullptr) {
+                             Eigen::Index* cells = nullptr,
+                             bool powers = false,
+                             bool maximum = false) {
   internal::RidgeProgramme programme(x, lambda, maximum);
-  programme.Reset(power.cols());
-  Eigen::VectorXd cost(power.rows());
+  programme.Reset(data.cols());
+  Eigen::VectorXd cost(data.rows());
   for (Eigen::Index j = 0; j < pushed; ++j) {
-    internal::RidgeCostOfPower(power.col(j).data(), power.rows(), cost.data());
+    cost = data.col(j);
+    if (powers) internal::RidgeCostOfPower(cost.data(), cost.size(), cost.data());
     programme.Push(cost.data());
   }
-  const Eigen::Index rest = power.cols() - pushed;
+  const auto last = [&](const double* from, Eigen::Index count, Eigen::Index freq_stride,
+                        Eigen::Index time_stride) {
+    if (powers) {
+      programme.PushLastPowers(from, count, freq_stride, time_stride);
+    } else {
+      programme.PushLast(from, count, freq_stride, time_stride);
+    }
+  };
+  const Eigen::Index rest = data.cols() - pushed;
   if (time_major) {
-    const Eigen::MatrixXd by_time = power.rightCols(rest).transpose();
-    programme.PushLastPowers(by_time.data(), rest, by_time.rows(), 1);
+    const Eigen::MatrixXd by_time = data.rightCols(rest).transpose();
+    last(by_time.data(), rest, by_time.rows(), 1);
   } else {
-    programme.PushLastPowers(power.col(pushed).data(), rest, 1, power.rows());
+    last(data.col(pushed).data(), rest, 1, data.rows());
   }
   if (cells != nullptr) *cells = programme.last_cells();
   return programme.Path();
@@ -278,13 +269,13 @@ TEST(RidgeProgramme, PushLastPowersGivesPushsPathOnTheSameCosts) {
     const Eigen::VectorXi expected = reference.Path();
     for (const bool time_major : {false, true}) {
       Eigen::Index cells = 0;
-      ASSERT_EQ(PushLastPowersPath(x, lambda, kind == 5, power, 0, time_major, &cells), expected)
+      ASSERT_EQ(PushLastPath(x, lambda, power, 0, time_major, &cells, true, kind == 5), expected)
           << "trial " << trial << ", kind " << kind << (time_major ? ", time-major" : "");
       if (kind == 0) {
         EXPECT_LT(cells, freqs * times / 2) << "trial " << trial;
       }
     }
-    EXPECT_EQ(PushLastPowersPath(x, lambda, kind == 5, power, times / 2, false), expected)
+    EXPECT_EQ(PushLastPath(x, lambda, power, times / 2, false, nullptr, true, kind == 5), expected)
         << "trial " << trial << ", kind " << kind;
   }
 }
