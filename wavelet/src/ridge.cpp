@@ -177,7 +177,6 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
   track.inside_coi.setConstant(times, false);
   const auto& s = scalogram.scales_s;
   const auto& w = scalogram.coefficients;
-  const double ridge_transform = wavelet.FourierTransform(kappa);
   std::vector<internal::RidgeSample> samples(static_cast<std::size_t>(times));
   for (Eigen::Index j = 0; j < times; ++j) {
     const int k = path(j);
@@ -185,9 +184,9 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
     track.inside_coi(j) = scalogram.InsideCoi(j, k);
     track.grid_frequency_Hz(j) = scalogram.frequencies_Hz(k);
     const internal::RidgeSample& r = samples[static_cast<std::size_t>(j)] =
-        internal::RefineRidgeSample(wavelet, ridge_transform, s, k, w(j, k > 0 ? k - 1 : k),
-                                    w(j, k), w(j, k + 1 < freqs ? k + 1 : k),
-                                    scalogram.coefficient_scale, options.parabolic_refinement);
+        internal::RefineRidgeSample(wavelet, s, k, w(j, k > 0 ? k - 1 : k), w(j, k),
+                                    w(j, k + 1 < freqs ? k + 1 : k), scalogram.coefficient_scale,
+                                    options.parabolic_refinement);
     track.amplitude(j) = r.amplitude;
     if (options.estimator == FrequencyEstimator::kScale) {
       track.frequency_Hz(j) = options.parabolic_refinement
@@ -271,7 +270,6 @@ double LogMagnitude(std::complex<double> w) {
 }  // namespace
 
 RidgeSample RefineRidgeSample(const MorletWavelet& wavelet,
-                              double ridge_transform,
                               const Eigen::VectorXd& s,
                               int k,
                               std::complex<double> wa,
@@ -298,9 +296,7 @@ RidgeSample RefineRidgeSample(const MorletWavelet& wavelet,
   }
   RidgeSample r;
   r.vertex_s = scale;
-  // wavelet.UnitCosineMagnitude(scale), its constant computed once.
-  const double n = wavelet.normalisation == Normalisation::kAmplitude ? 1.0 : std::sqrt(scale);
-  r.amplitude = std::exp(peak) * unit / (0.5 * n * ridge_transform);
+  r.amplitude = std::exp(peak) * unit / wavelet.UnitCosineMagnitude(scale);
   r.neighbour = k;
   if (parabolic_refinement && scale != s(k)) {
     const int n = scale > s(k) ? k - 1 : k + 1;  // scales descend with k

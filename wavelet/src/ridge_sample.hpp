@@ -17,11 +17,8 @@ struct RidgeSample {
 };
 
 /// From the coefficients at k - 1, k, k + 1 (wa and wc are ignored at the
-/// grid's ends); `unit` is Scalogram::coefficient_scale; ridge_transform:
-/// wavelet.FourierTransform(wavelet.RidgeAngularFrequency()), computed once
-/// by the caller (UnitCosineMagnitude's constant).
+/// grid's ends); `unit` is Scalogram::coefficient_scale.
 RidgeSample RefineRidgeSample(const MorletWavelet& wavelet,
-                              double ridge_transform,
                               const Eigen::VectorXd& scales_s,
                               int k,
                               std::complex<double> wa,

@@ -320,7 +320,6 @@ void RidgeFrequencyEstimator::Impl::Track(const Eigen::VectorXi& path) {
   const int freqs = static_cast<int>(b.frequencies_Hz().size());
   const Eigen::VectorXd& s = b.scales_s();
   const double kappa = sg.wavelet.RidgeAngularFrequency();
-  const double ridge_transform = sg.wavelet.FourierTransform(kappa);
   RidgeTrack& t = track;
   t.time_s = sg.time_s;
   t.frequency_index = path;
@@ -352,9 +351,9 @@ void RidgeFrequencyEstimator::Impl::Track(const Eigen::VectorXi& path) {
       t.inside_coi(j) = sg.InsideCoi(j, k);
       t.grid_frequency_Hz(j) = sg.frequencies_Hz(k);
       const internal::RidgeSample& r = samples[static_cast<std::size_t>(j)] =
-          internal::RefineRidgeSample(sg.wavelet, ridge_transform, s, k, at(i, k > 0 ? k - 1 : k),
-                                      at(i, k), at(i, k + 1 < freqs ? k + 1 : k),
-                                      sg.coefficient_scale, ro.parabolic_refinement);
+          internal::RefineRidgeSample(sg.wavelet, s, k, at(i, k > 0 ? k - 1 : k), at(i, k),
+                                      at(i, k + 1 < freqs ? k + 1 : k), sg.coefficient_scale,
+                                      ro.parabolic_refinement);
       t.amplitude(j) = r.amplitude;
       path_magnitude(j) = std::abs(at(i, k));
       if (!phase) {
