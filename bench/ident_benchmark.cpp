@@ -109,19 +109,19 @@ double StatusMB(const std::string& field) {
   return std::numeric_limits<double>::quiet_NaN();
 }
 
-// Issue 13 item 3: one `wavelet` evaluation (dU + dS + dIF) on the whole
-// Silverbox record (../shared/realdata/silverbox/SNLS80mV.mat: V2 measured,
-// V1 the force; 131,072 samples at 610.35 Hz), examples/silverbox's 1x1
-// Duffing model at its start values with data.window widened to the whole
-// record. Arguments: Newmark sub-steps per sample (16 as the example, 1);
-// the ridge's top frequency, 300 Hz (10-300 Hz, 158 frequencies, as
-// BM_SilverboxRidge: no decimation) or 120 Hz (the objective's default
-// 10-120 Hz, 115 frequencies, every 2nd sample); the ridge's cwt.threads (2:
-// its streamed pass 1 as a two-thread pipeline). Wall time (real_time).
+// Issue 13 item 3: one evaluation of the objective `preset` (BM_EvaluateWaveletSilverbox:
+// `wavelet`, dU + dS + dIF) on the whole Silverbox record
+// (../shared/realdata/silverbox/SNLS80mV.mat: V2 measured, V1 the force; 131,072 samples at 610.35
+// Hz), examples/silverbox's 1x1 Duffing model at its start values with data.window widened to the
+// whole record. BM_EvaluateWaveletSilverbox's arguments: Newmark sub-steps per sample (16 as the
+// example, 1); the ridge's top frequency, 300 Hz (10-300 Hz, 158 frequencies, as BM_SilverboxRidge:
+// no decimation) or 120 Hz (the objective's default 10-120 Hz, 115 frequencies, every 2nd sample);
+// the ridge's cwt.threads (2: its streamed pass 1 as a two-thread pipeline). Wall time (real_time).
 // Steady state: the measured ridge and the workspace are built before the loop.
 // evaluation_peak_MB: run each argument alone (--benchmark_filter), since a
 // later run reuses the memory an earlier one freed.
-void BM_EvaluateWaveletSilverbox(benchmark::State& state) {
+void EvaluateSilverbox(
+    benchmark::State& state, const char* preset, int substeps, int max_frequency_Hz, int threads) {
   const std::string mat = std::string(PODID_TEST_DATA_DIR) + "/../../../shared/realdata/silverbox/SNLS80mV.mat";
   if (!std::ifstream(mat).good()) {
     state.SkipWithError("no ../shared/realdata/silverbox/SNLS80mV.mat");
@@ -130,7 +130,7 @@ void BM_EvaluateWaveletSilverbox(benchmark::State& state) {
   CaseDocument document = CaseDocument::Load(std::string(PODID_EXAMPLES_DIR) + "/silverbox/silverbox.toml");
   const double step_s = std::ldexp(1.0, 14) / 1e7;
   document.Set("data.file", "\"" + mat + "\"");
-  document.Set("integrator.substeps", ToText(state.range(0)));
+  document.Set("integrator.substeps", ToText(substeps));
   MatReadOptions read;
   read.variable = "V2";
   read.step_s = step_s;
@@ -138,11 +138,11 @@ void BM_EvaluateWaveletSilverbox(benchmark::State& state) {
   measured.channel_names = {"y"};  // the sensor [data] channels = ["V2"] names
   const double last_s = measured.time_s[measured.samples() - 1];
   document.Set("data.window", "[" + ToText(-0.5 * step_s) + ", " + ToText(last_s + 0.5 * step_s) + "]");
-  const ident::ObjectiveWeights weights = ident::ObjectiveWeights::Preset("wavelet");
+  const ident::ObjectiveWeights weights = ident::ObjectiveWeights::Preset(preset);
   ident::ObjectiveOptions options;
   options.SetWeights(weights);
-  options.ridge.cwt.frequencies.max_frequency_Hz = static_cast<double>(state.range(1));
-  options.ridge.cwt.threads = static_cast<int>(state.range(2));
+  options.ridge.cwt.frequencies.max_frequency_Hz = max_frequency_Hz;
+  options.ridge.cwt.threads = threads;
   const ident::ObjectiveFunction objective(document, measured, options);
   ident::EvaluationWorkspace workspace;
   const Eigen::VectorXd values = objective.StartValues();
@@ -166,6 +166,10 @@ void BM_EvaluateWaveletSilverbox(benchmark::State& state) {
   state.counters["RSS_before_MB"] = before_MB;
   state.counters["evaluation_peak_MB"] = StatusMB("VmHWM:") - before_MB;
 }
+void BM_EvaluateWaveletSilverbox(benchmark::State& state) {
+  EvaluateSilverbox(state, "wavelet", static_cast<int>(state.range(0)),
+                    static_cast<int>(state.range(1)), static_cast<int>(state.range(2)));
+}
 BENCHMARK(BM_EvaluateWaveletSilverbox)
     ->Args({16, 300, 1})
     ->Args({1, 300, 1})
@@ -174,6 +178,14 @@ BENCHMARK(BM_EvaluateWaveletSilverbox)
     ->Args({16, 120, 2})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// The same evaluation with the `time-free` objective (dU + dS): the
+// simulation (2.1 million steps of the 1-dof model at 16 sub-steps) and the
+// POD of its one channel, no ridge.
+void BM_EvaluateTimeFreeSilverbox(benchmark::State& state) {
+  EvaluateSilverbox(state, "time-free", static_cast<int>(state.range(0)), 120, 1);
+}
+BENCHMARK(BM_EvaluateTimeFreeSilverbox)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // How often the simulated POD falls back from the Gram (direct) method to
 // the SVD (issue 11 item 5): over 201 values of knl in [0, 200], the case's

@@ -341,32 +341,43 @@ TEST(NewmarkModalTest, DispatchedLoopGivesThePortableBits) {
   // in the same order, so the same bits (as the dense update kernels). Its
   // record has its own loop for up to 8 sensors (one or two row blocks in
   // registers): 3, 6 (the case's) and 8 sensors, and 12 through the general loop.
-  const CaseSpec spec = ReferenceCase({"force.type=\"harmonic\"", "force.node=3", "force.amplitude=1",
-                                       "force.frequency=30"});
-  const BeamModel model = BeamModel::Build(spec);
-  NewmarkOptions options = ModalOptions(spec);
-  const State initial = InitialState(spec, model);
-  const ExternalLoad load = BuildLoad(spec, model);
-  const NewmarkIntegrator dispatched(model, options);
-  options.cpu_dispatch = false;
-  const NewmarkIntegrator portable(model, options);
-  ASSERT_TRUE(dispatched.modal() && portable.modal()) << portable.modal_status();
-  std::vector<int> all;
-  for (int d = 0; d < model.dofs(); ++d) all.push_back(d);
-  ASSERT_EQ(all.size(), 12u);
-  for (const std::vector<int>& dofs :
-       {SensorDofs(spec), std::vector<int>(all.begin(), all.begin() + 3),
-        std::vector<int>(all.begin(), all.begin() + 8), all}) {
-    SCOPED_TRACE(std::to_string(dofs.size()) + " sensors");
-    Recording a, b;
-    a.dofs = b.dofs = dofs;
-    a.record_velocity = b.record_velocity = true;
-    a.record_acceleration = b.record_acceleration = dofs.size() == 8;
-    ASSERT_TRUE(dispatched.Run(initial, load, &a).IsSolutionUsable());
-    ASSERT_TRUE(portable.Run(initial, load, &b).IsSolutionUsable());
-    EXPECT_TRUE(a.displacement == b.displacement);
-    EXPECT_TRUE(a.velocity == b.velocity);
-    EXPECT_TRUE(a.acceleration == b.acceleration);
+  // The AVX2 loop forms the load's modal share in registers (the portable
+  // one through load_next): one force, then two forces and base excitation.
+  for (const std::vector<std::string>& overrides :
+       {std::vector<std::string>{"force.type=\"harmonic\"", "force.node=3", "force.amplitude=1",
+                                 "force.frequency=30"},
+        std::vector<std::string>{
+            "force.0.type=\"harmonic\"", "force.0.node=6", "force.0.amplitude=1",
+            "force.0.frequency=30", "force.1.type=\"sweep\"", "force.1.node=2",
+            "force.1.amplitude=1", "force.1.start_frequency=5", "force.1.end_frequency=50",
+            "base.type=\"harmonic\"", "base.amplitude=3", "base.frequency=20"}}) {
+    const CaseSpec spec = ReferenceCase(overrides);
+    const BeamModel model = BeamModel::Build(spec);
+    NewmarkOptions options = ModalOptions(spec);
+    const State initial = InitialState(spec, model);
+    const ExternalLoad load = BuildLoad(spec, model);
+    SCOPED_TRACE(std::to_string(load.columns()) + " load columns");
+    const NewmarkIntegrator dispatched(model, options);
+    options.cpu_dispatch = false;
+    const NewmarkIntegrator portable(model, options);
+    ASSERT_TRUE(dispatched.modal() && portable.modal()) << portable.modal_status();
+    std::vector<int> all;
+    for (int d = 0; d < model.dofs(); ++d) all.push_back(d);
+    ASSERT_EQ(all.size(), 12u);
+    for (const std::vector<int>& dofs :
+         {SensorDofs(spec), std::vector<int>(all.begin(), all.begin() + 3),
+          std::vector<int>(all.begin(), all.begin() + 8), all}) {
+      SCOPED_TRACE(std::to_string(dofs.size()) + " sensors");
+      Recording a, b;
+      a.dofs = b.dofs = dofs;
+      a.record_velocity = b.record_velocity = true;
+      a.record_acceleration = b.record_acceleration = dofs.size() == 8;
+      ASSERT_TRUE(dispatched.Run(initial, load, &a).IsSolutionUsable());
+      ASSERT_TRUE(portable.Run(initial, load, &b).IsSolutionUsable());
+      EXPECT_TRUE(a.displacement == b.displacement);
+      EXPECT_TRUE(a.velocity == b.velocity);
+      EXPECT_TRUE(a.acceleration == b.acceleration);
+    }
   }
 }
 
