@@ -196,7 +196,7 @@ template <int kNa, bool kVector>
   const double* __restrict const modal_load = w.modal_load.data();      // n_pad x columns
   const double* __restrict const modal_load_a = w.modal_load_a.data();  // (na = 1) x columns
   // The one-dof vector loop's load share on its nonlinear dof (w.load_a elsewhere).
-  double load_a = w.load_a.size() > 0 ? w.load_a[0] : 0.0;
+  double load_a = 0.0;
   const double* __restrict const e = m.e.data();
   const double* __restrict const q_gain = m.q_gain.data();
   const double* __restrict const phi_a = m.phi_a.data();
@@ -312,9 +312,9 @@ template <int kNa, bool kVector>
       for (int i = 0; i < np; ++i) load_next[i] = 0.0;
       for (int j = 0; j < na; ++j) w.load_a[j] = 0.0;
       for (int k = 0; k < columns; ++k) {
-        const double value = load.history(k, step + 1);
+        const double value = load_values[k];
         if (value == 0.0) continue;
-        const double* column = w.modal_load.data() + static_cast<std::ptrdiff_t>(k) * np;
+        const double* column = modal_load + static_cast<std::ptrdiff_t>(k) * np;
         for (int i = 0; i < np; ++i) load_next[i] += value * column[i];
         for (int j = 0; j < na; ++j) w.load_a[j] += value * w.modal_load_a(j, k);
       }
