@@ -59,6 +59,18 @@ check "$out/two.json" knl 0.005 70
 # The Duffing example runs.
 "$podid" simulate examples/duffing/duffing.toml -o "$out/duffing.csv" >/dev/null || fail "duffing exited $?"
 [ "$(head -1 "$out/duffing.csv")" = "t,x" ] || fail "duffing header"
+# Its one mode, analytic: k = (2 pi 5 Hz)^2, m = 1, c = 0.4 give 5 Hz and
+# zeta = c / (2 sqrt(k m)) = 0.4 / (20 pi) = 0.006366 (printed to 4 and 6 digits).
+"$podid" modes examples/duffing/duffing.toml >"$out/modes_duffing" || fail "modes duffing exited $?"
+grep -Eq "^ +1 +5\.0000 +0\.006366$" "$out/modes_duffing" || fail "duffing modes: $(cat "$out/modes_duffing")"
+
+# `modes` reads no excitation: the Silverbox case's force is a channel of a
+# data file that only the command line names (run.py), and its linear model
+# (K = 0; the stiffness is the polynomial element's k1) has one 0 Hz mode.
+"$podid" modes examples/silverbox/silverbox.toml >"$out/modes_sb" 2>"$out/stderr" ||
+  fail "modes silverbox exited $?: $(cat "$out/stderr")"
+grep -q "imported matrices, 1 dofs" "$out/modes_sb" || fail "silverbox modes: $(cat "$out/modes_sb")"
+grep -Eq "^ +1 +0\.0000 " "$out/modes_sb" || fail "silverbox mode: $(cat "$out/modes_sb")"
 
 # Errors: exit 1, one line naming the key.
 "$podid" simulate examples/two_beams/two_beams.toml --set initial.dof=25 -o "$out/bad.csv" 2>"$out/stderr"
