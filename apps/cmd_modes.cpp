@@ -26,10 +26,10 @@ void IgnoreExcitation(CaseDocument& document) {
 void AddModesCommand(CLI::App& app) {
   auto args = std::make_shared<CaseArguments>();
   auto count = std::make_shared<int>(0);
-  CLI::App* command = app.add_subcommand(
-      "modes",
-      "Print the natural frequencies (Hz) and damping ratios of the case's linear model (beam or imported "
-      "matrices); the excitation ([force], [base]) is not read");
+  CLI::App* command = app.add_subcommand("modes",
+                                         "Print the natural frequencies (Hz) and damping ratios of "
+                                         "the case's linear model (beam or imported "
+                                         "matrices); the excitation ([force], [base]) is not read");
   args->AddTo(*command);
   command->add_option("-n,--count", *count, "Number of modes to print, the lowest (default: all, by the dense solver)")
       ->check(IntegerIn(0, kMaxModesPrinted));
