@@ -24,8 +24,11 @@ Eigen::Index Mirror(Eigen::Index m, Eigen::Index n) {
 }
 
 // A block's inverse length at least this many times its two overlaps: the
-// overlap then costs at most 1/8 of the transform.
-constexpr Eigen::Index kOverlapShare = 8;
+// overlap then costs at most 1/4 of the transform. Not more: shorter blocks
+// keep a block's costs (times x frequencies) nearer the cache, which paid
+// more than the overlap cost (4 against 8: the Silverbox evaluation 1.08x,
+// the 10^6-sample ridge 1.13x; docs/benchmarks.md, "Shorter ridge blocks").
+constexpr Eigen::Index kOverlapShare = 4;
 
 }  // namespace
 
