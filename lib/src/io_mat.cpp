@@ -62,6 +62,26 @@ void FreeMatVar(matvar_t* var) {
   Mat_VarFree(var);
 }
 
+MatVarPtr ReadMatVar(mat_t* mat, const std::string& name) {
+  // Find the variable's position among the headers, then read the headers
+  // before it again (libmatio has no public file position to return to) and
+  // the variable with its data.
+  auto named = [&](const matvar_t& var) { return var.name != nullptr && name == var.name; };
+  if (Mat_Rewind(mat) != 0) return nullptr;
+  long long index = 0;
+  for (;; ++index) {
+    const MatVarPtr info(Mat_VarReadNextInfo(mat));
+    if (!info) return nullptr;
+    if (named(*info)) break;
+  }
+  if (Mat_Rewind(mat) != 0) return nullptr;
+  for (long long k = 0; k < index; ++k) {
+    if (!MatVarPtr(Mat_VarReadNextInfo(mat))) return nullptr;
+  }
+  MatVarPtr var(Mat_VarReadNext(mat));
+  return var && named(*var) ? std::move(var) : nullptr;
+}
+
 std::size_t MatElements(const matvar_t& var) {
   std::size_t n = 1;
   for (int i = 0; i < var.rank; ++i) n *= var.dims[i];
@@ -299,7 +319,7 @@ std::vector<double> ReadNumeric(mat_t* mat,
                                 const std::string& path,
                                 const std::string& name,
                                 std::size_t expected) {
-  MatVarPtr var(Mat_VarRead(mat, name.c_str()));
+  MatVarPtr var = ReadMatVar(mat, name);
   const std::string where = path + ": variable '" + name + "'";
   if (!var) ThrowInvalid(where, "readable numeric data", "a read failure");
   if (MatElements(*var) != expected) {
@@ -339,7 +359,7 @@ TimeSeries ReadMatFile(const std::string& path,
     const std::string name = var->name ? var->name : "";
     CheckDeclaredSize(*var, v73 || var->compression != MAT_COMPRESSION_NONE, file_bytes, path);
     for (const auto& v : vars) {
-      // Mat_VarRead finds a variable by name: a second one could not be read.
+      // ReadMatVar finds a variable by name: a second one could not be read.
       if (name == v->name)
         ThrowInvalid(path, "variables with distinct names", "'" + name + "' twice");
     }
@@ -415,7 +435,7 @@ TimeSeries ReadMatFile(const std::string& path,
                    "'" + time_variable + "'");
     }
     const std::string name = group->name;
-    MatVarPtr full(Mat_VarRead(mat.get(), name.c_str()));
+    MatVarPtr full = ReadMatVar(mat.get(), name);
     if (!full)
       ThrowInvalid(path + ": variable '" + name + "'", "a readable struct", "a read failure");
     return MatStructSeries(*full, path, step_s, has_time, notes);

@@ -23,6 +23,12 @@ struct MatVarFreer {
 };
 using MatVarPtr = std::unique_ptr<matvar_t, MatVarFreer>;
 
+/// Mat_VarRead(mat, name) (null if no variable has that name or its data
+/// cannot be read), with every variable it passes over freed by FreeMatVar:
+/// Mat_VarRead frees those itself, and with libmatio < 1.5.25 leaks the cells
+/// of a function handle among them (podid_fuzz_mat).
+MatVarPtr ReadMatVar(mat_t* mat, const std::string& name);
+
 /// Elements of a variable (product of its dimensions).
 std::size_t MatElements(const matvar_t& var);
 /// Real, non-sparse, numeric class (double .. uint64, logical included), rank 2.

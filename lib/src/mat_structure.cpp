@@ -34,6 +34,7 @@ constexpr std::uint32_t kClassChar = 4;
 constexpr std::uint32_t kClassSparse = 5;
 constexpr std::uint32_t kClassUint64 = 15;
 constexpr std::uint32_t kClassFunction = 16;
+constexpr std::uint32_t kFlagComplex = 0x0800;  // in the array flags' first word
 
 /// Bytes read in order from a file region or an inflated stream; position()
 /// counts from the source's start.
@@ -264,11 +265,24 @@ class Mat5Walker {
       tags_needed = elements * fields;
       walk_children = true;
       what = "a struct";
-    } else if (array_class == kClassChar ||
-               (array_class > kClassSparse && array_class <= kClassUint64)) {
+    } else if (array_class > kClassSparse && array_class <= kClassUint64) {
+      // libmatio reads `elements` values of the part's type whatever the
+      // element's size says, and none of a type it does not convert (leaving
+      // the array uninitialised): each part must hold exactly those values.
+      NumericPart(src, end, elements, false, "real part");
+      if (Word(flags.data()) & kFlagComplex)
+        NumericPart(src, end, elements, false, "imaginary part");
+    } else if (array_class == kClassSparse) {
+      // libmatio counts a sparse array's values from the element sizes, but
+      // reads none of a type it does not convert (leaving them uninitialised).
+      NumericPart(src, end, -1.0, true, "row indices");
+      NumericPart(src, end, -1.0, true, "column pointers");
+      NumericPart(src, end, -1.0, false, "real part");
+      if (Word(flags.data()) & kFlagComplex) NumericPart(src, end, -1.0, false, "imaginary part");
+    } else if (array_class == kClassChar) {
       bytes_needed = elements;  // int8 storage at least
       what = "an array";
-    } else if (array_class != kClassSparse) {
+    } else {
       tags_needed = elements;  // opaque and unknown classes: as much as a cell array, not walked
       what = "an array of class " + std::to_string(array_class);
     }
@@ -338,6 +352,61 @@ class Mat5Walker {
       SkipTo(src, src.position() + padded);
     }
     return data;
+  }
+
+  /// One part of a numeric array: an element of a numeric type (int8 ..
+  /// uint64, single, double; miINT32 or miUINT32 only if `indices`) with
+  /// exactly `values` values of that type (any whole number if `values` < 0).
+  void NumericPart(
+      ByteSource& src, std::uint64_t end, double values, bool indices, const char* name) {
+    Tag tag;
+    if (end - src.position() < 8 || !ReadTag(src, tag)) {
+      Fail(src.position(), std::string("the ") + name + " of an array", "the end of its element");
+    }
+    std::uint64_t unit = 0;  // bytes per value; 0: not an accepted type
+    switch (tag.type) {
+      case 1:
+      case 2:
+        unit = indices ? 0 : 1;
+        break;  // miINT8, miUINT8
+      case 3:
+      case 4:
+        unit = indices ? 0 : 2;
+        break;  // miINT16, miUINT16
+      case 5:
+      case 6:
+        unit = 4;
+        break;  // miINT32, miUINT32
+      case 7:
+        unit = indices ? 0 : 4;
+        break;  // miSINGLE
+      case 9:
+      case 12:
+      case 13:
+        unit = indices ? 0 : 8;
+        break;  // miDOUBLE, miINT64, miUINT64
+      default:
+        break;
+    }
+    const bool count_ok = values < 0
+                              ? unit != 0 && tag.size % unit == 0
+                              : static_cast<double>(tag.size) == values * static_cast<double>(unit);
+    if (unit == 0 || !count_ok || (tag.small && tag.size > 4)) {
+      const std::string count = values < 0 ? "a whole number of" : ToText(values);
+      Fail(src.position() - 8,
+           std::string("the ") + name + ": " + count + " values in an element of " +
+               (indices ? "type 5 or 6 (int32)" : "a numeric type (1-7, 9, 12 or 13)"),
+           TagText(tag));
+    }
+    if (tag.small) return;  // the data is in the tag
+    const std::uint64_t padded = (tag.size + 7) / 8 * 8;
+    if (padded > end - src.position()) {
+      Fail(src.position() - 8,
+           std::string("the ") + name + " in at most " + std::to_string(end - src.position()) +
+               " bytes",
+           std::to_string(tag.size) + " bytes (a corrupt or truncated file)");
+    }
+    SkipTo(src, src.position() + padded);
   }
 
   /// Checks that an element's data, after its tag, ends by `end`.

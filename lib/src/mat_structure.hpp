@@ -18,11 +18,16 @@ namespace podid::internal {
 ///
 /// Level 5: for every data element at any depth (inside miCOMPRESSED too), its
 /// size fits in its parent; for every miMATRIX, its elements fit in its
-/// remaining bytes (numeric and char arrays: one byte each at least, as int8
-/// storage; cell arrays and function handles: an 8-byte tag per cell; structs
-/// and objects: an 8-byte tag per field of each element; opaque and unknown
-/// classes: as cell arrays). Sparse arrays are checked only for their element
-/// sizes (their dimensions do not bound their storage). Format:
+/// remaining bytes (char arrays: one byte each at least, as int8 storage; cell
+/// arrays and function handles: an 8-byte tag per cell; structs and objects:
+/// an 8-byte tag per field of each element; opaque and unknown classes: as
+/// cell arrays). A numeric array's real and imaginary parts are each an
+/// element of a numeric type with exactly the array's values: libmatio reads
+/// that many values of the element's type whatever its size, and none of a
+/// type it does not convert, leaving the array uninitialised. A sparse array's
+/// row indices and column pointers are int32 elements and its values an
+/// element of a numeric type, each of a whole number of values (its dimensions
+/// do not bound its storage). Format:
 /// MATLAB's "MAT-File Format", ch. 1.
 ///
 /// Level 4: every matrix's name length and data size fit in the rest of the

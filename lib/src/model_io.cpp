@@ -82,7 +82,7 @@ long long ToIndex(double v, long long n, const std::string& where) {
 Eigen::SparseMatrix<double> FromMatVariable(mat_t* mat, const std::string& name,
                                             const std::string& path) {
   const std::string where = path + ": variable '" + name + "'";
-  const internal::MatVarPtr var(Mat_VarRead(mat, name.c_str()));
+  const internal::MatVarPtr var = internal::ReadMatVar(mat, name);
   if (!var) ThrowInvalid(where, "a variable of that name", "none");
   if (var->rank != 2 || var->isComplex) {
     ThrowInvalid(where, "a real 2-D matrix", "rank " + ToText(var->rank) + (var->isComplex ? ", complex" : ""));

@@ -62,21 +62,21 @@ TEST(FuzzRegressionMat, HeaderDimensionsLargerThanTheFileAreRejectedBeforeAlloca
   ASSERT_NE(at, std::string::npos);
   bytes[at + 8 + 3] = '\x40';  // 5 rows -> 0x40000005 rows
   std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  // (The check of a numeric array's data, exactly its values, comes first.)
   PODID_EXPECT_THROW_WITH(ReadMat(path), std::invalid_argument,
-                          "byte 176: expected an array whose 2147483658 elements fit in the 88 "
-                          "bytes that follow, got more (a corrupt or truncated file)");
+                          "byte 176: expected the real part: 2147483658 values in an element of a "
+                          "numeric type (1-7, 9, 12 or 13), got an element of type 9 and 80 bytes");
 }
 
 TEST(FuzzRegressionMat, ElementTagLargerThanItsParentIsRejectedBeforeMatioAllocatesIt) {
   // podid_fuzz_mat: a 424-byte v5 file whose char array's dims tag declares
   // 0x40000008 bytes; libmatio allocated 2 GB for the dims before reading
   // them. Every element of a v5 file is now checked to fit in its parent; this
-  // file is rejected before that, at the first cell whose tag is not an
-  // miMATRIX (its odd offset comes from a mutated size).
-  PODID_EXPECT_THROW_WITH(
-      ReadFuzzedMat("mat_v5_dims_tag_too_large.mat"), std::invalid_argument,
-      "byte 311: expected an miMATRIX element (type 14) in a cell array, got an "
-      "element of type 3584 and 12288 bytes");
+  // file is rejected before that, at a numeric array whose data element
+  // (8 bytes) does not fit in the 7 bytes its mutated parent leaves.
+  PODID_EXPECT_THROW_WITH(ReadFuzzedMat("mat_v5_dims_tag_too_large.mat"), std::invalid_argument,
+                          "byte 296: expected the real part in at most 7 bytes, got 8 bytes (a "
+                          "corrupt or truncated file)");
 }
 
 TEST(FuzzRegressionMat, NestedCellDeclaringBillionsOfCellsIsRejectedBeforeMatioAllocatesThem) {
@@ -137,13 +137,64 @@ TEST(FuzzRegressionMat, FunctionHandleCellsAreFreed) {
   EXPECT_EQ(series.values(2, 1), 5.0);  // column-major int16 0, 2, 4, 1, 3, 5
 }
 
+TEST(FuzzRegressionMat, FunctionHandlePassedOverIsFreed) {
+  // podid_fuzz_mat, a LeakSanitizer report (322 bytes) on a file like the one
+  // above with its data after the function handle: Mat_VarRead(name) passed
+  // over c and freed it with libmatio's own Mat_VarFree, leaking c's cells.
+  // ReadMatVar frees what it passes over with FreeMatVar. The file (made by a
+  // script): the function handle c of two cells, then a double x = 1 2 3 4.
+  const TimeSeries series = ReadFuzzedMat("mat_v5_function_handle_before_the_data.mat");
+  EXPECT_EQ(series.channel_names, (std::vector<std::string>{"x"}));
+  ASSERT_EQ(series.samples(), 4);
+  EXPECT_EQ(series.values(3, 0), 4.0);
+}
+
+TEST(FuzzRegressionMat, NumericDataOfTheWrongTypeOrCountIsRejected) {
+  // The same fuzzer run: a double 1 x 4 whose data was a 4-byte miUTF8
+  // element. libmatio converts no UTF-8 to double and returned the array as
+  // malloc'ed (a heap pointer, 4.6e-310, came out as a sample). libmatio also
+  // reads as many values as the dimensions say whatever the element holds:
+  // 2 doubles for 4 values read 16 bytes of the next variable.
+  PODID_EXPECT_THROW_WITH(ReadFuzzedMat("mat_v5_double_with_utf8_data.mat"), std::invalid_argument,
+                          "byte 176: expected the real part: 4 values in an element of a numeric "
+                          "type (1-7, 9, 12 or 13), got a small element of type 16 and 4 bytes");
+  PODID_EXPECT_THROW_WITH(ReadFuzzedMat("mat_v5_double_with_two_of_four_values.mat"),
+                          std::invalid_argument,
+                          "byte 176: expected the real part: 4 values in an element of a numeric "
+                          "type (1-7, 9, 12 or 13), got an element of type 9 and 16 bytes");
+}
+
 TEST(FuzzRegressionMat, TwoVariablesOfOneNameAreRejectedInsteadOfOverflowing) {
   // podid_fuzz_mat, a heap-buffer-overflow in podid: a file with two variables
   // named 't' (1 x 21, then 5 x 2). The second was taken as the data and sized
   // 5 x 2 from the listing, but Mat_VarRead(name) read the first: 21 doubles
   // were copied into 10. Names must now be distinct, and the data read must
-  // have the listed size.
+  // have the listed size. The fuzzed file's first t holds 5 of its 21 values
+  // (rejected by the walk now); the same two variables written by libmatio:
   PODID_EXPECT_THROW_WITH(ReadFuzzedMat("mat_v5_two_variables_named_t.mat"), std::invalid_argument,
+                          "byte 176: expected the real part: 21 values");
+  const TempDir dir;
+  const std::string path = dir.File("two_t.mat");
+  {
+    mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
+    ASSERT_NE(mat, nullptr);
+    double data[21] = {};
+    std::size_t first[2] = {1, 21}, second[2] = {5, 2};
+    for (const auto& [name, dims] : {std::pair{"t", first}, std::pair{"u", second}}) {
+      matvar_t* var = Mat_VarCreate(name, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, data, 0);
+      ASSERT_NE(var, nullptr);
+      ASSERT_EQ(Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE), 0);
+      Mat_VarFree(var);
+    }
+    Mat_Close(mat);
+  }
+  // libmatio writes no two variables of one name: rename u (a small miINT8 name element) to t.
+  std::string bytes = testing::ReadText(path);
+  const std::size_t at = bytes.find(std::string("\x01\0\x01\0u\0\0\0", 8));
+  ASSERT_NE(at, std::string::npos);
+  bytes[at + 4] = 't';
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  PODID_EXPECT_THROW_WITH(ReadMat(path), std::invalid_argument,
                           "expected variables with distinct names, got 't' twice");
 }
 

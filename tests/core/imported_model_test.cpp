@@ -54,7 +54,47 @@ std::string MatVariable(const std::string& name, const Eigen::MatrixXd& a) {
   return element + body;
 }
 
-void WriteMat(const std::string& path, const std::vector<std::pair<std::string, Eigen::MatrixXd>>& vars) {
+// A sparse variable: flags (class mxSPARSE_CLASS (5), nzmax), dimensions,
+// name, row indices and column pointers (miINT32), values (`values_type`:
+// miDOUBLE, 9, unless a test corrupts it).
+std::string MatSparseVariable(const std::string& name,
+                              const Eigen::MatrixXd& dense,
+                              std::uint32_t values_type = 9) {
+  std::vector<std::int32_t> ir, jc{0};
+  std::vector<double> pr;
+  for (Eigen::Index c = 0; c < dense.cols(); ++c) {
+    for (Eigen::Index r = 0; r < dense.rows(); ++r) {
+      if (dense(r, c) == 0.0) continue;
+      ir.push_back(static_cast<std::int32_t>(r));
+      pr.push_back(dense(r, c));
+    }
+    jc.push_back(static_cast<std::int32_t>(ir.size()));
+  }
+  std::string body;
+  Tag(&body, 6, 8);
+  const std::uint32_t flags[2] = {5, static_cast<std::uint32_t>(ir.size())};
+  Append(&body, flags, 8);
+  Tag(&body, 5, 8);
+  const std::int32_t dims[2] = {static_cast<std::int32_t>(dense.rows()),
+                                static_cast<std::int32_t>(dense.cols())};
+  Append(&body, dims, 8);
+  Tag(&body, 1, static_cast<std::uint32_t>(name.size()));
+  body += name;
+  Pad(&body);
+  Tag(&body, 5, static_cast<std::uint32_t>(4 * ir.size()));
+  Append(&body, ir.data(), 4 * ir.size());
+  Pad(&body);
+  Tag(&body, 5, static_cast<std::uint32_t>(4 * jc.size()));
+  Append(&body, jc.data(), 4 * jc.size());
+  Pad(&body);
+  Tag(&body, values_type, static_cast<std::uint32_t>(8 * pr.size()));
+  Append(&body, pr.data(), 8 * pr.size());
+  std::string element;
+  Tag(&element, 14, static_cast<std::uint32_t>(body.size()));
+  return element + body;
+}
+
+void WriteMatFile(const std::string& path, const std::string& variables) {
   std::string file(128, ' ');
   const char text[] = "MATLAB 5.0 MAT-file, written by podid's imported_model_test";
   std::memcpy(file.data(), text, sizeof(text) - 1);
@@ -63,8 +103,14 @@ void WriteMat(const std::string& path, const std::vector<std::pair<std::string, 
   std::memcpy(file.data() + 124, &version, 2);
   file[126] = 'I';
   file[127] = 'M';
-  for (const auto& [name, a] : vars) file += MatVariable(name, a);
-  std::ofstream(path, std::ios::binary) << file;
+  std::ofstream(path, std::ios::binary) << file + variables;
+}
+
+void WriteMat(const std::string& path,
+              const std::vector<std::pair<std::string, Eigen::MatrixXd>>& vars) {
+  std::string variables;
+  for (const auto& [name, a] : vars) variables += MatVariable(name, a);
+  WriteMatFile(path, variables);
 }
 
 /// The reference case's body after [beam] as an imported model: the same
@@ -89,10 +135,14 @@ TEST(ImportedModel, MatAndMatrixMarketCopiesRespondAsTheBuiltInBeam) {
 
   TempDir dir;
   WriteMat(dir.File("beam.mat"), {{"Mbeam", beam.DenseMass()}, {"Kbeam", beam.DenseStiffness()}});
+  WriteMatFile(dir.File("sparse.mat"), MatSparseVariable("Mbeam", beam.DenseMass()) +
+                                           MatSparseVariable("Kbeam", beam.DenseStiffness()));
   WriteMatrixMarket(dir.File("M.mtx"), beam.mass());
   WriteMatrixMarket(dir.File("K.mtx"), beam.stiffness());
   const std::string tables[] = {
       "[model]\ntype = \"matrices\"\nfile = \"beam.mat\"\nmass = \"Mbeam\"\nstiffness = \"Kbeam\"",
+      "[model]\ntype = \"matrices\"\nfile = \"sparse.mat\"\nmass = \"Mbeam\"\nstiffness = "
+      "\"Kbeam\"",
       "[model]\ntype = \"matrices\"\nmass = \"M.mtx\"\nstiffness = \"K.mtx\"",
   };
   for (const std::string& table : tables) {
@@ -177,6 +227,22 @@ TEST(ImportedModel, RejectsBadMatrices) {
     SCOPED_TRACE(std::string(r.mass) + ", " + r.stiffness + ", " + r.extra);
     PODID_EXPECT_THROW_WITH(load(r.mass, r.stiffness, r.extra), std::invalid_argument, r.needle);
   }
+
+  // A sparse matrix whose values are an miUTF8 element (type 16): libmatio
+  // converts none to double and would return them uninitialised.
+  const Eigen::MatrixXd identity = Eigen::MatrixXd::Identity(2, 2);
+  WriteMatFile(dir.File("utf8.mat"),
+               MatSparseVariable("M", identity) + MatSparseVariable("K", identity, 16));
+  PODID_EXPECT_THROW_WITH(
+      BeamModel::Build(
+          CaseDocument::Parse("[model]\ntype = \"matrices\"\nfile = \"utf8.mat\"\nmass = \"M\"\n"
+                              "stiffness = \"K\"\n[time]\nduration = 0.1\nstep = 0.01\n",
+                              "case.toml", dir.path())
+              .ToSpec()),
+      std::invalid_argument,
+      "utf8.mat: byte 344: expected the real part: a whole number of values in an element of a "
+      "numeric type "
+      "(1-7, 9, 12 or 13), got an element of type 16 and 16 bytes");
 }
 
 /// The reference beam's M and K with a 13th dof of mass 1e30 kg and no
