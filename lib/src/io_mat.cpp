@@ -356,7 +356,12 @@ TimeSeries ReadMatFile(const std::string& path,
   while (true) {
     MatVarPtr var(Mat_VarReadNextInfo(mat.get()));
     if (!var) break;
-    const std::string name = var->name ? var->name : "";
+    // Variables are read by name (ReadMatVar): a nameless one could not be.
+    if (var->name == nullptr || var->name[0] == '\0') {
+      ThrowInvalid(path, "a name for every variable",
+                   "variable " + std::to_string(vars.size() + 1) + " without one");
+    }
+    const std::string name = var->name;
     CheckDeclaredSize(*var, v73 || var->compression != MAT_COMPRESSION_NONE, file_bytes, path);
     for (const auto& v : vars) {
       // ReadMatVar finds a variable by name: a second one could not be read.

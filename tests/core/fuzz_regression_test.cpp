@@ -164,6 +164,14 @@ TEST(FuzzRegressionMat, NumericDataOfTheWrongTypeOrCountIsRejected) {
                           "type (1-7, 9, 12 or 13), got an element of type 9 and 16 bytes");
 }
 
+TEST(FuzzRegressionMat, NamelessVariableIsRejectedInsteadOfCrashing) {
+  // podid_fuzz_mat, a SEGV in podid: the first variable is an empty miMATRIX
+  // element, which libmatio lists with a null name; comparing the next
+  // variable's name with it ran strlen(nullptr).
+  PODID_EXPECT_THROW_WITH(ReadFuzzedMat("mat_v5_nameless_variable.mat"), std::invalid_argument,
+                          "expected a name for every variable, got variable 1 without one");
+}
+
 TEST(FuzzRegressionMat, TwoVariablesOfOneNameAreRejectedInsteadOfOverflowing) {
   // podid_fuzz_mat, a heap-buffer-overflow in podid: a file with two variables
   // named 't' (1 x 21, then 5 x 2). The second was taken as the data and sized
