@@ -14,14 +14,15 @@
 namespace podid::fuzz {
 
 /// Writes `data` to "<TMPDIR or /tmp>/podid-fuzz-<pid><suffix>" (overwritten on
-/// every call) and returns the path. Aborts if the file cannot be written: that
-/// is a problem of the machine, not a finding.
+/// every call with that suffix) and returns the path. Aborts if the file cannot
+/// be written: that is a problem of the machine, not a finding.
 inline std::string WriteInput(const std::uint8_t* data, std::size_t size, const char* suffix) {
-  static const std::string path = [suffix] {
+  static const std::string prefix = [] {
     const char* tmp = std::getenv("TMPDIR");
     return std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/podid-fuzz-" +
-           std::to_string(getpid()) + suffix;
+           std::to_string(getpid());
   }();
+  const std::string path = prefix + suffix;
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (f == nullptr || (size > 0 && std::fwrite(data, 1, size, f) != size) || std::fclose(f) != 0) {
     std::perror(path.c_str());

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -245,7 +246,10 @@ void WriteMatrixMarket(const std::string& path, const Eigen::SparseMatrix<double
 ImportedMatrices ReadModelMatrices(const ModelFiles& files) {
   ImportedMatrices m;
   if (!files.mat_file.empty()) {
+    // The checks ReadMat makes before libmatio allocates anything (v4/v5 headers, v7.3 storage).
     internal::CheckMatStructure(files.mat_file);
+    std::optional<internal::Hdf5Quiet> quiet;
+    if (internal::CheckMat73Storage(files.mat_file)) quiet.emplace();
     std::unique_ptr<mat_t, int (*)(mat_t*)> mat(Mat_Open(files.mat_file.c_str(), MAT_ACC_RDONLY),
                                                 Mat_Close);
     if (!mat) ThrowInvalid(files.mat_file, "a readable MATLAB .mat file", "a file libmatio cannot open");

@@ -228,6 +228,14 @@ TEST(ImportedModel, RejectsBadMatrices) {
     PODID_EXPECT_THROW_WITH(load(r.mass, r.stiffness, r.extra), std::invalid_argument, r.needle);
   }
 
+  // A v7.3 file gets ReadMat's checks too: 3e8 doubles declared, none stored.
+  ModelFiles v73;
+  v73.mat_file = testing::DataPath("readers/v73_unwritten_3e8.mat");
+  v73.mass = "w";
+  v73.stiffness = "w";
+  PODID_EXPECT_THROW_WITH(ReadModelMatrices(v73), std::invalid_argument,
+                          "v73_unwritten_3e8.mat: dataset '/w': expected data stored in the file");
+
   // A sparse matrix whose values are an miUTF8 element (type 16): libmatio
   // converts none to double and would return them uninitialised.
   const Eigen::MatrixXd identity = Eigen::MatrixXd::Identity(2, 2);
