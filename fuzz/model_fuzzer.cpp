@@ -3,6 +3,7 @@
 // files (the rest split at the first two "\n%%" markers into M, K and C);
 // odd, a .mat file holding M, K and C. Invalid input must end in
 // std::invalid_argument; a result must satisfy the reader's contract.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
