@@ -333,13 +333,7 @@ class Mat5Walker {
     if (bytes != nullptr) *bytes = tag.size;
     if (tag.small)
       return std::vector<char>(tag.small_data.begin(), tag.small_data.begin() + tag.size);
-    const std::uint64_t padded = (tag.size + 7) / 8 * 8;
-    if (padded > end - src.position()) {
-      Fail(src.position() - 8,
-           std::string("the ") + name + " in at most " + std::to_string(end - src.position()) +
-               " bytes",
-           std::to_string(tag.size) + " bytes (a corrupt or truncated file)");
-    }
+    const std::uint64_t padded = PaddedSize(src, end, tag, name);
     std::vector<char> data;
     if (tag.size <= keep) {
       data.resize(static_cast<std::size_t>(tag.size));
@@ -399,6 +393,16 @@ class Mat5Walker {
            TagText(tag));
     }
     if (tag.small) return;  // the data is in the tag
+    const std::uint64_t padded = PaddedSize(src, end, tag, name);
+    SkipTo(src, src.position() + padded);
+  }
+
+  /// A (not small) element's size padded to 8 bytes, checked to end by `end`
+  /// (its tag just read).
+  std::uint64_t PaddedSize(const ByteSource& src,
+                           std::uint64_t end,
+                           const Tag& tag,
+                           const char* name) {
     const std::uint64_t padded = (tag.size + 7) / 8 * 8;
     if (padded > end - src.position()) {
       Fail(src.position() - 8,
@@ -406,7 +410,7 @@ class Mat5Walker {
                " bytes",
            std::to_string(tag.size) + " bytes (a corrupt or truncated file)");
     }
-    SkipTo(src, src.position() + padded);
+    return padded;
   }
 
   /// Checks that an element's data, after its tag, ends by `end`.
