@@ -357,31 +357,11 @@ class Mat5Walker {
     if (end - src.position() < 8 || !ReadTag(src, tag)) {
       Fail(src.position(), std::string("the ") + name + " of an array", "the end of its element");
     }
-    std::uint64_t unit = 0;  // bytes per value; 0: not an accepted type
-    switch (tag.type) {
-      case 1:
-      case 2:
-        unit = indices ? 0 : 1;
-        break;  // miINT8, miUINT8
-      case 3:
-      case 4:
-        unit = indices ? 0 : 2;
-        break;  // miINT16, miUINT16
-      case 5:
-      case 6:
-        unit = 4;
-        break;  // miINT32, miUINT32
-      case 7:
-        unit = indices ? 0 : 4;
-        break;  // miSINGLE
-      case 9:
-      case 12:
-      case 13:
-        unit = indices ? 0 : 8;
-        break;  // miDOUBLE, miINT64, miUINT64
-      default:
-        break;
-    }
+    // Bytes per value of the types libmatio converts to numbers: miINT8 (1)
+    // to miUINT32 (6), miSINGLE (7), miDOUBLE (9), miINT64 (12), miUINT64 (13).
+    static constexpr std::uint64_t kUnit[14] = {0, 1, 1, 2, 2, 4, 4, 4, 0, 8, 0, 0, 8, 8};
+    std::uint64_t unit = tag.type < 14 ? kUnit[tag.type] : 0;
+    if (indices && tag.type != 5 && tag.type != 6) unit = 0;  // miINT32, miUINT32 only
     const bool count_ok = values < 0
                               ? unit != 0 && tag.size % unit == 0
                               : static_cast<double>(tag.size) == values * static_cast<double>(unit);
