@@ -141,8 +141,9 @@ TEST(FuzzRegressionMat, FunctionHandlePassedOverIsFreed) {
   // podid_fuzz_mat, a LeakSanitizer report (322 bytes) on a file like the one
   // above with its data after the function handle: Mat_VarRead(name) passed
   // over c and freed it with libmatio's own Mat_VarFree, leaking c's cells.
-  // ReadMatVar frees what it passes over with FreeMatVar. The file (made by a
-  // script): the function handle c of two cells, then a double x = 1 2 3 4.
+  // ReadMat now reads each variable in place from its listing, and every
+  // variable is freed with FreeMatVar. The file (made by a script): the
+  // function handle c of two cells, then a double x = 1 2 3 4.
   const TimeSeries series = ReadFuzzedMat("mat_v5_function_handle_before_the_data.mat");
   EXPECT_EQ(series.channel_names, (std::vector<std::string>{"x"}));
   ASSERT_EQ(series.samples(), 4);
