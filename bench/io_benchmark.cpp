@@ -13,6 +13,7 @@
 #include <fstream>
 #include <string>
 
+#include "mat5_file.hpp"
 #include "podid/core/io.hpp"
 
 namespace {
@@ -38,14 +39,7 @@ std::string VectorVariable(const std::string& name, int samples, int channel) {
 }
 
 std::string WriteManyVectors(int variables, int samples) {
-  std::string file(128, ' ');
-  const char text[] = "MATLAB 5.0 MAT-file, podid io_benchmark";
-  std::memcpy(file.data(), text, sizeof(text) - 1);
-  std::memset(file.data() + 116, 0, 8);
-  const std::uint16_t version = 0x0100;
-  std::memcpy(file.data() + 124, &version, 2);
-  file[126] = 'I';
-  file[127] = 'M';
+  std::string file = podid::testing::Mat5Header("MATLAB 5.0 MAT-file, podid io_benchmark");
   for (int k = 0; k < variables; ++k) {
     const std::string digits = std::to_string(k);  // k < 10^6: 8-character names
     file += VectorVariable("ch" + std::string(6 - digits.size(), '0') + digits, samples, k);

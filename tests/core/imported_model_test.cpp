@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "mat5_file.hpp"
 #include "podid/core/beam_model.hpp"
 #include "podid/core/case_file.hpp"
 #include "podid/core/model_io.hpp"
@@ -95,15 +96,9 @@ std::string MatSparseVariable(const std::string& name,
 }
 
 void WriteMatFile(const std::string& path, const std::string& variables) {
-  std::string file(128, ' ');
-  const char text[] = "MATLAB 5.0 MAT-file, written by podid's imported_model_test";
-  std::memcpy(file.data(), text, sizeof(text) - 1);
-  std::memset(file.data() + 116, 0, 8);
-  const std::uint16_t version = 0x0100;
-  std::memcpy(file.data() + 124, &version, 2);
-  file[126] = 'I';
-  file[127] = 'M';
-  std::ofstream(path, std::ios::binary) << file + variables;
+  std::ofstream(path, std::ios::binary)
+      << testing::Mat5Header("MATLAB 5.0 MAT-file, written by podid's imported_model_test") +
+             variables;
 }
 
 void WriteMat(const std::string& path,
