@@ -26,7 +26,7 @@ using MatVarPtr = std::unique_ptr<matvar_t, MatVarFreer>;
 /// Mat_VarRead(mat, name) (null if no variable has that name or its data
 /// cannot be read), with every variable it passes over freed by FreeMatVar:
 /// Mat_VarRead frees those itself, and with libmatio < 1.5.25 leaks the cells
-/// of a function handle among them (podid_fuzz_mat).
+/// of a function handle among them (podid_fuzz_mat). The first of that name.
 MatVarPtr ReadMatVar(mat_t* mat, const std::string& name);
 
 /// Elements of a variable (product of its dimensions).
