@@ -37,11 +37,15 @@ const TimeSeries& MeasuredRecord() {
 
 // One evaluation at knl = 50 (the record's true value, so the ridge is the
 // ordinary one, not a failure path) with the named preset's terms.
-void Evaluation(benchmark::State& state, const char* preset, int ridge_threads = 1) {
+void Evaluation(benchmark::State& state,
+                const char* preset,
+                int ridge_threads = 1,
+                bool screen_scales = true) {
   const ident::ObjectiveWeights weights = ident::ObjectiveWeights::Preset(preset);
   ident::ObjectiveOptions options;
   options.SetWeights(weights);
   options.ridge.cwt.threads = ridge_threads;
+  options.ridge.screen_scales = screen_scales;
   const ident::ObjectiveFunction objective(ReferenceCase(), MeasuredRecord(), options);
   ident::EvaluationWorkspace workspace;
   Eigen::VectorXd values = objective.StartValues();
@@ -68,6 +72,13 @@ void Evaluation(benchmark::State& state, const char* preset, int ridge_threads =
 
 void BM_EvaluateWavelet1s(benchmark::State& state) { Evaluation(state, "wavelet"); }
 BENCHMARK(BM_EvaluateWavelet1s)->Unit(benchmark::kMillisecond);
+
+// The same transforming every scale (RidgeFrequencyOptions::screen_scales
+// off; the same dIF): the screening's gain, side by side in one run.
+void BM_EvaluateWavelet1sUnscreened(benchmark::State& state) {
+  Evaluation(state, "wavelet", 1, false);
+}
+BENCHMARK(BM_EvaluateWavelet1sUnscreened)->Unit(benchmark::kMillisecond);
 
 // The same with the ridge on two threads (one block: its scales shared);
 // wall time, the point of the second thread.

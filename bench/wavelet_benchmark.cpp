@@ -52,21 +52,25 @@ BENCHMARK(BM_CwtFull)->Args({5001, 64})->Unit(benchmark::kMillisecond);
 // per octave (115 frequencies), band-limited (M = 640, every 16th sample).
 // Second argument: 1 = keep_scalogram (the whole-scalogram path: CwtTransform,
 // FindRidges, TrackRidge, what Estimate ran before the streamed ridge), 0 =
-// streamed (one block here). Compare the two in one run.
+// streamed (one block here), 2 = streamed transforming every scale
+// (screen_scales off). Compare them in one run.
 void BM_RidgeFrequencyBandLimited(benchmark::State& state) {
   const Eigen::VectorXd x = Signal(state.range(0));
   RidgeFrequencyOptions o;
-  o.keep_scalogram = state.range(1) != 0;
+  o.keep_scalogram = state.range(1) == 1;
+  o.screen_scales = state.range(1) != 2;
   RidgeFrequencyEstimator estimator(o);
   estimator.Estimate(x, kStep);
   for (auto _ : state) {
     const RidgeTrack& track = estimator.Estimate(x, kStep);
     benchmark::DoNotOptimize(track.frequency_Hz.data());
   }
+  state.counters["transformed_scales"] = static_cast<double>(estimator.transformed_scales());
 }
 BENCHMARK(BM_RidgeFrequencyBandLimited)
     ->Args({5001, 1})
     ->Args({5001, 0})
+    ->Args({5001, 2})
     ->Unit(benchmark::kMillisecond);
 
 // Peak resident memory of this process (VmHWM), in MB.

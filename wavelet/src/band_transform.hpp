@@ -48,6 +48,10 @@ class BandTransform {
   /// times, in the scaled signal's units: (dim block_times(b)), read in place
   /// from the inverse FFT's buffer (no copy), valid until the next call.
   const std::complex<double>* Synthesise(Eigen::Index k, bool derivative) const;
+  /// bound[k] >= |W| of scale k at every output time of the loaded block, in
+  /// Synthesise's units: sum over the band of |X_b| |filter_k(b)| (the
+  /// inverse FFT's sum term by term), for every scale k.
+  void MagnitudeBounds(double* bound);
   /// FFT buffers for Synthesise on another thread (the object's own serve
   /// one thread; the plans and the loaded spectrum are shared, read-only).
   struct Scratch {
@@ -124,6 +128,7 @@ class BandTransform {
   fftw_plan forward_ = nullptr, backward_ = nullptr;
   RealBuffer segment_;
   ComplexBuffer spectrum_;
+  Eigen::VectorXd magnitude_;  // MagnitudeBounds' |X_b|, b <= Pb / 2
   mutable Scratch own_;  // the inverse FFT's input and output for Synthesise(k, derivative)
 };
 

@@ -18,6 +18,7 @@
 #include "ridge_cost.hpp"
 #include "ridge_programme.hpp"
 #include "ridge_sample.hpp"
+#include "scale_screen.hpp"
 #include "signal_check.hpp"
 
 namespace podid::wavelet {
@@ -37,7 +38,9 @@ constexpr double kTrackBytesPerTime = 80.0;
 constexpr Eigen::Index kMinThreadedCells = Eigen::Index{1} << 16;
 // Times per transposed tile of the ridge cost (64 x 157 frequencies: 80 kB, in L2).
 constexpr Eigen::Index kTile = 64;
-
+// Scales transformed at once while screening on two threads (one at a time
+// on one: ScaleScreen's test is cheap until it can pass).
+constexpr std::size_t kScreenBatch = 8;
 
 }  // namespace
 
@@ -49,6 +52,13 @@ struct RidgeFrequencyEstimator::Impl {
   std::unique_ptr<internal::BandTransform> band;
   std::unique_ptr<internal::RidgeProgramme> programme;
   Eigen::MatrixXcd kept;      // one block: W of every scale (block times x freqs), unscaled
+  // One block, screen_scales and kPenalised: the scales' |W| bounds and which
+  // scales `kept` holds (the rest were screened out; Track adds those it reads).
+  std::unique_ptr<internal::ScaleScreen> screen;
+  Eigen::VectorXd bound;
+  std::vector<char> transformed;
+  std::vector<int> batch_slot;
+  Eigen::Index transformed_count = 0;
   Eigen::MatrixXd cost;       // -log|W| of a block, |W|^2 of the last (block times x freqs)
   Eigen::MatrixXd columns[2];  // a pipeline's blocks of costs (powers: the last), frequency-major
   internal::BandTransform::Scratch scratch;  // the second thread's FFT buffers (Threaded)
@@ -67,6 +77,8 @@ struct RidgeFrequencyEstimator::Impl {
   bool Pipelined() const;
   void Streamed(const Eigen::Ref<const Eigen::VectorXd>& signal);
   void BlockCost(Eigen::Index block, Eigen::MatrixXd* into, bool threaded, bool power);
+  void ScreenedBlockCost(Eigen::Index count, Eigen::MatrixXd* into, bool threaded);
+  void KeepPathScales(const Eigen::VectorXi& path);
   void PushBlock(Eigen::Index count, const Eigen::MatrixXd& from, bool last);
   bool PipelinedPass();
   template <class Store>
@@ -144,6 +156,15 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
   } else {
     kept.resize(0, 0);
   }
+  if (b.blocks() == 1 && options.screen_scales && !maximum) {
+    screen = std::make_unique<internal::ScaleScreen>(b.frequencies_Hz().array().log().matrix(),
+                                                     options.ridge.penalty_s / sg.step_s);
+    bound.resize(freqs);
+  } else {
+    screen.reset();
+  }
+  transformed.assign(static_cast<std::size_t>(freqs), 1);
+  batch_slot.assign(static_cast<std::size_t>(freqs), -1);
   slot_w.assign(static_cast<std::size_t>(freqs), -1);
   slot_d.assign(static_cast<std::size_t>(freqs), -1);
 }
@@ -183,6 +204,12 @@ void RidgeFrequencyEstimator::Impl::BlockCost(Eigen::Index block,
   b.LoadBlock(block);
   const Eigen::Index count = b.block_times(block);
   const bool keep = b.blocks() == 1;
+  if (keep && power && screen) {
+    ScreenedBlockCost(count, into, threaded);
+    return;
+  }
+  transformed_count = static_cast<Eigen::Index>(all_scales.size());
+  if (keep) std::fill(transformed.begin(), transformed.end(), 1);
   SynthesiseScales(all_scales, false, count, threaded, [&](int k, const Complex* w) {
     if (power) {
       internal::RidgePower(w, count, 1.0, into->col(k).data());
@@ -192,6 +219,69 @@ void RidgeFrequencyEstimator::Impl::BlockCost(Eigen::Index block,
     // Unscaled: Track multiplies by output_scale (a power of 2, exact).
     if (keep) std::copy(w, w + count, kept.col(k).data());
   });
+}
+
+// BlockCost's one block with screen_scales: the scales in order of their
+// |W| bound, in batches, until ScaleScreen shows the rest off the optimal
+// path; those get their bound as a stand-in power (no transform, nothing in
+// `kept`). Throws nothing.
+void RidgeFrequencyEstimator::Impl::ScreenedBlockCost(Eigen::Index count,
+                                                      Eigen::MatrixXd* into,
+                                                      bool threaded) {
+  internal::BandTransform& b = *band;
+  b.MagnitudeBounds(bound.data());
+  screen->Start(bound.data(), count);
+  const std::vector<int>& order = screen->order();
+  std::fill(transformed.begin(), transformed.end(), 0);
+  const std::size_t batch = threaded ? kScreenBatch : 1;
+  std::size_t next = 0;
+  while (next < order.size()) {
+    const std::size_t end = std::min(order.size(), next + batch);
+    const auto store = [&](int k, const Complex* w) {
+      internal::RidgePower(w, count, 1.0, into->col(k).data());
+      std::copy(w, w + count, kept.col(k).data());
+    };
+    if (batch == 1) {
+      store(order[next], b.Synthesise(order[next], false));
+    } else {
+      std::fill(batch_slot.begin(), batch_slot.end(), -1);
+      for (std::size_t o = next; o < end; ++o)
+        batch_slot[static_cast<std::size_t>(order[o])] = order[o];
+      SynthesiseScales(batch_slot, false, count, threaded, store);
+    }
+    for (std::size_t o = next; o < end; ++o) {
+      screen->Add(order[o], into->col(order[o]).data());
+      transformed[static_cast<std::size_t>(order[o])] = 1;
+    }
+    next = end;
+    if (screen->RestExcluded(next)) break;
+  }
+  transformed_count = static_cast<Eigen::Index>(next);
+  for (std::size_t o = next; o < order.size(); ++o) {
+    into->col(order[o]).head(count).setConstant(screen->StandIn(order[o]));
+  }
+}
+
+// One block: W of the scales Track reads (the path's and either side) that
+// screening left out of `kept`.
+void RidgeFrequencyEstimator::Impl::KeepPathScales(const Eigen::VectorXi& path) {
+  const int freqs = static_cast<int>(transformed.size());
+  std::fill(batch_slot.begin(), batch_slot.end(), -1);
+  bool missing = false;
+  for (Eigen::Index j = 0; j < path.size(); ++j) {
+    const int k = path(j);
+    if (k < 0) continue;
+    for (int c = std::max(0, k - 1); c <= std::min(freqs - 1, k + 1); ++c) {
+      if (transformed[static_cast<std::size_t>(c)] != 0) continue;
+      transformed[static_cast<std::size_t>(c)] = 1;
+      batch_slot[static_cast<std::size_t>(c)] = c;
+      missing = true;
+    }
+  }
+  if (!missing) return;
+  const Eigen::Index count = band->block_times(0);
+  SynthesiseScales(batch_slot, false, count, Threaded(),
+                   [&](int k, const Complex* w) { std::copy(w, w + count, kept.col(k).data()); });
 }
 
 // The programme reads a time column: transpose tiles of kTile times into
@@ -330,6 +420,7 @@ void RidgeFrequencyEstimator::Impl::Track(const Eigen::VectorXi& path) {
   t.screened.setConstant(times, false);
   path_magnitude.setZero(times);
   samples.resize(static_cast<std::size_t>(times));
+  if (b.blocks() == 1) KeepPathScales(path);
   const bool phase = ro.estimator == FrequencyEstimator::kPhase;
   for (Eigen::Index block = 0; block < b.blocks(); ++block) {
     const Eigen::Index first = b.block_first(block), count = b.block_times(block);
@@ -416,6 +507,10 @@ const Scalogram& RidgeFrequencyEstimator::scalogram() const { return impl_->scal
 
 Eigen::Index RidgeFrequencyEstimator::blocks() const {
   return impl_->band ? impl_->band->blocks() : 0;
+}
+
+Eigen::Index RidgeFrequencyEstimator::transformed_scales() const {
+  return impl_->band ? impl_->transformed_count : 0;
 }
 
 const RidgeTrack& RidgeFrequencyEstimator::Estimate(const Eigen::Ref<const Eigen::VectorXd>& signal,

@@ -131,6 +131,12 @@ struct RidgeFrequencyOptions {
   /// enough for a block's costs to stay near the cache (the Silverbox
   /// record: 49 blocks of 1356 times x 115 frequencies, 1.2 MB).
   double block_cells = 1048576.0;
+  /// Streamed, one block, kPenalised: transform the scales in order of a
+  /// bound on their |W| (sum over the band of |X| |psi^|) and stop once the
+  /// rest provably cannot hold the optimal path; the same path and IF as
+  /// transforming every scale (57 of 115 are left out on the reference
+  /// case's 1 s free decay; docs/wavelet.md). False: every scale.
+  bool screen_scales = true;
 
   bool IsValid(std::string* why) const;
 };
@@ -176,6 +182,9 @@ class RidgeFrequencyEstimator {
 
   /// Blocks of the last streamed Estimate() (0 with keep_scalogram).
   Eigen::Index blocks() const;
+  /// Scales whose W the last streamed Estimate() computed to find its ridge
+  /// (every one unless screen_scales left some out; 0 with keep_scalogram).
+  Eigen::Index transformed_scales() const;
 
  private:
   struct Impl;
