@@ -97,7 +97,8 @@ TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
         // times = P - 3: a last row of blocks only partly used.
         const Eigen::Index times = p - 3;
         inverse.Gather(out.data(), d, times, 1.0, column.data());
-        inverse.GatherMagnitude(out.data(), d, times, 1.0, magnitude.data());
+        inverse.GatherMagnitude(out.data(), d, times, 1.0, reinterpret_cast<double*>(work.data()),
+                                magnitude.data());
         double worst = 0.0, worst_magnitude = 0.0;
         for (Eigen::Index j = 0; j < times; ++j) {
           const auto u = static_cast<std::size_t>(j);

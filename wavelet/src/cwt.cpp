@@ -15,6 +15,7 @@
 #include "huge_pages.hpp"
 #include "podid/core/error.hpp"
 #include "podid/wavelet/plans.hpp"
+#include "pruned_inverse.hpp"
 #include "signal_check.hpp"
 
 namespace podid::wavelet {
@@ -344,12 +345,7 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
       s.Synthesise(k, false, w);
       if (magnitude) {
         // |W| of the scaled transform (no overflow), rounded once to float.
-        const double* parts = reinterpret_cast<const double*>(w);
-        float* column = out->magnitude.col(k).data();
-        for (Eigen::Index j = 0; j < s.times; ++j) {
-          const double re = parts[2 * j], im = parts[2 * j + 1];
-          column[j] = static_cast<float>(std::sqrt(re * re + im * im) * s.output_scale);
-        }
+        internal::MagnitudesToFloat(w, s.times, s.output_scale, out->magnitude.col(k).data());
         continue;
       }
       Complex* column = out->coefficients.col(k).data();

@@ -135,7 +135,9 @@ void FullRateCwt::RunScales(int thread,
                        plans_[static_cast<std::size_t>(k)], input, out);
     }
     if (magnitude != nullptr) {
-      inverse_.GatherMagnitude(out, d, times, output_scale, magnitude + k * times);
+      // Execute's work is free again: its P doubles serve as scratch.
+      inverse_.GatherMagnitude(out, d, times, output_scale, reinterpret_cast<double*>(input),
+                               magnitude + k * times);
     } else if (!direct) {
       inverse_.Gather(out, d, times, output_scale, column);
     } else if (output_scale != 1.0) {
