@@ -247,15 +247,17 @@ TEST(StreamedRidge, ScreenedScalesGiveTheUnscreenedTrackBitForBit) {
     signals.push_back({"mixture " + std::to_string(m), x});
   }
   int screened_signals = 0;
+  // One estimator for every signal, as the objective reuses one for each
+  // simulated response (what one signal leaves in it must not matter).
+  RidgeFrequencyEstimator screened(RidgeFrequencyOptions{});
   for (const Signal& signal : signals) {
     SCOPED_TRACE(signal.name);
     RidgeFrequencyOptions options;
-    RidgeFrequencyEstimator screened(options);
     options.screen_scales = false;
     RidgeFrequencyEstimator every(options);
     const RidgeTrack a = every.Estimate(signal.x, kStep);
     EXPECT_EQ(every.transformed_scales(), kScales);
-    for (int call = 0; call < 2; ++call) {  // reused, as the objective reuses it
+    for (int call = 0; call < 2; ++call) {
       const RidgeTrack& b = screened.Estimate(signal.x, kStep);
       EXPECT_TRUE((a.frequency_index.array() == b.frequency_index.array()).all());
       EXPECT_TRUE(SameValues(a.frequency_Hz, b.frequency_Hz));
@@ -274,6 +276,28 @@ TEST(StreamedRidge, ScreenedScalesGiveTheUnscreenedTrackBitForBit) {
   // Noise, or a tone faded by the record's end, leaves every scale a
   // possible ridge somewhere: 12 of the 27 here are screened.
   EXPECT_GE(screened_signals, 8);
+  // Two threads screen 8 scales at a time (one: one at a time); the same
+  // track. 20001 samples are still one block (1251 x 115 cells).
+  Eigen::VectorXd longer(20001);
+  for (Eigen::Index i = 0; i < longer.size(); ++i) {
+    const double t = static_cast<double>(i) * kStep;
+    longer(i) = std::exp(-0.5 * t) * std::cos(2 * kPi * (33.0 * t + 0.375 * (1.0 - std::exp(-t))));
+  }
+  for (const Eigen::VectorXd* x : {&clean, &longer}) {
+    RidgeFrequencyOptions options;
+    options.screen_scales = false;
+    RidgeFrequencyEstimator every(options);
+    options.screen_scales = true;
+    options.cwt.threads = 2;
+    RidgeFrequencyEstimator threaded(options);
+    const RidgeTrack a = every.Estimate(*x, kStep);
+    const RidgeTrack& b = threaded.Estimate(*x, kStep);
+    EXPECT_EQ(threaded.blocks(), 1);
+    EXPECT_LT(threaded.transformed_scales(), kScales);
+    EXPECT_TRUE((a.frequency_index.array() == b.frequency_index.array()).all());
+    EXPECT_TRUE(SameValues(a.frequency_Hz, b.frequency_Hz));
+    EXPECT_TRUE(SameValues(a.amplitude, b.amplitude));
+  }
   // No screening: kMaximum, and a record of several blocks.
   RidgeFrequencyOptions maximum;
   maximum.ridge.method = RidgeMethod::kMaximum;
