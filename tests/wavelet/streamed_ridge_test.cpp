@@ -207,9 +207,9 @@ TEST(StreamedRidge, TwoThreadsGiveTheSerialTrackBitForBit) {
 // provably hold no optimal path, so the track is the one every scale gives,
 // bit for bit (no tolerance): a clean and a noisy hardening decay, a ridge
 // that jumps from a fading tone to a growing one, and 24 random mixtures of
-// decaying tones over noise from 1e-6 to 1e-2. On the clean decay (ridge at
-// 33-36 Hz) 63 of the 115 scales are transformed; kMaximum and a record of
-// several blocks transform every scale.
+// decaying tones over noise from 1e-6 to 1e-2; and on two threads. On the
+// clean decay (ridge at 33-36 Hz) 63 of the 115 scales are transformed;
+// kMaximum and a record of several blocks transform every scale.
 TEST(StreamedRidge, ScreenedScalesGiveTheUnscreenedTrackBitForBit) {
   constexpr Eigen::Index kScales = 115;  // 10-120 Hz, 32 voices per octave
   std::mt19937 rng(11);
@@ -276,12 +276,13 @@ TEST(StreamedRidge, ScreenedScalesGiveTheUnscreenedTrackBitForBit) {
   // Noise, or a tone faded by the record's end, leaves every scale a
   // possible ridge somewhere: 12 of the 27 here are screened.
   EXPECT_GE(screened_signals, 8);
-  // Two threads screen 8 scales at a time (one: one at a time); the same
-  // track. 20001 samples are still one block (1251 x 115 cells).
-  Eigen::VectorXd longer(20001);
+  // Two threads screen 8 scales at a time where 8 scales hold 2^16 cells
+  // (140001 samples: 8751 times a scale, still one block of 2^20 cells or
+  // fewer), else one at a time; the same track.
+  Eigen::VectorXd longer(140001);
   for (Eigen::Index i = 0; i < longer.size(); ++i) {
     const double t = static_cast<double>(i) * kStep;
-    longer(i) = std::exp(-0.5 * t) * std::cos(2 * kPi * (33.0 * t + 0.375 * (1.0 - std::exp(-t))));
+    longer(i) = std::exp(-0.1 * t) * std::cos(2 * kPi * (33.0 * t + 0.375 * (1.0 - std::exp(-t))));
   }
   for (const Eigen::VectorXd* x : {&clean, &longer}) {
     RidgeFrequencyOptions options;

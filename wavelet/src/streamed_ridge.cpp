@@ -38,8 +38,8 @@ constexpr double kTrackBytesPerTime = 80.0;
 constexpr Eigen::Index kMinThreadedCells = Eigen::Index{1} << 16;
 // Times per transposed tile of the ridge cost (64 x 157 frequencies: 80 kB, in L2).
 constexpr Eigen::Index kTile = 64;
-// Scales transformed at once while screening on two threads (one at a time
-// on one: ScaleScreen's test is cheap until it can pass).
+// Scales transformed at once while screening on two threads (else one at a
+// time: ScaleScreen's test is cheap until it can pass).
 constexpr std::size_t kScreenBatch = 8;
 
 }  // namespace
@@ -233,7 +233,10 @@ void RidgeFrequencyEstimator::Impl::ScreenedBlockCost(Eigen::Index count,
   screen->Start(bound.data(), count);
   const std::vector<int>& order = screen->order();
   std::fill(transformed.begin(), transformed.end(), 0);
-  const std::size_t batch = threaded ? kScreenBatch : 1;
+  // Batches only where SynthesiseScales shares them with a second thread.
+  const bool shared =
+      threaded && static_cast<Eigen::Index>(kScreenBatch) * count >= kMinThreadedCells;
+  const std::size_t batch = shared ? kScreenBatch : 1;
   std::size_t next = 0;
   while (next < order.size()) {
     const std::size_t end = std::min(order.size(), next + batch);
