@@ -7,9 +7,7 @@
 #include <unistd.h>
 
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <string>
 
@@ -18,24 +16,11 @@
 
 namespace {
 
-void Word(std::string* out, std::uint32_t v) { out->append(reinterpret_cast<const char*>(&v), 4); }
-
-// One miMATRIX double row vector (flags, dimensions, name, values); the
-// names are 8 characters, so no padding is needed.
+// One double row vector of `samples` values (channel k: sin(0.01 (k + 1) i)).
 std::string VectorVariable(const std::string& name, int samples, int channel) {
-  std::string body;
-  Word(&body, 6), Word(&body, 8), Word(&body, 6), Word(&body, 0);  // mxDOUBLE_CLASS
-  Word(&body, 5), Word(&body, 8), Word(&body, 1), Word(&body, static_cast<std::uint32_t>(samples));
-  Word(&body, 1), Word(&body, static_cast<std::uint32_t>(name.size()));
-  body += name;
-  Word(&body, 9), Word(&body, static_cast<std::uint32_t>(8 * samples));
-  for (int i = 0; i < samples; ++i) {
-    const double v = std::sin(0.01 * (channel + 1) * i);
-    body.append(reinterpret_cast<const char*>(&v), 8);
-  }
-  std::string element;
-  Word(&element, 14), Word(&element, static_cast<std::uint32_t>(body.size()));
-  return element + body;
+  Eigen::MatrixXd values(1, samples);
+  for (int i = 0; i < samples; ++i) values(0, i) = std::sin(0.01 * (channel + 1) * i);
+  return podid::testing::Mat5DoubleVariable(name, values);
 }
 
 std::string WriteManyVectors(int variables, int samples) {

@@ -26,34 +26,9 @@ namespace {
 using testing::ReferenceCase;
 using testing::TempDir;
 
-// Level-5 MAT-file ("MAT-File Format", ch. 1): a 128-byte header, then one
-// miMATRIX element per variable (flags, dimensions, name, real part).
-void Append(std::string* out, const void* data, std::size_t bytes) {
-  out->append(static_cast<const char*>(data), bytes);
-}
-void Tag(std::string* out, std::uint32_t type, std::uint32_t bytes) {
-  Append(out, &type, 4);
-  Append(out, &bytes, 4);
-}
-void Pad(std::string* out) { out->append((8 - out->size() % 8) % 8, '\0'); }
-
-std::string MatVariable(const std::string& name, const Eigen::MatrixXd& a) {
-  std::string body;
-  Tag(&body, 6, 8);  // miUINT32 array flags: class mxDOUBLE_CLASS (6)
-  const std::uint32_t flags[2] = {6, 0};
-  Append(&body, flags, 8);
-  Tag(&body, 5, 8);  // miINT32 dimensions
-  const std::int32_t dims[2] = {static_cast<std::int32_t>(a.rows()), static_cast<std::int32_t>(a.cols())};
-  Append(&body, dims, 8);
-  Tag(&body, 1, static_cast<std::uint32_t>(name.size()));  // miINT8 name
-  body += name;
-  Pad(&body);
-  Tag(&body, 9, static_cast<std::uint32_t>(8 * a.size()));  // miDOUBLE, column-major
-  Append(&body, a.data(), 8 * a.size());
-  std::string element;
-  Tag(&element, 14, static_cast<std::uint32_t>(body.size()));  // miMATRIX
-  return element + body;
-}
+using testing::Mat5Append;
+using testing::Mat5Pad;
+using testing::Mat5Tag;
 
 // A sparse variable: flags (class mxSPARSE_CLASS (5), nzmax), dimensions,
 // name, row indices and column pointers (miINT32), values (`values_type`:
@@ -72,26 +47,26 @@ std::string MatSparseVariable(const std::string& name,
     jc.push_back(static_cast<std::int32_t>(ir.size()));
   }
   std::string body;
-  Tag(&body, 6, 8);
+  Mat5Tag(&body, 6, 8);
   const std::uint32_t flags[2] = {5, static_cast<std::uint32_t>(ir.size())};
-  Append(&body, flags, 8);
-  Tag(&body, 5, 8);
+  Mat5Append(&body, flags, 8);
+  Mat5Tag(&body, 5, 8);
   const std::int32_t dims[2] = {static_cast<std::int32_t>(dense.rows()),
                                 static_cast<std::int32_t>(dense.cols())};
-  Append(&body, dims, 8);
-  Tag(&body, 1, static_cast<std::uint32_t>(name.size()));
+  Mat5Append(&body, dims, 8);
+  Mat5Tag(&body, 1, static_cast<std::uint32_t>(name.size()));
   body += name;
-  Pad(&body);
-  Tag(&body, 5, static_cast<std::uint32_t>(4 * ir.size()));
-  Append(&body, ir.data(), 4 * ir.size());
-  Pad(&body);
-  Tag(&body, 5, static_cast<std::uint32_t>(4 * jc.size()));
-  Append(&body, jc.data(), 4 * jc.size());
-  Pad(&body);
-  Tag(&body, values_type, static_cast<std::uint32_t>(8 * pr.size()));
-  Append(&body, pr.data(), 8 * pr.size());
+  Mat5Pad(&body);
+  Mat5Tag(&body, 5, static_cast<std::uint32_t>(4 * ir.size()));
+  Mat5Append(&body, ir.data(), 4 * ir.size());
+  Mat5Pad(&body);
+  Mat5Tag(&body, 5, static_cast<std::uint32_t>(4 * jc.size()));
+  Mat5Append(&body, jc.data(), 4 * jc.size());
+  Mat5Pad(&body);
+  Mat5Tag(&body, values_type, static_cast<std::uint32_t>(8 * pr.size()));
+  Mat5Append(&body, pr.data(), 8 * pr.size());
   std::string element;
-  Tag(&element, 14, static_cast<std::uint32_t>(body.size()));
+  Mat5Tag(&element, 14, static_cast<std::uint32_t>(body.size()));
   return element + body;
 }
 
@@ -104,7 +79,7 @@ void WriteMatFile(const std::string& path, const std::string& variables) {
 void WriteMat(const std::string& path,
               const std::vector<std::pair<std::string, Eigen::MatrixXd>>& vars) {
   std::string variables;
-  for (const auto& [name, a] : vars) variables += MatVariable(name, a);
+  for (const auto& [name, a] : vars) variables += testing::Mat5DoubleVariable(name, a);
   WriteMatFile(path, variables);
 }
 

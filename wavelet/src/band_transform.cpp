@@ -10,6 +10,7 @@
 
 #include "podid/core/error.hpp"
 #include "podid/core/target_clones.hpp"
+#include "ridge_cost.hpp"
 
 namespace podid::wavelet::internal {
 namespace {
@@ -267,13 +268,11 @@ void BandTransform::LoadBlock(Eigen::Index b) {
 
 void BandTransform::MagnitudeBounds(double* bound) {
   PODID_CHECK(loaded_ >= 0);
-  const Eigen::Index bins = magnitude_.size();  // those the bands reach
-  const auto* x = reinterpret_cast<const double*>(spectrum_.get());
-  double* magnitude = magnitude_.data();
-  for (Eigen::Index b = 0; b < bins; ++b)
-    magnitude[b] = x[2 * b] * x[2 * b] + x[2 * b + 1] * x[2 * b + 1];
-  magnitude_ =
-      magnitude_.array().sqrt();  // Eigen's packets (std::sqrt's errno kept the loop scalar)
+  // |X_b| for the bins the bands reach: squares by RidgePower, square roots
+  // by Eigen's packets (std::sqrt's errno path keeps a loop of it scalar).
+  RidgePower(spectrum_.get(), magnitude_.size(), 1.0, magnitude_.data());
+  magnitude_ = magnitude_.array().sqrt();
+  const double* magnitude = magnitude_.data();
   for (std::size_t k = 0; k < filters_.size(); ++k) {
     const auto& filter = filters_[k];
     const Eigen::Index a = band_first_[k], size = static_cast<Eigen::Index>(filter.size());

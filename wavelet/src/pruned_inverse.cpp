@@ -83,22 +83,27 @@ void InterleaveBlocks(Eigen::Index d, Eigen::Index m, Eigen::Index times, Emit e
   }
 }
 
+// out[i] = |y_i| = sqrt(re^2 + im^2), i < n: the squares in a plain loop, the
+// square roots by Eigen's packets (std::sqrt's errno path keeps a loop of it
+// scalar: the magnitude output was slower than the complex one).
+void Magnitudes(const std::complex<double>* y, Eigen::Index n, double* out) {
+  const auto* in = reinterpret_cast<const double*>(y);
+  for (Eigen::Index i = 0; i < n; ++i)
+    out[i] = in[2 * i] * in[2 * i] + in[2 * i + 1] * in[2 * i + 1];
+  Eigen::Map<Eigen::ArrayXd> run(out, n);
+  run = run.sqrt();
+}
+
 }  // namespace
 
 void MagnitudesToFloat(const std::complex<double>* y, Eigen::Index n, double scale, float* out) {
   constexpr Eigen::Index kChunk = 256;
-  double squares[kChunk];
-  const auto* in = reinterpret_cast<const double*>(y);
+  double magnitudes[kChunk];
   for (Eigen::Index first = 0; first < n; first += kChunk) {
     const Eigen::Index count = std::min(kChunk, n - first);
-    for (Eigen::Index i = 0; i < count; ++i) {
-      const double re = in[2 * (first + i)], im = in[2 * (first + i) + 1];
-      squares[i] = re * re + im * im;
-    }
-    Eigen::Map<Eigen::ArrayXd> run(squares, count);
-    run = run.sqrt();
+    Magnitudes(y + first, count, magnitudes);
     for (Eigen::Index i = 0; i < count; ++i)
-      out[first + i] = static_cast<float>(squares[i] * scale);
+      out[first + i] = static_cast<float>(magnitudes[i] * scale);
   }
 }
 
@@ -266,18 +271,10 @@ void PrunedInverse::GatherMagnitude(const Complex* blocks,
     MagnitudesToFloat(blocks, times, scale, magnitude);
     return;
   }
-  const auto* in = reinterpret_cast<const double*>(blocks);
+  // The entries the output reads, block by block, then interleaved.
   const Eigen::Index m = p_ / d;
-  // The entries the output reads, block by block, as MagnitudesToFloat does
-  // (a scalar sqrt per entry made the magnitude output slower than the
-  // complex one), then interleaved.
   for (Eigen::Index r = 0; r < std::min(d, times); ++r) {
-    const Eigen::Index first = r * m, count = (times - r + d - 1) / d;
-    for (Eigen::Index i = first; i < first + count; ++i) {
-      scratch[i] = in[2 * i] * in[2 * i] + in[2 * i + 1] * in[2 * i + 1];
-    }
-    Eigen::Map<Eigen::ArrayXd> run(scratch + first, count);
-    run = run.sqrt();
+    Magnitudes(blocks + r * m, (times - r + d - 1) / d, scratch + r * m);
   }
   InterleaveBlocks(d, m, times, [&](Eigen::Index j, Eigen::Index i) {
     magnitude[j] = static_cast<float>(scratch[i] * scale);

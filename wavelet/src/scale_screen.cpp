@@ -13,16 +13,17 @@
 
 namespace podid::wavelet::internal {
 
-ScaleScreen::ScaleScreen(const Eigen::VectorXd& x, double lambda) : x_(x), lambda_(lambda) {
+ScaleScreen::ScaleScreen(const Eigen::VectorXd& x, double lambda)
+    : x_(x), lambda_(lambda), bound_(Eigen::VectorXd::Zero(x.size())) {
   order_.resize(static_cast<std::size_t>(x_.size()));
 }
 
-void ScaleScreen::Start(const double* bound, Eigen::Index times) {
+void ScaleScreen::Start(Eigen::Index times) {
   PODID_CHECK(times >= 1);
-  bound_ = bound;
   times_ = times;
   std::iota(order_.begin(), order_.end(), 0);
-  std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) { return bound[a] > bound[b]; });
+  std::stable_sort(order_.begin(), order_.end(),
+                   [&](int a, int b) { return bound_[a] > bound_[b]; });
   max_power_.setConstant(times, -1.0);
   cost_.resize(times);
   arg_.setConstant(times, -1.0);

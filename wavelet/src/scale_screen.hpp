@@ -29,10 +29,12 @@ class ScaleScreen {
   /// per (ln f step)^2 (RidgeProgramme's).
   ScaleScreen(const Eigen::VectorXd& x, double lambda);
 
-  /// Starts a block of `times` columns: bound[k] >= |W_k(t)| for every t
-  /// (BandTransform::MagnitudeBounds). order() is then the scales by bound,
-  /// largest first (ties: lower index first).
-  void Start(const double* bound, Eigen::Index times);
+  /// Per scale k, filled before Start: bound[k] >= |W_k(t)| for every t
+  /// (BandTransform::MagnitudeBounds).
+  double* bounds() { return bound_.data(); }
+  /// Starts a block of `times` columns with the bounds filled. order() is
+  /// then the scales by bound, largest first (ties: lower index first).
+  void Start(Eigen::Index times);
   const std::vector<int>& order() const { return order_; }
 
   /// Scale k transformed: its |W|^2 at the block's times (RidgePower's).
@@ -59,7 +61,7 @@ class ScaleScreen {
   double lambda_ = 0.0;
   Eigen::Index times_ = 0;
   std::size_t retest_ = 0;  // no full test before this many scales are added
-  const double* bound_ = nullptr;
+  Eigen::VectorXd bound_;   // per scale
   std::vector<int> order_;
   // Per time: the largest |W|^2 added so far, its cost, and the scale
   // holding it (a double, so that Add's loop vectorises).

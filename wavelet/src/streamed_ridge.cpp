@@ -52,10 +52,9 @@ struct RidgeFrequencyEstimator::Impl {
   std::unique_ptr<internal::BandTransform> band;
   std::unique_ptr<internal::RidgeProgramme> programme;
   Eigen::MatrixXcd kept;      // one block: W of every scale (block times x freqs), unscaled
-  // One block, screen_scales and kPenalised: the scales' |W| bounds and which
-  // scales `kept` holds (the rest were screened out; Track adds those it reads).
+  // One block, screen_scales and kPenalised: the screen, and which scales
+  // `kept` holds (the rest were screened out; Track adds those it reads).
   std::unique_ptr<internal::ScaleScreen> screen;
-  Eigen::VectorXd bound;
   std::vector<char> transformed;
   std::vector<int> batch_slot;
   Eigen::Index transformed_count = 0;
@@ -159,7 +158,6 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
   if (b.blocks() == 1 && options.screen_scales && !maximum) {
     screen = std::make_unique<internal::ScaleScreen>(b.frequencies_Hz().array().log().matrix(),
                                                      options.ridge.penalty_s / sg.step_s);
-    bound.resize(freqs);
   } else {
     screen.reset();
   }
@@ -229,8 +227,8 @@ void RidgeFrequencyEstimator::Impl::ScreenedBlockCost(Eigen::Index count,
                                                       Eigen::MatrixXd* into,
                                                       bool threaded) {
   internal::BandTransform& b = *band;
-  b.MagnitudeBounds(bound.data());
-  screen->Start(bound.data(), count);
+  b.MagnitudeBounds(screen->bounds());
+  screen->Start(count);
   const std::vector<int>& order = screen->order();
   std::fill(transformed.begin(), transformed.end(), 0);
   // Batches only where SynthesiseScales shares them with a second thread.
