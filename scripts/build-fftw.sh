@@ -49,7 +49,8 @@ if [[ $(id -u) -eq 0 ]]; then apt_options+=(-o "APT::Sandbox::User=root"); fi
 apt-get "${apt_options[@]}" update -qq >"$work/log" 2>&1 || skip "apt-get update of the source index failed"
 (cd "$work/src" && apt-get "${apt_options[@]}" source --download-only -qq "fftw3=$version") \
   >>"$work/log" 2>&1 || skip "apt-get source fftw3=$version failed"
-upstream=${version%-*}
+upstream=${version#*:}  # no epoch in the file names
+upstream=${upstream%-*}
 tar -xzf "$work/src/fftw3_$upstream.orig.tar.gz" -C "$work/src" || skip "cannot unpack fftw3_$upstream.orig.tar.gz"
 echo "podid: building FFTW $version with AVX2/AVX-512 codelets in $prefix (about 3 min on 2 cores)"
 if ! (cd "$work/src/fftw-$upstream" &&
