@@ -268,10 +268,8 @@ void BandTransform::LoadBlock(Eigen::Index b) {
 
 void BandTransform::MagnitudeBounds(double* bound) {
   PODID_CHECK(loaded_ >= 0);
-  // |X_b| for the bins the bands reach: squares by RidgePower, square roots
-  // by Eigen's packets (std::sqrt's errno path keeps a loop of it scalar).
-  RidgePower(spectrum_.get(), magnitude_.size(), 1.0, magnitude_.data());
-  magnitude_ = magnitude_.array().sqrt();
+  // |X_b| for the bins the bands reach.
+  Magnitudes(spectrum_.get(), magnitude_.size(), magnitude_.data());
   const double* magnitude = magnitude_.data();
   for (std::size_t k = 0; k < filters_.size(); ++k) {
     const auto& filter = filters_[k];

@@ -6,6 +6,7 @@
 
 #include "podid/core/error.hpp"
 #include "podid/core/target_clones.hpp"
+#include "ridge_cost.hpp"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -81,17 +82,6 @@ void InterleaveBlocks(Eigen::Index d, Eigen::Index m, Eigen::Index times, Emit e
       Interleave<0>(d, m, times, emit);
       break;
   }
-}
-
-// out[i] = |y_i| = sqrt(re^2 + im^2), i < n: the squares in a plain loop, the
-// square roots by Eigen's packets (std::sqrt's errno path keeps a loop of it
-// scalar: the magnitude output was slower than the complex one).
-void Magnitudes(const std::complex<double>* y, Eigen::Index n, double* out) {
-  const auto* in = reinterpret_cast<const double*>(y);
-  for (Eigen::Index i = 0; i < n; ++i)
-    out[i] = in[2 * i] * in[2 * i] + in[2 * i + 1] * in[2 * i + 1];
-  Eigen::Map<Eigen::ArrayXd> run(out, n);
-  run = run.sqrt();
 }
 
 }  // namespace

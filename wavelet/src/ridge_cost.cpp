@@ -60,6 +60,12 @@ PODID_CLONES_V4 void RidgePower(const std::complex<double>* w,
   }
 }
 
+void Magnitudes(const std::complex<double>* w, Eigen::Index n, double* magnitude) {
+  RidgePower(w, n, 1.0, magnitude);
+  Eigen::Map<Eigen::ArrayXd> run(magnitude, n);
+  run = run.sqrt();
+}
+
 // Runs of 8 as one vector each, the tail too (padded): the ridge programme
 // asks for a few cells at a time, where a scalar tail was the whole cost.
 PODID_CLONES_V4 void RidgeCostOfPower(const double* power, Eigen::Index n, double* cost) {
