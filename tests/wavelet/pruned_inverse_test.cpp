@@ -97,7 +97,7 @@ TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
         // times = P - 3: a last row of blocks only partly used.
         const Eigen::Index times = p - 3;
         inverse.Gather(out.data(), d, times, 1.0, column.data());
-        inverse.GatherMagnitude(out.data(), d, times, 1.0, reinterpret_cast<double*>(work.data()),
+        inverse.GatherMagnitude(out.data(), d, times, 1.0, reinterpret_cast<float*>(work.data()),
                                 magnitude.data());
         double worst = 0.0, worst_magnitude = 0.0;
         for (Eigen::Index j = 0; j < times; ++j) {
@@ -250,6 +250,15 @@ TEST(PrunedInverse, LongRecordNearNyquistEqualsTheAnalyticImpulseResponse) {
           << "scale " << k << " time " << j;
     }
   }
+  // Three threads (a chunk per scale: each column ends its chunk and is
+  // transformed in place in the thread's buffer, then copied) and |W| as
+  // float (the same in-place transform): the same numbers.
+  o.threads = 3;
+  EXPECT_TRUE(Cwt(x, step, o).coefficients == sg.coefficients);
+  o.threads = 1;
+  o.output = CwtOutput::kMagnitudeFloat;
+  const Eigen::MatrixXf rounded = sg.coefficients.cwiseAbs().cast<float>();
+  EXPECT_TRUE(Cwt(x, step, o).magnitude == rounded);
 }
 
 }  // namespace

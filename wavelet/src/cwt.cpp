@@ -16,6 +16,7 @@
 #include "podid/core/error.hpp"
 #include "podid/wavelet/plans.hpp"
 #include "pruned_inverse.hpp"
+#include "ridge_cost.hpp"
 #include "signal_check.hpp"
 
 namespace podid::wavelet {

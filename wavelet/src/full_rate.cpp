@@ -128,15 +128,15 @@ void FullRateCwt::RunScales(int thread,
     const bool direct = d == 1 && column != nullptr && (end - k) * times >= p &&
                         fftw_alignment_of(reinterpret_cast<double*>(column)) == plan_alignment_;
     Complex* out = direct ? column : own_output;
-    if (direct && in_place_ != nullptr) {
-      inverse_.Execute(spectrum, filter.data(), a, bins, 1, 1, in_place_, column, column);
+    if (d == 1 && in_place_ != nullptr) {  // in place, in the column or the thread's own
+      inverse_.Execute(spectrum, filter.data(), a, bins, 1, 1, in_place_, out, out);
     } else {
       inverse_.Execute(spectrum, filter.data(), a, bins, d, batch_[static_cast<std::size_t>(k)],
                        plans_[static_cast<std::size_t>(k)], input, out);
     }
     if (magnitude != nullptr) {
-      // Execute's work is free again: its P doubles serve as scratch.
-      inverse_.GatherMagnitude(out, d, times, output_scale, reinterpret_cast<double*>(input),
+      // Execute's work is free again: it serves as scratch for P floats.
+      inverse_.GatherMagnitude(out, d, times, output_scale, reinterpret_cast<float*>(input),
                                magnitude + k * times);
     } else if (!direct) {
       inverse_.Gather(out, d, times, output_scale, column);

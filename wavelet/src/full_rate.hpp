@@ -20,11 +20,13 @@ class FullRateCwt {
   /// few enough that the chunk ends (whose last column cannot spill into the
   /// next chunk, so it is gathered instead of written in place) cost little.
   static constexpr std::size_t kChunksPerThread = 8;
-  /// From this length on, a D = 1 scale is transformed in place in its
-  /// column instead of from a scratch buffer: once input and output (32 P
-  /// bytes) outgrow a 2 MiB L2 cache the scratch's round trip dominates
-  /// (FFTW 3.3.10, estimated plans: 0.96 against 1.13 ms at 102400 points;
-  /// 0.079 against 0.070 ms at 10752, where the scratch stays in cache).
+  /// From this length on, a D = 1 scale is transformed in place (in its
+  /// column, or in the thread's output buffer when the column cannot take P
+  /// values or the output is |W|) instead of from a scratch buffer: once
+  /// input and output (32 P bytes) outgrow a 2 MiB L2 cache the scratch's
+  /// round trip dominates (FFTW 3.3.10, estimated plans: 0.96 against 1.13 ms
+  /// at 102400 points; 0.079 against 0.070 ms at 10752, where the scratch
+  /// stays in cache).
   static constexpr Eigen::Index kInPlaceLength = 65536;
 
   /// Bytes Layout() allocates: the twiddle table and, per thread, the pruned

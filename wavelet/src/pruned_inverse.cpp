@@ -86,17 +86,6 @@ void InterleaveBlocks(Eigen::Index d, Eigen::Index m, Eigen::Index times, Emit e
 
 }  // namespace
 
-void MagnitudesToFloat(const std::complex<double>* y, Eigen::Index n, double scale, float* out) {
-  constexpr Eigen::Index kChunk = 256;
-  double magnitudes[kChunk];
-  for (Eigen::Index first = 0; first < n; first += kChunk) {
-    const Eigen::Index count = std::min(kChunk, n - first);
-    Magnitudes(y + first, count, magnitudes);
-    for (Eigen::Index i = 0; i < count; ++i)
-      out[first + i] = static_cast<float>(magnitudes[i] * scale);
-  }
-}
-
 void PrunedInverse::Reset(Eigen::Index p, bool measure) {
   PODID_CHECK(p >= 1 && p <= (Eigen::Index{1} << 27));
   measure_ = measure;
@@ -253,7 +242,7 @@ void PrunedInverse::GatherMagnitude(const Complex* blocks,
                                     Eigen::Index d,
                                     Eigen::Index times,
                                     double scale,
-                                    double* scratch,
+                                    float* scratch,
                                     float* magnitude) const {
   PODID_CHECK(d >= 1 && d <= kMaxDecimation && p_ % d == 0 && times <= p_);
   // |y| of the scaled transform (no overflow), rounded once to float.
@@ -264,11 +253,9 @@ void PrunedInverse::GatherMagnitude(const Complex* blocks,
   // The entries the output reads, block by block, then interleaved.
   const Eigen::Index m = p_ / d;
   for (Eigen::Index r = 0; r < std::min(d, times); ++r) {
-    Magnitudes(blocks + r * m, (times - r + d - 1) / d, scratch + r * m);
+    MagnitudesToFloat(blocks + r * m, (times - r + d - 1) / d, scale, scratch + r * m);
   }
-  InterleaveBlocks(d, m, times, [&](Eigen::Index j, Eigen::Index i) {
-    magnitude[j] = static_cast<float>(scratch[i] * scale);
-  });
+  InterleaveBlocks(d, m, times, [&](Eigen::Index j, Eigen::Index i) { magnitude[j] = scratch[i]; });
 }
 
 }  // namespace podid::wavelet::internal

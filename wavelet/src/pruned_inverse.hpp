@@ -28,11 +28,6 @@
 
 namespace podid::wavelet::internal {
 
-/// out[i] = float(scale |y_i|), i < n, |y| = sqrt(re^2 + im^2) correctly
-/// rounded: the square roots by Eigen's packets (std::sqrt's errno path keeps
-/// a loop of it scalar).
-void MagnitudesToFloat(const std::complex<double>* y, Eigen::Index n, double scale, float* out);
-
 class PrunedInverse {
  public:
   using Complex = std::complex<double>;
@@ -85,13 +80,13 @@ class PrunedInverse {
   void Gather(const Complex* blocks, Eigen::Index d, Eigen::Index times, double scale,
               Complex* column) const;
   /// magnitude[j] = float(scale |y_j|), j < times, from Execute's blocks
-  /// (|y| = sqrt(re^2 + im^2), correctly rounded); scratch: P doubles (Execute's
+  /// (|y| = sqrt(re^2 + im^2), correctly rounded); scratch: P floats (Execute's
   /// work serves).
   void GatherMagnitude(const Complex* blocks,
                        Eigen::Index d,
                        Eigen::Index times,
                        double scale,
-                       double* scratch,
+                       float* scratch,
                        float* magnitude) const;
 
  private:

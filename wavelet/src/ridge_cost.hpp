@@ -17,10 +17,12 @@ inline constexpr double kRidgeCostFloor = 1e-300;
 /// bringing the peak |W| near 1.
 void RidgePower(const std::complex<double>* w, Eigen::Index n, double scale, double* power);
 
-/// magnitude[i] = |w[i]| = sqrt(re^2 + im^2), correctly rounded, for i < n:
-/// RidgePower's squares, then Eigen's packet square roots (std::sqrt's errno
-/// path keeps a loop of it scalar).
+/// magnitude[i] = |w[i]| = sqrt(re^2 + im^2), correctly rounded, for i < n.
 void Magnitudes(const std::complex<double>* w, Eigen::Index n, double* magnitude);
+
+/// out[i] = float(scale |w[i]|) for i < n: Magnitudes' values times scale,
+/// rounded once to float, in one pass.
+void MagnitudesToFloat(const std::complex<double>* w, Eigen::Index n, double scale, float* out);
 
 /// cost[i] = -0.5 ln(max(power[i], kRidgeCostFloor)) for i < n (cost == power
 /// allowed), within 4 ulp of max(1, |ln|) (measured 1 ulp; test RidgeCost.*).
