@@ -47,18 +47,28 @@ namespace {
   return -0.5 * (e * std::numbers::ln2 + 2.0 * t * series);
 }
 
+// f(i, re, im) for the parts of w[i], i < n: the one loop shape each clone
+// below vectorises (inlined, so the loop body is the caller's).
+template <class F>
+[[gnu::always_inline]] inline void ForEachParts(const std::complex<double>* w,
+                                                Eigen::Index n,
+                                                F f) {
+  const double* __restrict parts = reinterpret_cast<const double*>(w);
+  for (Eigen::Index i = 0; i < n; ++i) f(i, parts[2 * i], parts[2 * i + 1]);
+}
+
 }  // namespace
 
 PODID_CLONES_V4 void RidgePower(const std::complex<double>* w,
                                 Eigen::Index n,
                                 double scale,
                                 double* power) {
-  const double* __restrict parts = reinterpret_cast<const double*>(w);
   double* __restrict out = power;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double re = parts[2 * i] * scale, im = parts[2 * i + 1] * scale;
+  ForEachParts(w, n, [out, scale](Eigen::Index i, double re, double im) {
+    re *= scale;
+    im *= scale;
     out[i] = re * re + im * im;
-  }
+  });
 }
 
 // This file is built with -fno-math-errno (wavelet/CMakeLists.txt): with
@@ -68,24 +78,19 @@ PODID_CLONES_V4 void RidgePower(const std::complex<double>* w,
 // case spent 14 % of its time in them, docs/benchmarks.md). Squares sum to
 // >= 0 or NaN, so no errno was ever due.
 PODID_CLONES_V4 void Magnitudes(const std::complex<double>* w, Eigen::Index n, double* magnitude) {
-  const double* __restrict parts = reinterpret_cast<const double*>(w);
   double* __restrict out = magnitude;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double re = parts[2 * i], im = parts[2 * i + 1];
-    out[i] = std::sqrt(re * re + im * im);
-  }
+  ForEachParts(
+      w, n, [out](Eigen::Index i, double re, double im) { out[i] = std::sqrt(re * re + im * im); });
 }
 
 PODID_CLONES_V4 void MagnitudesToFloat(const std::complex<double>* w,
                                        Eigen::Index n,
                                        double scale,
                                        float* out) {
-  const double* __restrict parts = reinterpret_cast<const double*>(w);
   float* __restrict to = out;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double re = parts[2 * i], im = parts[2 * i + 1];
+  ForEachParts(w, n, [to, scale](Eigen::Index i, double re, double im) {
     to[i] = static_cast<float>(std::sqrt(re * re + im * im) * scale);
-  }
+  });
 }
 
 // Runs of 8 as one vector each, the tail too (padded): the ridge programme
