@@ -128,7 +128,7 @@ void FullRateCwt::RunScales(int thread,
     const bool direct = d == 1 && column != nullptr && (end - k) * times >= p &&
                         fftw_alignment_of(reinterpret_cast<double*>(column)) == plan_alignment_;
     Complex* out = direct ? column : own_output;
-    if (d == 1 && in_place_ != nullptr) {  // in place, in the column or the thread's own
+    if (d == 1 && in_place_ != nullptr) {  // in place: in the column or the thread's buffer
       inverse_.Execute(spectrum, filter.data(), a, bins, 1, 1, in_place_, out, out);
     } else {
       inverse_.Execute(spectrum, filter.data(), a, bins, d, batch_[static_cast<std::size_t>(k)],

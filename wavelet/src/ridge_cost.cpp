@@ -1,4 +1,4 @@
-// -log|W| over runs of coefficients (ridge_cost.hpp).
+// -log|W| and |W| over runs of coefficients (ridge_cost.hpp).
 #include "ridge_cost.hpp"
 
 #include <algorithm>

@@ -1,7 +1,8 @@
 #pragma once
 // The ridge's cost of a coefficient, -log|W| (podid/wavelet/ridge.hpp), over a
-// run of coefficients. A vectorisable logarithm (no libm call per
-// coefficient): on x86-64 with GCC built for x86-64-v4 (AVX-512), x86-64-v3
+// run of coefficients, and |W| itself (the scale screen, the float
+// scalogram). A vectorisable logarithm (no libm call per coefficient) and
+// square roots: on x86-64 with GCC built for x86-64-v4 (AVX-512), x86-64-v3
 // (AVX2, FMA) and the baseline, the loader picking the one the CPU runs.
 
 #include <Eigen/Core>
