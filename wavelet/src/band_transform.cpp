@@ -114,13 +114,19 @@ BandTransform::Shape BandTransform::Plan(Eigen::Index samples, double step_s, do
   z.h = overlap * z.d;
   const Eigen::Index by_cells =
       std::max<Eigen::Index>(1, static_cast<Eigen::Index>(max_block_cells / freqs));
-  Eigen::Index mb = FastFftLength(std::max<Eigen::Index>(kOverlapShare * 2 * overlap, 1024));
-  if (mb - 2 * overlap > by_cells) mb = FastFftLength(2 * overlap + by_cells);
+  // The cheapest FFT per kept output time, the overlaps thrown away: at the
+  // Silverbox's 2 x 218, 2048 points keep 1612 times against 1792's 1356 (FFTW
+  // 1.76 against 2.25 ns a point, estimated plans; docs/benchmarks.md, "Ridge
+  // blocks by cost per kept time"). Capped by max_block_cells: as for a record.
+  Eigen::Index mb =
+      FastBlockLength(std::max<Eigen::Index>(kOverlapShare * 2 * overlap, 1024), 2 * overlap);
+  const bool capped = mb - 2 * overlap > by_cells;
+  if (capped) mb = FastFftLength(2 * overlap + by_cells);
   // The block's bands must fit its inverse length (they scale with Pb as M's with P).
   for (;;) {
     FilterBins(z.d * mb, step_s, &widest);
     if (widest <= mb) break;
-    mb = FastFftLength(mb + 1);
+    mb = capped ? FastFftLength(mb + 1) : FastBlockLength(mb + 1, 2 * overlap);
   }
   z.mb = mb;
   z.pb = z.d * mb;

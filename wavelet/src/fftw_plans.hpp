@@ -51,6 +51,15 @@ double FftCostModel(long long n);
 /// The length in [n, max(n + 8, ceil(1.25 n))] with factors 2, 3, 5, 7 only and the
 /// lowest FftCostModel(m) * m.
 long long FastFftLength(long long n);
+/// The same for a block of a longer record whose `overlap` points (0 <= overlap
+/// < n) are thrown away: the lowest cost per kept point, FftCostModel(m) * m /
+/// (m - overlap), so that the record's blocks cost least in all; up to 2048
+/// points only (FastFftLength(n) beyond).
+long long FastBlockLength(long long n, long long overlap);
+/// The same for a block whose first and last `overlap` points (in all,
+/// 0 <= overlap < n) are thrown away: the lowest cost per kept point,
+/// FftCostModel(m) * m / (m - overlap). FastFftLength is overlap 0.
+long long FastBlockLength(long long n, long long overlap);
 
 inline fftw_complex* AsFftw(std::complex<double>* p) { return reinterpret_cast<fftw_complex*>(p); }
 

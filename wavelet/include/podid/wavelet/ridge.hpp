@@ -126,10 +126,11 @@ struct RidgeFrequencyOptions {
   /// Streamed: output cells (times x frequencies) per block, 2^10..2^26. A
   /// record with at most this many cells is one block (default 2^20, 8 MB of
   /// ridge cost). A longer one is cut into blocks of at most this many cells
-  /// whose inverse FFTs are about 8 times the overlap (twice the wavelet's
-  /// support at the lowest frequency) and at least 1024 points: short
-  /// enough for a block's costs to stay near the cache (the Silverbox
-  /// record: 49 blocks of 1356 times x 115 frequencies, 1.2 MB).
+  /// whose inverse FFTs are at least 8 times the overlap (twice the wavelet's
+  /// support at the lowest frequency) and at least 1024 points, up to 2048
+  /// points the length of least FFT cost per kept time: short enough for a
+  /// block's costs to stay near the cache (the Silverbox record: 41 blocks
+  /// of 1612 times x 115 frequencies, 1.5 MB).
   double block_cells = 1048576.0;
   /// Streamed, one block, kPenalised: transform the scales in order of a
   /// bound on their |W| (sum over the band of |X| |psi^|) and stop once the
