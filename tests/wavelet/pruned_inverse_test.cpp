@@ -92,8 +92,8 @@ TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
         ++tried;
         std::fill(out.begin(), out.end(),
                   Complex(std::nan(""), 0.0));  // every entry must be written
-        inverse.Execute(spectrum.data(), filter.data(), first, bins, d, batch,
-                        inverse.Plan(d, batch), work.data(), out.data());
+        inverse.Execute(spectrum.data(), internal::ScaleFilter::Stored(filter.data()), first, bins,
+                        d, batch, inverse.Plan(d, batch), work.data(), out.data());
         // times = P - 3: a last row of blocks only partly used.
         const Eigen::Index times = p - 3;
         inverse.Gather(out.data(), d, times, 1.0, column.data());

@@ -17,6 +17,7 @@
 #include "podid/wavelet/plans.hpp"
 #include "pruned_inverse.hpp"
 #include "ridge_cost.hpp"
+#include "scale_filters.hpp"
 #include "signal_check.hpp"
 
 namespace podid::wavelet {
@@ -96,8 +97,7 @@ struct CwtTransform::Impl {
   Eigen::Index d = 1;  // decimation
   Eigen::Index times = 0;
   double bin_rad_per_s = 0.0;
-  std::vector<Eigen::Index> band_first;      // signed first bin of each scale's band
-  std::vector<std::vector<double>> filters;  // n(s) psi^(s w_b) / P over the band
+  internal::ScaleFilters filters;  // bands and n(s) psi^(s w_b) / P over them
   fftw_plan forward = nullptr;
   fftw_plan backward = nullptr;
   internal::RealBuffer padded;
@@ -111,6 +111,7 @@ struct CwtTransform::Impl {
   // Scale k's band at padded length p: bins [*a, *b] (signed; empty if *b < *a).
   void Band(Eigen::Index k, Eigen::Index p, double step, Eigen::Index* a, Eigen::Index* b) const;
   void Layout(Eigen::Index samples, double step);
+  // W (derivative: dW/dt) of scale k at the M decimated times into w.
   void Synthesise(Eigen::Index k, bool derivative, Complex* w) const;
 };
 
@@ -169,8 +170,9 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   const double per_coefficient = options.output == CwtOutput::kComplex ? 16.0 : 4.0;
   const double bytes =
       per_coefficient * static_cast<double>(z.times) * static_cast<double>(scales_s.size()) +
-      8.0 * static_cast<double>(z.filter_bins) + 8.0 * static_cast<double>(z.p) +
-      16.0 * static_cast<double>(z.p) + 16.0 * static_cast<double>(z.m) * options.threads +
+      internal::ScaleFilters::Bytes(options.wavelet, z.filter_bins) +
+      8.0 * static_cast<double>(z.p) + 16.0 * static_cast<double>(z.p) +
+      16.0 * static_cast<double>(z.m) * options.threads +
       (options.band_limited ? 0.0 : internal::FullRateCwt::Bytes(z.p, options.threads));
   if (bytes > options.memory_budget_bytes) {
     ThrowInvalid("Cwt: memory",
@@ -192,19 +194,13 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   bin_rad_per_s = 2.0 * kPi / (static_cast<double>(p) * step_s);
   const bool energy = options.wavelet.normalisation == Normalisation::kEnergy;
   const Eigen::Index scales = scales_s.size();
-  band_first.assign(static_cast<std::size_t>(scales), 0);
-  filters.assign(static_cast<std::size_t>(scales), {});
+  filters.Reset(options.wavelet, scales);
   for (Eigen::Index k = 0; k < scales; ++k) {
     const double s = scales_s(k);
     Eigen::Index a = 0, b = 0;
     Band(k, p, step_s, &a, &b);
     const double norm = (energy ? std::sqrt(s) : 1.0) / static_cast<double>(p);
-    auto& filter = filters[static_cast<std::size_t>(k)];
-    filter.clear();
-    for (Eigen::Index bin = a; bin <= b; ++bin) {
-      filter.push_back(norm * options.wavelet.FourierTransform(s * bin * bin_rad_per_s));
-    }
-    band_first[static_cast<std::size_t>(k)] = a;
+    filters.Set(k, a, b, s, norm, bin_rad_per_s);
   }
   const bool measure = options.planning == FftPlanning::kMeasure;
   forward = internal::ComplexForwardPlan(static_cast<int>(p), measure);
@@ -215,7 +211,7 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   for (int t = 0; t < options.threads; ++t) {
     work.push_back(internal::AllocateComplex(static_cast<std::size_t>(m)));
   }
-  if (!options.band_limited) full_rate.Layout(p, band_first, filters, options.threads, measure);
+  if (!options.band_limited) full_rate.Layout(p, filters, options.threads, measure);
   coi_frequency_Hz.resize(times);
   for (Eigen::Index j = 0; j < times; ++j) {
     const Eigen::Index sample = j * d;
@@ -228,10 +224,12 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
 
 void CwtTransform::Impl::Synthesise(Eigen::Index k, bool derivative, Complex* w) const {
   std::fill(w, w + m, Complex(0.0, 0.0));
-  const auto& filter = filters[static_cast<std::size_t>(k)];
-  const Eigen::Index a = band_first[static_cast<std::size_t>(k)];
+  const internal::ScaleFilter filter = filters.Filter(k);
+  double scratch[internal::ScaleFilter::kChunkBins];
+  const double* gains = scratch;
+  const Eigen::Index a = filters.first(k);
   const Complex* x = spectrum.get();
-  const Eigen::Index size = static_cast<Eigen::Index>(filter.size());
+  const Eigen::Index size = filters.bins(k);
   // Bin b lands at b mod M: at the decimated times t_j = j D step the
   // exponentials exp(i 2 pi b j / M) are M-periodic in b, and the band (<= M
   // bins) never folds onto itself.
@@ -239,7 +237,11 @@ void CwtTransform::Impl::Synthesise(Eigen::Index k, bool derivative, Complex* w)
   for (Eigen::Index i = 0; i < size; ++i) {
     const Eigen::Index bin = a + i;
     const Complex value = bin >= 0 ? x[bin] : std::conj(x[-bin]);
-    double gain = filter[static_cast<std::size_t>(i)];
+    const Eigen::Index chunk = i % internal::ScaleFilter::kChunkBins;
+    if (chunk == 0) {
+      gains = filter.Values(i, std::min(size - i, internal::ScaleFilter::kChunkBins), scratch);
+    }
+    const double gain = gains[chunk];
     if (derivative) {
       w[slot] = value * Complex(0.0, gain * static_cast<double>(bin) * bin_rad_per_s);
     } else {

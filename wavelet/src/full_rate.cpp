@@ -15,22 +15,17 @@ double FullRateCwt::Bytes(Eigen::Index p, int threads) {
   return 16.0 * (static_cast<double>(p) + (work + static_cast<double>(p)) * threads);
 }
 
-void FullRateCwt::Layout(Eigen::Index p,
-                         const std::vector<Eigen::Index>& band_first,
-                         const std::vector<std::vector<double>>& filters,
-                         int threads,
-                         bool measure) {
-  PODID_CHECK(band_first.size() == filters.size() && threads >= 1);
+void FullRateCwt::Layout(Eigen::Index p, const ScaleFilters& filters, int threads, bool measure) {
+  PODID_CHECK(threads >= 1);
   inverse_.Reset(p, measure);
-  band_first_ = &band_first;
   filters_ = &filters;
-  const std::size_t scales = filters.size();
+  const auto scales = static_cast<std::size_t>(filters.scales());
   decimation_.resize(scales);
   batch_.resize(scales);
   plans_.resize(scales);
   std::vector<double> cost(scales);
   for (std::size_t k = 0; k < scales; ++k) {
-    const auto bins = static_cast<Eigen::Index>(filters[k].size());
+    const Eigen::Index bins = filters.bins(static_cast<Eigen::Index>(k));
     const Eigen::Index d = PrunedInverse::Decimation(p, std::max<Eigen::Index>(bins, 1));
     decimation_[k] = d;
     batch_[k] = PrunedInverse::Batch(p, d);
@@ -109,9 +104,8 @@ void FullRateCwt::RunScales(int thread,
   Complex* input = input_[t].get();
   Complex* own_output = output_[t].get();
   for (Eigen::Index k = chunk_begin_[c]; k < end; ++k) {
-    const auto& filter = (*filters_)[static_cast<std::size_t>(k)];
-    const Eigen::Index a = (*band_first_)[static_cast<std::size_t>(k)];
-    const auto bins = static_cast<Eigen::Index>(filter.size());
+    const Eigen::Index a = filters_->first(k);
+    const Eigen::Index bins = filters_->bins(k);
     if (bins == 0) {  // the whole band beyond Nyquist: W = 0
       if (magnitude != nullptr) {
         std::fill(magnitude + k * times, magnitude + (k + 1) * times, 0.0f);
@@ -128,10 +122,11 @@ void FullRateCwt::RunScales(int thread,
     const bool direct = d == 1 && column != nullptr && (end - k) * times >= p &&
                         fftw_alignment_of(reinterpret_cast<double*>(column)) == plan_alignment_;
     Complex* out = direct ? column : own_output;
+    const ScaleFilter filter = filters_->Filter(k);
     if (d == 1 && in_place_ != nullptr) {  // in place: in the column or the thread's buffer
-      inverse_.Execute(spectrum, filter.data(), a, bins, 1, 1, in_place_, out, out);
+      inverse_.Execute(spectrum, filter, a, bins, 1, 1, in_place_, out, out);
     } else {
-      inverse_.Execute(spectrum, filter.data(), a, bins, d, batch_[static_cast<std::size_t>(k)],
+      inverse_.Execute(spectrum, filter, a, bins, d, batch_[static_cast<std::size_t>(k)],
                        plans_[static_cast<std::size_t>(k)], input, out);
     }
     if (magnitude != nullptr) {

@@ -10,6 +10,7 @@
 
 #include "fftw_plans.hpp"
 #include "pruned_inverse.hpp"
+#include "scale_filters.hpp"
 
 namespace podid::wavelet::internal {
 
@@ -34,15 +35,10 @@ class FullRateCwt {
   static double Bytes(Eigen::Index p, int threads);
 
   /// Plans (one per distinct D) and buffers for padded length p and the
-  /// scales' bands: band_first[k] the signed first bin, filters[k] the filter
-  /// over the band (its length is the band's). Scales are split into
-  /// contiguous chunks of about equal cost (kChunksPerThread per thread),
-  /// which `threads` threads take in turn.
-  void Layout(Eigen::Index p,
-              const std::vector<Eigen::Index>& band_first,
-              const std::vector<std::vector<double>>& filters,
-              int threads,
-              bool measure);
+  /// scales' bands and filters (kept by reference: they must outlive the
+  /// layout). Scales are split into contiguous chunks of about equal cost
+  /// (kChunksPerThread per thread), which `threads` threads take in turn.
+  void Layout(Eigen::Index p, const ScaleFilters& filters, int threads, bool measure);
 
   /// Every scale of `spectrum` (P / 2 + 1 bins of the padded real signal):
   /// column k of coefficients (times x scales, column-major) gets
@@ -64,8 +60,7 @@ class FullRateCwt {
                  float* magnitude) const;
 
   PrunedInverse inverse_;
-  const std::vector<Eigen::Index>* band_first_ = nullptr;
-  const std::vector<std::vector<double>>* filters_ = nullptr;
+  const ScaleFilters* filters_ = nullptr;
   std::vector<Eigen::Index> decimation_;   // per scale
   std::vector<Eigen::Index> batch_;        // per scale: blocks per FFTW call
   std::vector<fftw_plan> plans_;           // per scale

@@ -124,7 +124,7 @@ fftw_plan PrunedInverse::Plan(Eigen::Index d, Eigen::Index batch) const {
 }
 
 void PrunedInverse::Execute(const Complex* spectrum,
-                            const double* filter,
+                            const ScaleFilter& filter,
                             Eigen::Index first_bin,
                             Eigen::Index bins,
                             Eigen::Index d,
@@ -139,16 +139,21 @@ void PrunedInverse::Execute(const Complex* spectrum,
   const Eigen::Index slot0 = ((first_bin % m) + m) % m;
   const Eigen::Index head = std::min(bins, m - slot0);
   const Eigen::Index tail = bins - head;
-  // Y_b = X_b filter (X_-b = conj X_b) for bins i_begin .. i_begin + count - 1.
+  // Y_b = X_b filter (X_-b = conj X_b) for bins i_begin .. i_begin + count - 1,
+  // a chunk of the filter at a time (generated ones stay in the L1 cache).
   const auto fill = [&](Eigen::Index i_begin, Eigen::Index count, Complex* dest) {
-    const Eigen::Index first = first_bin + i_begin;
-    const Eigen::Index negative = std::clamp<Eigen::Index>(-first, 0, count);
-    for (Eigen::Index i = 0; i < negative; ++i) {
-      dest[i] = std::conj(spectrum[-(first + i)]) * filter[i_begin + i];
+    double scratch[ScaleFilter::kChunkBins];
+    for (Eigen::Index done = 0; done < count;) {
+      const Eigen::Index n = std::min(count - done, ScaleFilter::kChunkBins);
+      const double* g = filter.Values(i_begin + done, n, scratch);
+      const Eigen::Index first = first_bin + i_begin + done;
+      const Eigen::Index negative = std::clamp<Eigen::Index>(-first, 0, n);
+      Complex* to = dest + done;
+      for (Eigen::Index i = 0; i < negative; ++i) to[i] = std::conj(spectrum[-(first + i)]) * g[i];
+      ScaleRun(reinterpret_cast<const double*>(spectrum + first + negative), g + negative,
+               reinterpret_cast<double*>(to + negative), n - negative);
+      done += n;
     }
-    const auto* x = reinterpret_cast<const double*>(spectrum + first + negative);
-    auto* to = reinterpret_cast<double*>(dest + negative);
-    ScaleRun(x, filter + i_begin + negative, to, count - negative);
   };
   const auto clear = [&](Complex* block) {
     std::fill(block + tail, block + slot0, Complex(0.0, 0.0));

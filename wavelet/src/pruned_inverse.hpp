@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "fftw_plans.hpp"
+#include "scale_filters.hpp"
 
 namespace podid::wavelet::internal {
 
@@ -66,7 +67,7 @@ class PrunedInverse {
   /// out (then P entries suffice); out and work must have fftw_malloc's
   /// alignment modulo 16 (any std::complex<double> array has it).
   void Execute(const Complex* spectrum,
-               const double* filter,
+               const ScaleFilter& filter,
                Eigen::Index first_bin,
                Eigen::Index bins,
                Eigen::Index d,

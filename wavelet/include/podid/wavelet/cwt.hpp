@@ -235,8 +235,8 @@ struct CwtOptions {
   CwtOutput output = CwtOutput::kComplex;
   /// Upper bound on what one Compute() allocates, in bytes, in [2^20, 2^44]:
   /// the coefficients (n_times x n_freq x 16, or 4 for kMagnitudeFloat), the filters (8 per kept
-  /// bin) and the FFT buffers. Checked before allocating; too big is std::invalid_argument naming
-  /// the sizes. Default 2 GiB.
+  /// bin; none for Morlet without the admissibility correction: generated) and the FFT buffers.
+  /// Checked before allocating; too big is std::invalid_argument naming the sizes. Default 2 GiB.
   double memory_budget_bytes = 2147483648.0;
 
   bool IsValid(std::string* why) const;
@@ -289,7 +289,8 @@ struct FftLengths {
 };
 
 /// Reusable transform state: plans, the padded signal's spectrum, the filters
-/// (rebuilt only when the signal length or step changes) and work buffers.
+/// (stored or, for one Gaussian, their constants; rebuilt only when the signal
+/// length or step changes) and work buffers.
 /// Not shareable between threads; use one per thread.
 class CwtTransform {
  public:
