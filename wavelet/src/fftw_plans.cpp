@@ -235,10 +235,11 @@ long long FastFftLength(long long n) {
 
 long long FastBlockLength(long long n, long long overlap) {
   PODID_CHECK(overlap >= 0 && overlap < std::max<long long>(n, 1));
-  // Beyond 2048 points the model misleads with FFTW_ESTIMATE's plans: for
-  // 4096 it takes 128-point codelets, 3.3 ns a point against 2.3 measured
-  // (1792: 2.25, 2048: 1.76, 3584: 3.0), and 4096-point blocks made the
-  // 300 Hz Silverbox ridge 5 % slower than 3584 (docs/benchmarks.md).
+  // Beyond 2048 points the model misleads with FFTW_ESTIMATE's plans, which
+  // take 128-point codelets for 4096 points: 3.3 ns a point against 2.3 with
+  // a measured plan (estimated, 1792: 2.25, 2048: 1.76, 3584: 3.0), and
+  // 4096-point blocks made the 10-300 Hz Silverbox ridge 5 % slower than
+  // 3584-point ones (docs/benchmarks.md, "Ridge blocks by cost per kept time").
   constexpr long long kModelledBlock = 2048;
   if (n > kModelledBlock) return FastFftLength(n);
   return CheapestSmoothLength(n, [overlap](long long m) {

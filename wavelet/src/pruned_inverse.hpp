@@ -57,7 +57,8 @@ class PrunedInverse {
   /// The plan of `batch` inverses of length P / d (cached process-wide).
   fftw_plan Plan(Eigen::Index d, Eigen::Index batch) const;
 
-  /// y_0 .. y_(P-1) of the band Y_(a+i) = X_(a+i) filter[i], i < bins, into
+  /// y_0 .. y_(P-1) of the band Y_(a+i) = X_(a+i) g_i, i < bins (g_i the
+  /// filter's entry i, read a chunk at a time), into
   /// out (P entries) as D blocks of M: y_(q D + r) at out[r M + q] (for
   /// D = 1 simply y in order). spectrum: X_0 .. X_(P/2) of a real signal (X_-b =
   /// conj X_b), a >= -(P - 1) / 2, a + bins - 1 <= P / 2. work: WorkSize(P)
