@@ -56,10 +56,6 @@ long long FastFftLength(long long n);
 /// (m - overlap), so that the record's blocks cost least in all; up to 2048
 /// points only (FastFftLength(n) beyond).
 long long FastBlockLength(long long n, long long overlap);
-/// The same for a block whose first and last `overlap` points (in all,
-/// 0 <= overlap < n) are thrown away: the lowest cost per kept point,
-/// FftCostModel(m) * m / (m - overlap). FastFftLength is overlap 0.
-long long FastBlockLength(long long n, long long overlap);
 
 inline fftw_complex* AsFftw(std::complex<double>* p) { return reinterpret_cast<fftw_complex*>(p); }
 
