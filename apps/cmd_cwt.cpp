@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
-#include <string>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -17,6 +17,7 @@
 #include "podid/pod/pod.hpp"
 #include "podid/wavelet/cwt.hpp"
 #include "podid/wavelet/ridge.hpp"
+#include "podid/wavelet/synthesis.hpp"
 
 namespace podid::cli {
 namespace {
@@ -42,6 +43,7 @@ struct CwtArguments {
   std::string scale_convention = "ridge";
   double coi_factor = 2.0;
   bool band_limited = false;
+  bool synchrosqueeze = false;
   int threads = 1;
   double max_memory_MB = 2048.0;
   std::string output;
@@ -161,9 +163,12 @@ void Run(const CwtArguments& a) {
   cwt.padding = wavelet::ParsePadding(a.padding);
   cwt.coi_factor = a.coi_factor;
   cwt.threads = a.threads;
-  // --scalogram copies |W| (8 more bytes per coefficient) before writing.
-  cwt.memory_budget_bytes =
-      a.max_memory_MB * 1048576.0 * (a.scalogram.empty() ? 1.0 : 16.0 / 24.0);
+  // The transform's budget is for W's 16 bytes a coefficient: the
+  // synchrosqueezed T and its reassignment field take 24 more, and
+  // --scalogram copies |W| or |T| (8 more) before writing.
+  const double cell_bytes =
+      16.0 + (a.synchrosqueeze ? 24.0 : 0.0) + (a.scalogram.empty() ? 0.0 : 8.0);
+  cwt.memory_budget_bytes = a.max_memory_MB * 1048576.0 * 16.0 / cell_bytes;
   cwt.frequencies.min_frequency_Hz = a.fmin_Hz;
   cwt.frequencies.max_frequency_Hz = a.fmax_Hz;
   if (a.bins > 0) {
@@ -186,7 +191,7 @@ void Run(const CwtArguments& a) {
   // output cell, instead of 16-24 for the whole transform; the same ridge to
   // about band_tolerance, tests StreamedRidge.*); --threads >= 2 then runs
   // the next block's transform beside the ridge's dynamic programme.
-  const bool streamed = a.ridges == 1 && a.scalogram.empty() && a.plot.empty();
+  const bool streamed = a.ridges == 1 && a.scalogram.empty() && a.plot.empty() && !a.synchrosqueeze;
   std::unique_ptr<wavelet::CwtTransform> transform;
   std::unique_ptr<wavelet::RidgeFrequencyEstimator> estimator;
   if (streamed) {
@@ -195,6 +200,7 @@ void Run(const CwtArguments& a) {
     transform = std::make_unique<wavelet::CwtTransform>(cwt);
   }
   wavelet::Scalogram whole;
+  wavelet::SynchrosqueezedTransform squeezed;  // --synchrosqueeze: the last signal's
   std::vector<std::vector<wavelet::RidgeTrack>> tracks;
   for (std::size_t c = 0; c < signals.size(); ++c) {
     const auto& [label, signal] = signals[c];
@@ -204,13 +210,27 @@ void Run(const CwtArguments& a) {
         tracks.back().push_back(estimator->Estimate(signal, step_s));
       } else {
         transform->Compute(signal, step_s, &whole);
-        for (const Eigen::VectorXi& path : wavelet::FindRidges(whole, options.ridge)) {
-          tracks.back().push_back(wavelet::TrackRidge(whole, path, options.ridge, transform.get()));
+        if (a.synchrosqueeze) {
+          squeezed = wavelet::Synchrosqueeze(whole, *transform);
+          tracks.back() = wavelet::SynchrosqueezedRidges(squeezed, options.ridge);
+        } else {
+          for (const Eigen::VectorXi& path : wavelet::FindRidges(whole, options.ridge)) {
+            tracks.back().push_back(
+                wavelet::TrackRidge(whole, path, options.ridge, transform.get()));
+          }
         }
       }
     } catch (const std::invalid_argument& e) {  // name the signal the error is about
       // Escaped as ThrowInvalid escapes (e.what() already is: escaping is idempotent).
-      throw std::invalid_argument(Escaped(label + " of " + a.data + ": ") + e.what());
+      std::string what = e.what();
+      if (cell_bytes > 16.0 && what.find("memory_budget_bytes") != std::string::npos) {
+        // The budget the transform saw is --max-memory's share for W.
+        what += " [--max-memory " + ToText(a.max_memory_MB) + " MB x 16 / " + ToText(cell_bytes) +
+                ": W's share of the " + ToText(cell_bytes) + " bytes a coefficient takes with" +
+                (a.synchrosqueeze ? " --synchrosqueeze" : "") +
+                (a.scalogram.empty() ? "" : " --scalogram") + "]";
+      }
+      throw std::invalid_argument(Escaped(label + " of " + a.data + ": ") + what);
     }
     // The grid (times, frequencies, decimation, cone) of either path.
     const wavelet::Scalogram& sg = streamed ? estimator->scalogram() : whole;
@@ -245,11 +265,13 @@ void Run(const CwtArguments& a) {
                   : sg.decimation > 1
                       ? (", band-limited: every " + ToText(sg.decimation) + "th sample").c_str()
                       : ", band-limited: no decimation (the band reaches Nyquist)");
-      std::printf("ridge: %s%s, IF from the phase derivative%s\n",
-                  wavelet::ToString(options.ridge.method),
+      std::printf("ridge: %s%s%s%s\n", wavelet::ToString(options.ridge.method),
                   options.ridge.method == wavelet::RidgeMethod::kPenalised
                       ? (" (penalty " + ToText(a.penalty_s) + " s)").c_str()
                       : "",
+                  a.synchrosqueeze
+                      ? " on the synchrosqueezed |T|, IF at the reassignment's fixed point"
+                      : ", IF from the phase derivative",
                   a.ridges > 1 ? (", up to " + ToText(a.ridges) + " ridges").c_str() : "");
       // Below the lowest frequency whose cone holds a sample (the record's
       // middle) every coefficient is within an e-folding time of an edge:
@@ -302,10 +324,12 @@ void Run(const CwtArguments& a) {
   }
   const std::string& label = signals.front().first;
   const wavelet::RidgeTrack& track = tracks.front().front();
-  const wavelet::Scalogram& sg = whole;  // --scalogram and --plot: the whole path
+  // --scalogram and --plot: the whole transform's |W|, or |T|.
+  const wavelet::Scalogram& sg = a.synchrosqueeze ? squeezed.sst : whole;
+  const char* const symbol = a.synchrosqueeze ? "|T|" : "|W|";
   if (!a.scalogram.empty()) {
     TimeSeries magnitude;
-    magnitude.time_s = whole.time_s.array() + t0_s;
+    magnitude.time_s = sg.time_s.array() + t0_s;
     for (Eigen::Index k = 0; k < sg.frequencies(); ++k) {
       char name[32];
       std::snprintf(name, sizeof name, "%.6gHz", sg.frequencies_Hz(k));
@@ -313,7 +337,7 @@ void Run(const CwtArguments& a) {
     }
     magnitude.values = sg.coefficients.cwiseAbs() * sg.coefficient_scale;
     WriteCsv(a.scalogram, magnitude);
-    std::printf("|W| -> %s\n", a.scalogram.c_str());
+    std::printf("%s -> %s\n", symbol, a.scalogram.c_str());
   }
   if (!a.plot.empty()) {
     // At most ~1000 time columns keep the PNG quick to draw.
@@ -335,13 +359,14 @@ void Run(const CwtArguments& a) {
       if (!track.inside_coi(j)) ridge_f(j) = NAN;
     }
     Axes axes;
-    axes.title = "|W| of " + label + " (" + cwt.wavelet.Describe() + ")";
+    axes.title = std::string(symbol) + " of " + label + " (" + cwt.wavelet.Describe() +
+                 (a.synchrosqueeze ? ", synchrosqueezed)" : ")");
     axes.x_label = "t (s)";
     axes.y_label = "f (Hz)";
     axes.log_y = a.bins == 0;
-    const PlotOutcome outcome = PlotHeatMap(
-        a.plot, axes, "|W|", t, sg.frequencies_Hz, z,
-        {{"ridge IF (inside cone)", track.time_s, ridge_f}, {"cone of influence", coi_time_s, coi}});
+    const PlotOutcome outcome = PlotHeatMap(a.plot, axes, symbol, t, sg.frequencies_Hz, z,
+                                            {{"ridge IF (inside cone)", track.time_s, ridge_f},
+                                             {"cone of influence", coi_time_s, coi}});
     if (outcome == PlotOutcome::kWritten) std::printf("plot -> %s\n", a.plot.c_str());
   }
 }
@@ -410,17 +435,23 @@ void AddCwtCommand(CLI::App& app) {
                       "Threads over the scales (1..256); a streamed ridge uses two (the same result)")
       ->capture_default_str();
   command
-      ->add_option("--max-memory", a->max_memory_MB,
-                   "Refuse transforms needing more than this many MB (1..16777216). One ridge\n"
-                   "without --scalogram/--plot is streamed: about 1 byte per cell plus\n"
-                   "~43 per cell of a block; otherwise the coefficients take n_times x\n"
-                   "n_frequencies x 16 bytes, 24 with --scalogram; the ridges kept for -o about\n"
-                   "64 bytes per channel, ridge and time)")
+      ->add_option(
+          "--max-memory", a->max_memory_MB,
+          "Refuse transforms needing more than this many MB (1..16777216). One ridge\n"
+          "without --scalogram/--plot is streamed: about 1 byte per cell plus\n"
+          "~43 per cell of a block; otherwise the coefficients take n_times x\n"
+          "n_frequencies x 16 bytes, 24 more with --synchrosqueeze, 8 more with\n"
+          "--scalogram; the ridges kept for -o about 64 bytes per channel, ridge and time)")
       ->capture_default_str();
   command->add_flag("--band-limited", a->band_limited,
                     "Decimated output (what identification uses); IF values are unchanged");
+  command->add_flag("--synchrosqueeze", a->synchrosqueeze,
+                    "Ridges of the synchrosqueezed transform |T| (Daubechies, Lu & Wu 2011):\n"
+                    "the IF where the reassignment has its fixed point, not quantised to the\n"
+                    "grid; --scalogram and --plot show |T|");
   command->add_option("-o,--output", a->output, "Ridge CSV: t,f_Hz,amplitude,inside_coi");
-  command->add_option("--scalogram", a->scalogram, "|W| CSV: t, one column per frequency");
+  command->add_option("--scalogram", a->scalogram,
+                      "|W| (|T| with --synchrosqueeze) CSV: t, one column per frequency");
   command->add_option("--plot", a->plot, "Scalogram PNG with the ridge (needs gnuplot)");
   command->callback([a] {
     if (a->channel.empty() && a->pom == 0) {

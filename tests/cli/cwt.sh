@@ -56,6 +56,35 @@ awk -v m="$means" 'BEGIN { split(m, v, " "); exit !(v[1] > 19.9 && v[1] < 20.1 &
 [ $? -eq 1 ] || fail "--ridges 17 not exit 1"
 grep -q "ridges: expected 1..16, got 17" "$out/stderr" || fail "ridges message"
 
+# The synchrosqueezed transform's ridges (--synchrosqueeze): on the chirp
+# f = 20 + 30 t Hz the worst IF error inside the cone is no larger than the
+# CWT ridge's (0.035 against 0.037 Hz); the two tones give ridges at 20 Hz
+# (to 1e-3 Hz) and 60 Hz (to 0.03 Hz: the 20 Hz tone's leak into the 60 Hz
+# scales, 40 Hz x 2 e^-8 = 0.027 Hz, moves the CWT ridge as much) in 0.3-1.7 s.
+awk 'BEGIN { print "t,x"; for (i = 0; i <= 2000; i++) { t = i / 1000;
+  printf "%.6f,%.12f\n", t, cos(2 * 3.141592653589793 * (20 * t + 15 * t * t)) } }' >"$out/chirp.csv"
+"$podid" cwt "$out/chirp.csv" --channel x -o "$out/chirp_cwt.csv" >/dev/null || fail "chirp cwt exited $?"
+"$podid" cwt "$out/chirp.csv" --channel x --synchrosqueeze -o "$out/chirp_sst.csv" \
+  --scalogram "$out/chirp_T.csv" >"$out/stdout" || fail "cwt --synchrosqueeze exited $?"
+grep -q "on the synchrosqueezed |T|" "$out/stdout" || fail "no synchrosqueezed ridge line"
+grep -q "^|T| -> " "$out/stdout" || fail "no |T| scalogram"
+worst_if() { awk -F, 'NR > 1 && $4 == 1 { e = $2 - (20 + 30 * $1); if (e < 0) e = -e; if (e > m) m = e }
+  END { print m + 0 }' "$1"; }
+w_cwt=$(worst_if "$out/chirp_cwt.csv"); w_sst=$(worst_if "$out/chirp_sst.csv")
+awk -v c="$w_cwt" -v s="$w_sst" 'BEGIN { exit !(s <= c && s < 0.05) }' \
+  || fail "SST ridge's worst IF error $w_sst Hz, CWT ridge's $w_cwt Hz"
+"$podid" cwt "$out/two.csv" --channel x --ridges 2 --synchrosqueeze -o "$out/two_sst.csv" >/dev/null \
+  || fail "two tones --synchrosqueeze exited $?"
+awk -F, 'NR > 1 && $1 >= 0.3 && $1 <= 1.7 { n++
+  if ($2 < 19.999 || $2 > 20.001 || $5 < 59.97 || $5 > 60.03) { print "t " $1 ": " $2 ", " $5; bad = 1; exit } }
+  END { exit bad || n < 1300 }' "$out/two_sst.csv" || fail "SST ridges of two tones"
+# W, T and the reassignment field: 40 bytes a cell (5001 x 115 x 40 = 23 MB).
+"$podid" cwt "$data" --channel w6 --synchrosqueeze --max-memory 16 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--synchrosqueeze in 16 MB not exit 1"
+grep -q "\[--max-memory 16 MB x 16 / 40: W's share of the 40 bytes a coefficient takes with --synchrosqueeze\]" \
+  "$out/stderr" || fail "SST memory message: $(cat "$out/stderr")"
+"$podid" cwt "$data" --channel w6 --ridges 2 --max-memory 16 >/dev/null || fail "W alone in 16 MB failed"
+
 # Every channel in one call: the same IF as one channel at a time.
 "$podid" cwt "$data" --channel all --band-limited -o "$out/all.csv" >"$out/stdout" \
   || fail "cwt --channel all exited $?"

@@ -164,6 +164,51 @@ TEST(Synchrosqueeze, ChirpRidgeIsAtLeastAsAccurateAsTheCwtRidge) {
   EXPECT_NEAR(squeezed.amplitude(sg.times() / 2), 1.0, 0.05);
 }
 
+TEST(Synchrosqueeze, TwoRidgesFollowTwoTones) {
+  // x = cos(2 pi 20 t) + 0.5 cos(2 pi 60 t), 2 s at 1 kHz: ridge 1 on the
+  // stronger tone, ridge 2 on the other, each IF within the other tone's
+  // interference of the tone's frequency where both are well inside their
+  // cones (0.3-1.7 s). At the 60 Hz scales the 20 Hz tone leaks in with
+  // weight r = 2 psi^(2) / psi^(6) = 2 e^-8 (Morlet omega0 6), which moves the
+  // phase-derivative IF by up to 40 Hz r / (1 - r) = 0.027 Hz (the CWT ridge
+  // moves as much); at the 20 Hz scales the 60 Hz tone's weight is e^-72,
+  // so that IF is the tone's to the phase derivative's rounding.
+  constexpr double kTolerance20Hz = 1e-6;
+  constexpr double kTolerance60Hz = 0.03;
+  const Eigen::VectorXd t = Time(2001);
+  const Eigen::VectorXd x =
+      (2 * kPi * 20.0 * t.array()).cos() + 0.5 * (2 * kPi * 60.0 * t.array()).cos();
+  CwtOptions o;
+  o.frequencies.min_frequency_Hz = 10.0;
+  o.frequencies.max_frequency_Hz = 120.0;
+  o.coi_factor = 2.0;
+  CwtTransform transform(o);
+  Scalogram sg;
+  transform.Compute(x, kStep_s, &sg);
+  const SynchrosqueezedTransform sst = Synchrosqueeze(sg, transform);
+  RidgeOptions two;
+  two.ridges = 2;
+  const std::vector<RidgeTrack> ridges = SynchrosqueezedRidges(sst, two);
+  ASSERT_EQ(ridges.size(), 2u);
+  // The first is SynchrosqueezedRidge's, bit for bit.
+  const RidgeTrack one = SynchrosqueezedRidge(sst, two);
+  EXPECT_TRUE(ridges[0].frequency_index == one.frequency_index);
+  EXPECT_TRUE(ridges[0].frequency_Hz.cwiseEqual(one.frequency_Hz).all());
+  EXPECT_TRUE(ridges[0].amplitude == one.amplitude);
+  int used = 0;
+  for (Eigen::Index j = 0; j < sg.times(); ++j) {
+    if (sg.time_s(j) < 0.3 || sg.time_s(j) > 1.7) continue;
+    EXPECT_NEAR(ridges[0].frequency_Hz(j), 20.0, kTolerance20Hz) << "t " << sg.time_s(j);
+    EXPECT_NEAR(ridges[1].frequency_Hz(j), 60.0, kTolerance60Hz) << "t " << sg.time_s(j);
+    ASSERT_TRUE(ridges[0].inside_coi(j) && ridges[1].inside_coi(j));
+    ++used;
+  }
+  EXPECT_GT(used, 1300);
+  // Amplitudes 1 and 0.5 (within one bin of the ridge holds most of T).
+  EXPECT_NEAR(ridges[0].amplitude(sg.times() / 2), 1.0, 0.05);
+  EXPECT_NEAR(ridges[1].amplitude(sg.times() / 2), 0.5, 0.025);
+}
+
 TEST(Synchrosqueeze, ReconstructionFromTheSqueezedTransform) {
   // Summing T over frequency reconstructs x like the inverse CWT (the
   // threshold drops only |W| <= 1e-6 max |W|): same 1e-3 figure.

@@ -137,11 +137,11 @@ SynchrosqueezedTransform Synchrosqueeze(const Scalogram& scalogram,
   return out;
 }
 
-RidgeTrack SynchrosqueezedRidge(const SynchrosqueezedTransform& sst, const RidgeOptions& options) {
-  RidgeOptions one = options;
-  one.ridges = 1;
-  const std::vector<Eigen::VectorXi> paths = FindRidges(sst.sst, one);
-  const Eigen::VectorXi& path = paths.front();
+namespace {
+
+// The track of one path on |T|: at each time the IF at the reassignment's
+// fixed point near the path (synthesis.hpp, SynchrosqueezedRidge).
+RidgeTrack TrackSqueezedPath(const SynchrosqueezedTransform& sst, const Eigen::VectorXi& path) {
   const Scalogram& s = sst.sst;
   const double c = ReconstructionConstant(s.wavelet);
   RidgeTrack track;
@@ -182,6 +182,23 @@ RidgeTrack SynchrosqueezedRidge(const SynchrosqueezedTransform& sst, const Ridge
     track.inside_coi(j) = s.InsideCoi(j, k);
   }
   return track;
+}
+
+}  // namespace
+
+std::vector<RidgeTrack> SynchrosqueezedRidges(const SynchrosqueezedTransform& sst,
+                                              const RidgeOptions& options) {
+  std::vector<RidgeTrack> tracks;
+  for (const Eigen::VectorXi& path : FindRidges(sst.sst, options)) {
+    tracks.push_back(TrackSqueezedPath(sst, path));
+  }
+  return tracks;
+}
+
+RidgeTrack SynchrosqueezedRidge(const SynchrosqueezedTransform& sst, const RidgeOptions& options) {
+  RidgeOptions one = options;
+  one.ridges = 1;
+  return TrackSqueezedPath(sst, FindRidges(sst.sst, one).front());
 }
 
 }  // namespace podid::wavelet

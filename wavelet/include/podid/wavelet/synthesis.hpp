@@ -26,6 +26,7 @@
 // in one or two bins instead of a band of width ~ 1 / (2 sigma_t) in ln f.
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "podid/wavelet/cwt.hpp"
 #include "podid/wavelet/ridge.hpp"
@@ -79,5 +80,12 @@ SynchrosqueezedTransform Synchrosqueeze(const Scalogram& scalogram,
 /// the path's own cell. amplitude = 2 |T(l-1) + T(l) + T(l+1)| / C.
 RidgeTrack SynchrosqueezedRidge(const SynchrosqueezedTransform& sst,
                                 const RidgeOptions& options = {});
+
+/// options.ridges ridges of |T| (FindRidges: strongest first, each excluding
+/// options.separation_octaves either side of those before it), each tracked
+/// as SynchrosqueezedRidge tracks the strongest; the first is
+/// SynchrosqueezedRidge's.
+std::vector<RidgeTrack> SynchrosqueezedRidges(const SynchrosqueezedTransform& sst,
+                                              const RidgeOptions& options = {});
 
 }  // namespace podid::wavelet
