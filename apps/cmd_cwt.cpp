@@ -186,7 +186,7 @@ void Run(const CwtArguments& a) {
   }
 
   // One transform for every signal (same length and step: laid out once).
-  // Without a scalogram to write or plot, one ridge is streamed
+  // Without a scalogram to write or plot (or synchrosqueeze), one ridge is streamed
   // (RidgeFrequencyEstimator: memory bounded by blocks, about 1 byte per
   // output cell, instead of 16-24 for the whole transform; the same ridge to
   // about band_tolerance, tests StreamedRidge.*); --threads >= 2 then runs
@@ -211,7 +211,7 @@ void Run(const CwtArguments& a) {
       } else {
         transform->Compute(signal, step_s, &whole);
         if (a.synchrosqueeze) {
-          squeezed = wavelet::Synchrosqueeze(whole, *transform);
+          wavelet::Synchrosqueeze(whole, *transform, {}, &squeezed);
           tracks.back() = wavelet::SynchrosqueezedRidges(squeezed, options.ridge);
         } else {
           for (const Eigen::VectorXi& path : wavelet::FindRidges(whole, options.ridge)) {

@@ -14,6 +14,7 @@
 #include "podid/wavelet/cwt.hpp"
 #include "podid/wavelet/denoise.hpp"
 #include "podid/wavelet/ridge.hpp"
+#include "podid/wavelet/synthesis.hpp"
 
 namespace {
 
@@ -274,6 +275,47 @@ void BM_CwtFcwtCaseFirstCall(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_CwtFcwtCaseFirstCall)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
+
+// `podid cwt --channel w6` on the whole transform: 10-120 Hz, 32 voices per
+// octave (115 frequencies), full rate; argument 0 = the CWT ridge (FindRidges,
+// TrackRidge), 1 = the synchrosqueezed one (--synchrosqueeze: Synchrosqueeze,
+// one more inverse FFT per scale for dW/dt, then SynchrosqueezedRidges).
+// Both include the transform; compare them in one run.
+void BM_RidgeOfTransform(benchmark::State& state) {
+  const Eigen::VectorXd x = Signal(5001);
+  const bool squeeze = state.range(0) == 1;
+  CwtTransform transform(CwtOptions{});
+  const RidgeOptions ridge;
+  Scalogram sg;
+  SynchrosqueezedTransform sst;
+  const auto run = [&] {
+    transform.Compute(x, kStep, &sg);
+    if (squeeze) {
+      Synchrosqueeze(sg, transform, {}, &sst);
+      return SynchrosqueezedRidges(sst, ridge).front();
+    }
+    return TrackRidge(sg, FindRidges(sg, ridge).front(), ridge, &transform);
+  };
+  run();  // plans and filters
+  for (auto _ : state) {
+    const RidgeTrack track = run();
+    benchmark::DoNotOptimize(track.frequency_Hz.data());
+  }
+}
+BENCHMARK(BM_RidgeOfTransform)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// The inverse CWT of the same transform (the signal's in-band part).
+void BM_InverseCwt(benchmark::State& state) {
+  const Eigen::VectorXd x = Signal(5001);
+  CwtTransform transform(CwtOptions{});
+  Scalogram sg;
+  transform.Compute(x, kStep, &sg);
+  for (auto _ : state) {
+    const Eigen::VectorXd y = InverseCwt(sg);
+    benchmark::DoNotOptimize(y.data());
+  }
+}
+BENCHMARK(BM_InverseCwt)->Unit(benchmark::kMillisecond);
 
 void BM_Denoise(benchmark::State& state) {
   const Eigen::VectorXd x = Signal(state.range(0));

@@ -87,54 +87,79 @@ bool SynchrosqueezeOptions::IsValid(std::string* why) const {
 SynchrosqueezedTransform Synchrosqueeze(const Scalogram& scalogram,
                                         const CwtTransform& transform,
                                         const SynchrosqueezeOptions& options) {
+  SynchrosqueezedTransform out;
+  Synchrosqueeze(scalogram, transform, options, &out);
+  return out;
+}
+
+void Synchrosqueeze(const Scalogram& scalogram,
+                    const CwtTransform& transform,
+                    const SynchrosqueezeOptions& options,
+                    SynchrosqueezedTransform* out) {
+  PODID_CHECK(out != nullptr);
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("Synchrosqueeze: " + why);
   CheckComplex(scalogram, "Synchrosqueeze: scalogram");
   PODID_CHECK_MSG(transform.inverse_length() > 0, "Synchrosqueeze before Compute");
   const Eigen::Index times = scalogram.times(), freqs = scalogram.frequencies();
   const Eigen::VectorXd w = LogScaleWeights(scalogram.scales_s);
-  const Eigen::VectorXd log_f = scalogram.frequencies_Hz.array().log();
-  const bool ascending = freqs < 2 || log_f(1) > log_f(0);
-  PODID_CHECK(ascending);
-  const double threshold = options.relative_threshold * scalogram.coefficients.cwiseAbs().maxCoeff();
+  const Eigen::VectorXd& f = scalogram.frequencies_Hz;
+  PODID_CHECK(f(1) > f(0));  // ascending
+  // No hypot or log per coefficient (they took 13 % and 5 % of the time):
+  // W is scaled by 2^-e (exact) to parts below 1, so |W|^2 cannot overflow
+  // (a transform keeps W up to 2^961), the threshold compares squares, and
+  // the grid frequency nearest f in ln f comes from f^2 against products of
+  // grid frequencies (f_(l-1) f_l, the geometric midpoint squared).
+  const Eigen::Map<const Eigen::ArrayXd> parts(
+      reinterpret_cast<const double*>(scalogram.coefficients.data()), 2 * times * freqs);
+  const double top = parts.abs().maxCoeff();
+  int exponent = 0;
+  if (std::isfinite(top)) std::frexp(top, &exponent);
+  const double scale = std::ldexp(1.0, -exponent);
+  const double peak2 = (scalogram.coefficients * scale).cwiseAbs2().maxCoeff();
+  const double threshold2 = options.relative_threshold * options.relative_threshold * peak2;
+  Eigen::VectorXd midpoint2(freqs - 1);
+  for (Eigen::Index l = 0; l + 1 < freqs; ++l) midpoint2(l) = f(l) * f(l + 1);
+  // Half a bin (in ln f) beyond the grid's ends, squared.
+  const double below2 = f(0) * f(0) * (f(0) / f(1));
+  const double above2 = f(freqs - 1) * f(freqs - 1) * (f(freqs - 1) / f(freqs - 2));
 
-  SynchrosqueezedTransform out;
-  out.sst = scalogram;
-  out.sst.coefficients.setZero();
-  out.reassigned_frequency_Hz =
-      Eigen::MatrixXd::Constant(times, freqs, std::numeric_limits<double>::quiet_NaN());
+  // Into out's own memory: no allocation (and no page to fault in) when
+  // the sizes repeat.
+  out->sst = scalogram;
+  out->sst.coefficients.setZero();
+  out->reassigned_frequency_Hz.setConstant(times, freqs, std::numeric_limits<double>::quiet_NaN());
   Eigen::VectorXcd derivative;
   for (Eigen::Index k = 0; k < freqs; ++k) {
     transform.TimeDerivative(k, &derivative);
     const double gain = w(k) * Denormalise(scalogram.wavelet, scalogram.scales_s(k));
     for (Eigen::Index j = 0; j < times; ++j) {
       const std::complex<double> value = scalogram.coefficients(j, k);
-      const double magnitude = std::abs(value);
-      if (!(magnitude > threshold) || magnitude == 0.0) continue;
+      const std::complex<double> scaled = value * scale;
+      const double magnitude2 = std::norm(scaled);
+      if (!(magnitude2 > threshold2) || magnitude2 == 0.0) continue;
       const double f_Hz =
-          (std::conj(value) * derivative(j)).imag() / (2.0 * kPi * magnitude * magnitude);
+          (std::conj(scaled) * (derivative(j) * scale)).imag() / (2.0 * kPi * magnitude2);
       // Nearest grid frequency in ln f. An IF that is not positive or lies
       // beyond the grid's half-bin margins (near a zero of W, where two
       // components cancel, the phase derivative is wild) leaves the
       // coefficient where it is, so sum_l T = sum_k W Delta ln s still holds.
       Eigen::Index l = k;
       if (f_Hz > 0.0) {
-        out.reassigned_frequency_Hz(j, k) = f_Hz;
-        const double x = std::log(f_Hz);
-        const auto upper = std::lower_bound(log_f.data(), log_f.data() + freqs, x);
-        const Eigen::Index above = upper - log_f.data();
+        out->reassigned_frequency_Hz(j, k) = f_Hz;
+        const double f2 = f_Hz * f_Hz;
+        const Eigen::Index above = std::lower_bound(f.data(), f.data() + freqs, f_Hz) - f.data();
         if (above == freqs) {
-          if (x - log_f(freqs - 1) <= 0.5 * (log_f(freqs - 1) - log_f(freqs - 2))) l = freqs - 1;
+          if (f2 <= above2) l = freqs - 1;
         } else if (above == 0) {
-          if (log_f(0) - x <= 0.5 * (log_f(1) - log_f(0))) l = 0;
+          if (f2 >= below2) l = 0;
         } else {
-          l = x - log_f(above - 1) < log_f(above) - x ? above - 1 : above;
+          l = f2 < midpoint2(above - 1) ? above - 1 : above;
         }
       }
-      out.sst.coefficients(j, l) += value * gain;
+      out->sst.coefficients(j, l) += value * gain;
     }
   }
-  return out;
 }
 
 namespace {

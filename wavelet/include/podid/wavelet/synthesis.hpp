@@ -66,6 +66,12 @@ struct SynchrosqueezedTransform {
 SynchrosqueezedTransform Synchrosqueeze(const Scalogram& scalogram,
                                         const CwtTransform& transform,
                                         const SynchrosqueezeOptions& options = {});
+/// The same into *out, reusing its memory: nothing is allocated when the
+/// sizes repeat (a record's channels, an evaluation loop).
+void Synchrosqueeze(const Scalogram& scalogram,
+                    const CwtTransform& transform,
+                    const SynchrosqueezeOptions& options,
+                    SynchrosqueezedTransform* out);
 
 /// The IF along the strongest ridge of a synchrosqueezed transform. The path
 /// is FindRidges(sst.sst, options) on |T|; at each time the IF is the fixed
