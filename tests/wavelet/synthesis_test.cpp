@@ -209,6 +209,37 @@ TEST(Synchrosqueeze, TwoRidgesFollowTwoTones) {
   EXPECT_NEAR(ridges[1].amplitude(sg.times() / 2), 0.5, 0.025);
 }
 
+TEST(Synchrosqueeze, AnImpulsesRidgeIsScreenedWhereItHasNoIf) {
+  // A unit impulse in the middle of 2 s: far from it |W| is rounding noise,
+  // no coefficient there is reassigned, and the ridge has no IF. Those
+  // samples must be screened (outside the cone), as the CWT ridge's are, and
+  // every sample left inside the cone must have a finite, positive IF.
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(2001);
+  x(1000) = 1.0;
+  CwtOptions o;
+  o.frequencies.min_frequency_Hz = 10.0;
+  o.frequencies.max_frequency_Hz = 120.0;
+  CwtTransform transform(o);
+  Scalogram sg;
+  transform.Compute(x, kStep_s, &sg);
+  const RidgeTrack track = SynchrosqueezedRidge(Synchrosqueeze(sg, transform));
+  int screened = 0, inside = 0;
+  for (Eigen::Index j = 0; j < track.size(); ++j) {
+    if (track.screened(j)) {
+      ++screened;
+      EXPECT_FALSE(track.inside_coi(j));
+      EXPECT_TRUE(std::isnan(track.frequency_Hz(j)));
+    }
+    if (track.inside_coi(j)) {
+      ++inside;
+      EXPECT_TRUE(std::isfinite(track.frequency_Hz(j)) && track.frequency_Hz(j) > 0.0)
+          << "t " << track.time_s(j) << ": " << track.frequency_Hz(j);
+    }
+  }
+  EXPECT_GT(screened, 100);
+  EXPECT_GT(inside, 100);
+}
+
 TEST(Synchrosqueeze, ReconstructionFromTheSqueezedTransform) {
   // Summing T over frequency reconstructs x like the inverse CWT (the
   // threshold drops only |W| <= 1e-6 max |W|): same 1e-3 figure.

@@ -166,7 +166,9 @@ namespace {
 
 // The track of one path on |T|: at each time the IF at the reassignment's
 // fixed point near the path (synthesis.hpp, SynchrosqueezedRidge).
-RidgeTrack TrackSqueezedPath(const SynchrosqueezedTransform& sst, const Eigen::VectorXi& path) {
+RidgeTrack TrackSqueezedPath(const SynchrosqueezedTransform& sst,
+                             const Eigen::VectorXi& path,
+                             const RidgeOptions& options) {
   const Scalogram& s = sst.sst;
   const double c = ReconstructionConstant(s.wavelet);
   RidgeTrack track;
@@ -206,6 +208,22 @@ RidgeTrack TrackSqueezedPath(const SynchrosqueezedTransform& sst, const Eigen::V
     track.amplitude(j) = 2.0 * std::abs(sum) * s.coefficient_scale / c;
     track.inside_coi(j) = s.InsideCoi(j, k);
   }
+  // Screening, as TrackRidge screens: where |T| on the path is a negligible
+  // fraction of the path's peak, or no coefficient near it had a reassigned
+  // frequency (|W| below Synchrosqueeze's threshold: an impulse's far
+  // times), there is no usable IF.
+  double peak = 0.0;
+  for (Eigen::Index j = 0; j < times; ++j)
+    peak = std::max(peak, std::abs(s.coefficients(j, path(j))));
+  for (Eigen::Index j = 0; j < times; ++j) {
+    if (std::isfinite(track.frequency_Hz(j)) &&
+        std::abs(s.coefficients(j, path(j))) > options.min_relative_magnitude * peak) {
+      continue;
+    }
+    track.screened(j) = true;
+    track.inside_coi(j) = false;
+    track.frequency_Hz(j) = std::numeric_limits<double>::quiet_NaN();
+  }
   return track;
 }
 
@@ -215,7 +233,7 @@ std::vector<RidgeTrack> SynchrosqueezedRidges(const SynchrosqueezedTransform& ss
                                               const RidgeOptions& options) {
   std::vector<RidgeTrack> tracks;
   for (const Eigen::VectorXi& path : FindRidges(sst.sst, options)) {
-    tracks.push_back(TrackSqueezedPath(sst, path));
+    tracks.push_back(TrackSqueezedPath(sst, path, options));
   }
   return tracks;
 }
@@ -223,7 +241,7 @@ std::vector<RidgeTrack> SynchrosqueezedRidges(const SynchrosqueezedTransform& ss
 RidgeTrack SynchrosqueezedRidge(const SynchrosqueezedTransform& sst, const RidgeOptions& options) {
   RidgeOptions one = options;
   one.ridges = 1;
-  return TrackSqueezedPath(sst, FindRidges(sst.sst, one).front());
+  return TrackSqueezedPath(sst, FindRidges(sst.sst, one).front(), options);
 }
 
 }  // namespace podid::wavelet

@@ -84,6 +84,9 @@ void Synchrosqueeze(const Scalogram& scalogram,
 /// for a linear chirp to first order (f(s, t) - f is proportional to f_s - f),
 /// and not quantised to the grid. Where no sign change is found, the IF of
 /// the path's own cell. amplitude = 2 |T(l-1) + T(l) + T(l+1)| / C.
+/// Screened (no IF, outside the cone) as TrackRidge screens: where |T(l)| is
+/// at most options.min_relative_magnitude of the path's peak, or no
+/// coefficient there had a reassigned frequency (|W| below the threshold).
 RidgeTrack SynchrosqueezedRidge(const SynchrosqueezedTransform& sst,
                                 const RidgeOptions& options = {});
 
