@@ -19,6 +19,15 @@ Eigen::VectorXd Time(Eigen::Index n) {
   return Eigen::VectorXd::LinSpaced(n, 0.0, static_cast<double>(n - 1) * kStep_s);
 }
 
+// The ridge tests' grid: 10-120 Hz, 32 voices per octave, coi_factor 2 (podid cwt's).
+CwtOptions TenTo120Hz() {
+  CwtOptions o;
+  o.frequencies.min_frequency_Hz = 10.0;
+  o.frequencies.max_frequency_Hz = 120.0;
+  o.coi_factor = 2.0;
+  return o;
+}
+
 // Relative RMS of (y - x) over the output times where every grid frequency is
 // inside the cone of influence (widened by `widen`).
 double RelativeRmsInsideCone(const Scalogram& sg, const Eigen::VectorXd& x,
@@ -124,11 +133,7 @@ TEST(Synchrosqueeze, ChirpRidgeIsAtLeastAsAccurateAsTheCwtRidge) {
   // share of the column than the CWT's.
   const Eigen::VectorXd t = Time(2001);
   const Eigen::VectorXd x = (2 * kPi * (20.0 * t.array() + 15.0 * t.array().square())).cos();
-  CwtOptions o;
-  o.frequencies.min_frequency_Hz = 10.0;
-  o.frequencies.max_frequency_Hz = 120.0;
-  o.coi_factor = 2.0;
-  CwtTransform transform(o);
+  CwtTransform transform(TenTo120Hz());
   Scalogram sg;
   transform.Compute(x, kStep_s, &sg);
   const RidgeOptions ridge;
@@ -178,11 +183,7 @@ TEST(Synchrosqueeze, TwoRidgesFollowTwoTones) {
   const Eigen::VectorXd t = Time(2001);
   const Eigen::VectorXd x =
       (2 * kPi * 20.0 * t.array()).cos() + 0.5 * (2 * kPi * 60.0 * t.array()).cos();
-  CwtOptions o;
-  o.frequencies.min_frequency_Hz = 10.0;
-  o.frequencies.max_frequency_Hz = 120.0;
-  o.coi_factor = 2.0;
-  CwtTransform transform(o);
+  CwtTransform transform(TenTo120Hz());
   Scalogram sg;
   transform.Compute(x, kStep_s, &sg);
   const SynchrosqueezedTransform sst = Synchrosqueeze(sg, transform);
@@ -216,10 +217,7 @@ TEST(Synchrosqueeze, AnImpulsesRidgeIsScreenedWhereItHasNoIf) {
   // every sample left inside the cone must have a finite, positive IF.
   Eigen::VectorXd x = Eigen::VectorXd::Zero(2001);
   x(1000) = 1.0;
-  CwtOptions o;
-  o.frequencies.min_frequency_Hz = 10.0;
-  o.frequencies.max_frequency_Hz = 120.0;
-  CwtTransform transform(o);
+  CwtTransform transform(TenTo120Hz());
   Scalogram sg;
   transform.Compute(x, kStep_s, &sg);
   const RidgeTrack track = SynchrosqueezedRidge(Synchrosqueeze(sg, transform));
