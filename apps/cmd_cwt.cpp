@@ -47,6 +47,7 @@ struct CwtArguments {
   int threads = 1;
   double max_memory_MB = 2048.0;
   std::string output;
+  std::string inverse;
   std::string scalogram;
   std::string plot;
 };
@@ -139,8 +140,10 @@ void PrintRidge(const wavelet::RidgeTrack& track, double coi_factor, const std::
 }
 
 void Run(const CwtArguments& a) {
-  CheckOutputs({{"data file", a.data}},
-               {{"-o", a.output}, {"--scalogram", a.scalogram}, {"--plot", a.plot}});
+  CheckOutputs({{"data file", a.data}}, {{"-o", a.output},
+                                         {"--inverse", a.inverse},
+                                         {"--scalogram", a.scalogram},
+                                         {"--plot", a.plot}});
   const TimeSeries series = a.reading.ReadConditioned(a.data);
   const auto signals = SelectSignals(a, series);
   const bool several = signals.size() > 1;
@@ -191,7 +194,8 @@ void Run(const CwtArguments& a) {
   // output cell, instead of 16-24 for the whole transform; the same ridge to
   // about band_tolerance, tests StreamedRidge.*); --threads >= 2 then runs
   // the next block's transform beside the ridge's dynamic programme.
-  const bool streamed = a.ridges == 1 && a.scalogram.empty() && a.plot.empty() && !a.synchrosqueeze;
+  const bool streamed = a.ridges == 1 && a.scalogram.empty() && a.plot.empty() &&
+                        !a.synchrosqueeze && a.inverse.empty();
   std::unique_ptr<wavelet::CwtTransform> transform;
   std::unique_ptr<wavelet::RidgeFrequencyEstimator> estimator;
   if (streamed) {
@@ -202,6 +206,7 @@ void Run(const CwtArguments& a) {
   wavelet::Scalogram whole;
   wavelet::SynchrosqueezedTransform squeezed;  // --synchrosqueeze: the last signal's
   std::vector<std::vector<wavelet::RidgeTrack>> tracks;
+  std::vector<Eigen::VectorXd> in_band;  // --inverse: each signal's
   for (std::size_t c = 0; c < signals.size(); ++c) {
     const auto& [label, signal] = signals[c];
     tracks.emplace_back();
@@ -219,6 +224,7 @@ void Run(const CwtArguments& a) {
                 wavelet::TrackRidge(whole, path, options.ridge, transform.get()));
           }
         }
+        if (!a.inverse.empty()) in_band.push_back(wavelet::InverseCwt(whole));
       }
     } catch (const std::invalid_argument& e) {  // name the signal the error is about
       // Escaped as ThrowInvalid escapes (e.what() already is: escaping is idempotent).
@@ -321,6 +327,18 @@ void Run(const CwtArguments& a) {
     }
     WriteCsv(a.output, ridge);
     std::printf("ridge -> %s\n", a.output.c_str());
+  }
+  if (!a.inverse.empty()) {
+    // Columns named by channel (or "pomK"), on the transform's output times.
+    TimeSeries band;
+    band.time_s = whole.time_s.array() + t0_s;
+    band.values.resize(band.time_s.size(), static_cast<Eigen::Index>(in_band.size()));
+    for (std::size_t c = 0; c < in_band.size(); ++c) {
+      band.channel_names.push_back(a.pom > 0 ? "pom" + ToText(a.pom) : signals[c].first);
+      band.values.col(static_cast<Eigen::Index>(c)) = in_band[c];
+    }
+    WriteCsv(a.inverse, band);
+    std::printf("in-band signal -> %s\n", a.inverse.c_str());
   }
   const std::string& label = signals.front().first;
   const wavelet::RidgeTrack& track = tracks.front().front();
@@ -450,6 +468,10 @@ void AddCwtCommand(CLI::App& app) {
                     "the IF where the reassignment has its fixed point, not quantised to the\n"
                     "grid; --scalogram and --plot show |T|");
   command->add_option("-o,--output", a->output, "Ridge CSV: t,f_Hz,amplitude,inside_coi");
+  command->add_option("--inverse", a->inverse,
+                      "In-band part of each signal by the inverse CWT (2 Re sum_k W ds/s / C:\n"
+                      "the components well inside --fmin..--fmax, no DC) as CSV: t, one column\n"
+                      "per signal");
   command->add_option("--scalogram", a->scalogram,
                       "|W| (|T| with --synchrosqueeze) CSV: t, one column per frequency");
   command->add_option("--plot", a->plot, "Scalogram PNG with the ridge (needs gnuplot)");
