@@ -189,7 +189,7 @@ void Run(const CwtArguments& a) {
   }
 
   // One transform for every signal (same length and step: laid out once).
-  // Without a scalogram to write or plot (or synchrosqueeze), one ridge is streamed
+  // Without a scalogram to write or plot, --synchrosqueeze or --inverse, one ridge is streamed
   // (RidgeFrequencyEstimator: memory bounded by blocks, about 1 byte per
   // output cell, instead of 16-24 for the whole transform; the same ridge to
   // about band_tolerance, tests StreamedRidge.*); --threads >= 2 then runs
@@ -246,14 +246,17 @@ void Run(const CwtArguments& a) {
     if (c == 0) {
       // Every channel's ridges are kept for the CSV: bound them too (about 64
       // bytes per channel, ridge and output time: the track and its CSV columns).
-      const double bytes = 64.0 * static_cast<double>(signals.size()) * a.ridges *
-                           static_cast<double>(sg.times());
+      // --inverse keeps 8 more bytes per channel and time.
+      const double bytes = (64.0 * a.ridges + (a.inverse.empty() ? 0.0 : 8.0)) *
+                           static_cast<double>(signals.size()) * static_cast<double>(sg.times());
       if (bytes > a.max_memory_MB * 1048576.0) {
         ThrowInvalid("cwt --max-memory",
                      "at least " + ToText(std::ceil(bytes / 1048576.0)) + " MB for " +
-                         ToText(signals.size()) + " channels x " + ToText(a.ridges) +
-                         " ridges x " + ToText(sg.times()) + " output times",
-                     ToText(a.max_memory_MB) + " MB (fewer channels or ridges; --band-limited has fewer output times)");
+                         ToText(signals.size()) + " channels x " + ToText(a.ridges) + " ridges x " +
+                         ToText(sg.times()) + " output times" +
+                         (a.inverse.empty() ? "" : " and the in-band signals"),
+                     ToText(a.max_memory_MB) +
+                         " MB (fewer channels or ridges; --band-limited has fewer output times)");
       }
     }
     if (c == 0) {
@@ -455,11 +458,12 @@ void AddCwtCommand(CLI::App& app) {
   command
       ->add_option(
           "--max-memory", a->max_memory_MB,
-          "Refuse transforms needing more than this many MB (1..16777216). One ridge\n"
-          "without --scalogram/--plot is streamed: about 1 byte per cell plus\n"
+          "Refuse transforms needing more than this many MB (1..16777216). One ridge without\n"
+          "--scalogram/--plot/--synchrosqueeze/--inverse is streamed: about 1 byte per cell plus\n"
           "~43 per cell of a block; otherwise the coefficients take n_times x\n"
           "n_frequencies x 16 bytes, 24 more with --synchrosqueeze, 8 more with\n"
-          "--scalogram; the ridges kept for -o about 64 bytes per channel, ridge and time)")
+          "--scalogram; the ridges kept for -o about 64 bytes per channel, ridge and time,\n"
+          "the in-band signals of --inverse 8 per channel and time)")
       ->capture_default_str();
   command->add_flag("--band-limited", a->band_limited,
                     "Decimated output (what identification uses); IF values are unchanged");

@@ -213,8 +213,9 @@ RidgeTrack TrackSqueezedPath(const SynchrosqueezedTransform& sst,
   // frequency (|W| below Synchrosqueeze's threshold: an impulse's far
   // times), there is no usable IF.
   double peak = 0.0;
-  for (Eigen::Index j = 0; j < times; ++j)
+  for (Eigen::Index j = 0; j < times; ++j) {
     peak = std::max(peak, std::abs(s.coefficients(j, path(j))));
+  }
   for (Eigen::Index j = 0; j < times; ++j) {
     if (std::isfinite(track.frequency_Hz(j)) &&
         std::abs(s.coefficients(j, path(j))) > options.min_relative_magnitude * peak) {
