@@ -78,19 +78,8 @@ std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeO
   // sweeps. W is first scaled by a power of 2 (exact) to a peak of about 1 so
   // that |W|^2 neither overflows nor underflows (any finite W, e.g. from a
   // 1e300 signal); a non-finite coefficient is a forbidden cell (+inf).
-  const Eigen::Map<const Eigen::ArrayXd> parts(
-      reinterpret_cast<const double*>(scalogram.coefficients.data()), 2 * times * freqs);
-  double top = parts.abs().template maxCoeff<Eigen::PropagateNaN>();
-  const bool all_finite = std::isfinite(top);
-  if (!all_finite) {
-    top = 0.0;
-    for (Eigen::Index i = 0; i < parts.size(); ++i) {
-      if (std::isfinite(parts(i))) top = std::max(top, std::abs(parts(i)));
-    }
-  }
-  int exponent = 0;
-  std::frexp(top, &exponent);
-  const double scale = std::ldexp(1.0, -exponent);
+  bool all_finite = true;
+  const double scale = internal::UnitScale(scalogram.coefficients, &all_finite);
   // Blocks of kBlock times: -log|W| of each frequency's contiguous segment
   // (a vectorised logarithm), stored frequency-major (the block of cost stays
   // in cache).

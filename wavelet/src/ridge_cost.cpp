@@ -10,6 +10,28 @@
 #include "podid/core/target_clones.hpp"
 
 namespace podid::wavelet::internal {
+
+double UnitScale(const Eigen::Ref<const Eigen::MatrixXcd>& w, bool* all_finite) {
+  double top = 0.0;
+  bool finite = true;
+  for (Eigen::Index k = 0; k < w.cols(); ++k) {
+    const Eigen::Map<const Eigen::ArrayXd> parts(reinterpret_cast<const double*>(w.col(k).data()),
+                                                 2 * w.rows());
+    const double column_top = parts.abs().template maxCoeff<Eigen::PropagateNaN>();
+    if (std::isfinite(column_top)) {
+      top = std::max(top, column_top);
+      continue;
+    }
+    finite = false;
+    for (Eigen::Index i = 0; i < parts.size(); ++i) {
+      if (std::isfinite(parts(i))) top = std::max(top, std::abs(parts(i)));
+    }
+  }
+  if (all_finite != nullptr) *all_finite = finite;
+  int exponent = 0;
+  std::frexp(top, &exponent);
+  return std::ldexp(1.0, -exponent);
+}
 namespace {
 
 // ln v for v >= kRidgeCostFloor, v finite, branch-free and in integer

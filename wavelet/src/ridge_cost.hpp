@@ -14,6 +14,12 @@ namespace podid::wavelet::internal {
 /// coefficient that can matter, far above the subnormal range.
 inline constexpr double kRidgeCostFloor = 1e-300;
 
+/// 2^-e for the largest finite |re|, |im| of w's entries in [2^(e-1), 2^e)
+/// (1 if there is none): scale w has parts below 1, so |scale w|^2 cannot
+/// overflow, whatever the magnitude of w (a transform keeps W up to 2^961).
+/// *all_finite (unless null): whether every entry of w is finite.
+double UnitScale(const Eigen::Ref<const Eigen::MatrixXcd>& w, bool* all_finite = nullptr);
+
 /// power[i] = |scale w[i]|^2 for i < n. Finite w only; scale: a power of 2
 /// bringing the peak |W| near 1.
 void RidgePower(const std::complex<double>* w, Eigen::Index n, double scale, double* power);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "podid/core/error.hpp"
+#include "ridge_cost.hpp"
 
 namespace podid::wavelet {
 namespace {
@@ -106,16 +107,11 @@ void Synchrosqueeze(const Scalogram& scalogram,
   const Eigen::VectorXd& f = scalogram.frequencies_Hz;
   PODID_CHECK(f(1) > f(0));  // ascending
   // No hypot or log per coefficient (they took 13 % and 5 % of the time):
-  // W is scaled by 2^-e (exact) to parts below 1, so |W|^2 cannot overflow
-  // (a transform keeps W up to 2^961), the threshold compares squares, and
-  // the grid frequency nearest f in ln f comes from f^2 against products of
-  // grid frequencies (f_(l-1) f_l, the geometric midpoint squared).
-  const Eigen::Map<const Eigen::ArrayXd> parts(
-      reinterpret_cast<const double*>(scalogram.coefficients.data()), 2 * times * freqs);
-  const double top = parts.abs().maxCoeff();
-  int exponent = 0;
-  if (std::isfinite(top)) std::frexp(top, &exponent);
-  const double scale = std::ldexp(1.0, -exponent);
+  // W is scaled by 2^-e (exact) to parts below 1, so |W|^2 cannot overflow,
+  // the threshold compares squares, and the grid frequency nearest f in ln f
+  // comes from f^2 against products of grid frequencies (f_(l-1) f_l, the
+  // geometric midpoint squared).
+  const double scale = internal::UnitScale(scalogram.coefficients);
   const double peak2 = (scalogram.coefficients * scale).cwiseAbs2().maxCoeff();
   const double threshold2 = options.relative_threshold * options.relative_threshold * peak2;
   Eigen::VectorXd midpoint2(freqs - 1);
