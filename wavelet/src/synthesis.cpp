@@ -15,6 +15,10 @@ namespace podid::wavelet {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+// Synchrosqueeze's pass 2 works on blocks of T of about this size (rows x
+// frequencies x 16 bytes): well inside a 1 MiB L2 cache, beside the
+// columns of W and of the field it reads.
+constexpr Eigen::Index kSqueezeBlockBytes = 256 * 1024;
 
 // Trapezoid weights in ln s over the scalogram's scales (any order).
 Eigen::VectorXd LogScaleWeights(const Eigen::VectorXd& scales_s) {
@@ -43,6 +47,20 @@ void CheckComplex(const Scalogram& scalogram, const char* where) {
 // 1 / n(s): divides kEnergy coefficients back to kAmplitude's.
 double Denormalise(const MorletWavelet& wavelet, double scale_s) {
   return wavelet.normalisation == Normalisation::kEnergy ? 1.0 / std::sqrt(scale_s) : 1.0;
+}
+
+// Everything but the coefficients (Synchrosqueeze writes its own).
+void CopyAllButCoefficients(const Scalogram& from, Scalogram* to) {
+  to->wavelet = from.wavelet;
+  to->frequencies_Hz = from.frequencies_Hz;
+  to->scales_s = from.scales_s;
+  to->time_s = from.time_s;
+  to->step_s = from.step_s;
+  to->decimation = from.decimation;
+  to->input_samples = from.input_samples;
+  to->coefficient_scale = from.coefficient_scale;
+  to->magnitude = from.magnitude;
+  to->coi_frequency_Hz = from.coi_frequency_Hz;
 }
 
 }  // namespace
@@ -121,39 +139,79 @@ void Synchrosqueeze(const Scalogram& scalogram,
   const double above2 = f(freqs - 1) * f(freqs - 1) * (f(freqs - 1) / f(freqs - 2));
 
   // Into out's own memory: no allocation (and no page to fault in) when
-  // the sizes repeat.
-  out->sst = scalogram;
-  out->sst.coefficients.setZero();
-  out->reassigned_frequency_Hz.setConstant(times, freqs, std::numeric_limits<double>::quiet_NaN());
+  // the sizes repeat. The scalogram's coefficients are not copied: T is
+  // zeroed block by block below.
+  PODID_CHECK_MSG(&out->sst != &scalogram, "Synchrosqueeze: the output aliases the scalogram");
+  CopyAllButCoefficients(scalogram, &out->sst);
+  out->sst.coefficients.resize(times, freqs);
+  out->reassigned_frequency_Hz.resize(times, freqs);
+  Eigen::MatrixXcd& t = out->sst.coefficients;
+  Eigen::MatrixXd& field = out->reassigned_frequency_Hz;
+  const auto moved = [&](Eigen::Index j, Eigen::Index k, std::complex<double>* value) {
+    *value = scalogram.coefficients(j, k);
+    const double magnitude2 = std::norm(*value * scale);
+    return magnitude2 > threshold2 && magnitude2 != 0.0;
+  };
+
+  // Pass 1, scale by scale (dW/dt is one inverse FFT of a whole column): the
+  // IF of every coefficient above the threshold, f = Im(conj(W) dW/dt) /
+  // (2 pi |W|^2); NaN below it, or where f is not positive (such a
+  // coefficient stays where it is).
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   Eigen::VectorXcd derivative;
   for (Eigen::Index k = 0; k < freqs; ++k) {
     transform.TimeDerivative(k, &derivative);
-    const double gain = w(k) * Denormalise(scalogram.wavelet, scalogram.scales_s(k));
     for (Eigen::Index j = 0; j < times; ++j) {
-      const std::complex<double> value = scalogram.coefficients(j, k);
-      const std::complex<double> scaled = value * scale;
-      const double magnitude2 = std::norm(scaled);
-      if (!(magnitude2 > threshold2) || magnitude2 == 0.0) continue;
-      const double f_Hz =
-          (std::conj(scaled) * (derivative(j) * scale)).imag() / (2.0 * kPi * magnitude2);
-      // Nearest grid frequency in ln f. An IF that is not positive or lies
-      // beyond the grid's half-bin margins (near a zero of W, where two
-      // components cancel, the phase derivative is wild) leaves the
-      // coefficient where it is, so sum_l T = sum_k W Delta ln s still holds.
-      Eigen::Index l = k;
-      if (f_Hz > 0.0) {
-        out->reassigned_frequency_Hz(j, k) = f_Hz;
-        const double f2 = f_Hz * f_Hz;
-        const Eigen::Index above = std::lower_bound(f.data(), f.data() + freqs, f_Hz) - f.data();
-        if (above == freqs) {
-          if (f2 <= above2) l = freqs - 1;
-        } else if (above == 0) {
-          if (f2 >= below2) l = 0;
-        } else {
-          l = f2 < midpoint2(above - 1) ? above - 1 : above;
-        }
+      std::complex<double> value;
+      double f_Hz = kNaN;
+      if (moved(j, k, &value)) {
+        const std::complex<double> scaled = value * scale;
+        f_Hz =
+            (std::conj(scaled) * (derivative(j) * scale)).imag() / (2.0 * kPi * std::norm(scaled));
       }
-      out->sst.coefficients(j, l) += value * gain;
+      field(j, k) = f_Hz > 0.0 ? f_Hz : kNaN;
+    }
+  }
+
+  // Pass 2, a block of times at a time, so that the block of T the moves
+  // land on stays in the L2 cache (scattered over all of T, the adds waited
+  // on memory: 38 % of Synchrosqueeze's time on 10^5 samples). Each
+  // coefficient of T takes its adds in k order, as a pass over k would.
+  Eigen::VectorXd gains(freqs);
+  for (Eigen::Index k = 0; k < freqs; ++k) {
+    gains(k) = w(k) * Denormalise(scalogram.wavelet, scalogram.scales_s(k));
+  }
+  const Eigen::Index block = std::max<Eigen::Index>(16, kSqueezeBlockBytes / (16 * freqs));
+  for (Eigen::Index j0 = 0; j0 < times; j0 += block) {
+    const Eigen::Index rows = std::min(block, times - j0);
+    t.middleRows(j0, rows).setZero();
+    for (Eigen::Index k = 0; k < freqs; ++k) {
+      const double gain = gains(k);
+      Eigen::Index above = 0;  // lower_bound of the last IF: consecutive IFs are close
+      for (Eigen::Index j = j0; j < j0 + rows; ++j) {
+        std::complex<double> value;
+        if (!moved(j, k, &value)) continue;
+        const double f_Hz = field(j, k);
+        // Nearest grid frequency in ln f. An IF that is not positive or lies
+        // beyond the grid's half-bin margins (near a zero of W, where two
+        // components cancel, the phase derivative is wild) leaves the
+        // coefficient where it is, so sum_l T = sum_k W Delta ln s still holds.
+        Eigen::Index l = k;
+        if (f_Hz > 0.0) {  // NaN fails
+          if (!((above == 0 || f(above - 1) < f_Hz) && (above == freqs || f(above) >= f_Hz))) {
+            above = std::lower_bound(f.data(), f.data() + freqs, f_Hz) - f.data();
+          }
+          const double f2 = f_Hz * f_Hz;
+          if (above == freqs) {
+            if (f2 <= above2) l = freqs - 1;
+          } else if (above == 0) {
+            if (f2 >= below2) l = 0;
+          } else {
+            l = f2 < midpoint2(above - 1) ? above - 1 : above;
+          }
+        }
+        t(j, l) += value * gain;
+      }
     }
   }
 }
