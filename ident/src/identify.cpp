@@ -207,7 +207,7 @@ Algorithm ParseAlgorithm(std::string_view name) {
     if (upper == n.name) return n.algorithm;
   std::string choices;
   for (const AlgorithmName& n : kAlgorithms) choices += std::string(choices.empty() ? "" : ", ") + n.name;
-  ThrowInvalid("algorithm", "one of " + choices, "\"" + std::string(name) + "\"");
+  ThrowInvalid("algorithm", "one of " + choices, Excerpt(name));
 }
 
 const char* ToString(Algorithm algorithm) {

@@ -34,7 +34,7 @@ ObjectiveWeights ObjectiveWeights::Preset(std::string_view name) {
   if (name == "full") return {1.0, 1.0, 1.0, 0.0};
   if (name == "time-free") return {1.0, 1.0, 0.0, 0.0};
   if (name == "wavelet") return {1.0, 1.0, 0.0, 1.0};
-  ThrowInvalid("objective", "one of full, time-free, wavelet", "\"" + std::string(name) + "\"");
+  ThrowInvalid("objective", "one of full, time-free, wavelet", Excerpt(name));
 }
 
 ObjectiveWeights ObjectiveWeights::Parse(std::string_view terms, std::string_view weights) {
@@ -336,7 +336,7 @@ int ObjectiveFunction::ParameterIndex(std::string_view name, std::string_view wh
     if (parameters_[i].name == name) return i;
     names += (i ? ", " : "") + parameters_[i].name;
   }
-  ThrowInvalid(where, "a parameter name (" + names + ")", "\"" + std::string(name) + "\"");
+  ThrowInvalid(where, "a parameter name (" + names + ")", Excerpt(name));
 }
 
 TimeSeries ObjectiveFunction::Conditioned(const TimeSeries& simulated) const {

@@ -600,7 +600,7 @@ void Navigate(toml::table& root,
                      "an index <= " + std::to_string(array->size()) + " into " +
                          Join(parts, i, false) + " (which has " + std::to_string(array->size()) +
                          " elements; the next index appends)",
-                     "\"" + std::string(parts[i]) + "\"");
+                     Excerpt(parts[i]));
       }
       if (last) {
         assign_in_array(*array, index);
@@ -618,8 +618,7 @@ void CheckSchemaKey(const std::vector<std::string_view>& parts,
                     std::string_view key,
                     const std::string& origin) {
   for (const auto p : parts) {
-    if (p.empty())
-      ThrowInvalid(origin, "a dotted key such as beam.length", "\"" + std::string(key) + "\"");
+    if (p.empty()) ThrowInvalid(origin, "a dotted key such as beam.length", Excerpt(key));
   }
   if (!LookupKind(Join(parts, parts.size(), true))) {
     ThrowInvalid(origin,
@@ -654,7 +653,7 @@ void CaseDocument::Set(std::string_view key, std::string_view value_text) {
       parsed.insert_or_assign("v", std::string(value_text));
     } else {
       ThrowInvalid(origin, "a TOML value (a number, \"text\", [a, b], true or false)",
-                   "\"" + std::string(value_text) + "\"");
+                   Excerpt(value_text));
     }
   }
   toml::node& value = *parsed.get("v");
@@ -678,7 +677,7 @@ void CaseDocument::Set(std::string_view key, std::string_view value_text) {
 void CaseDocument::SetNumber(std::string_view key, double value) {
   if (!IsNumericKey(key)) {
     ThrowInvalid("SetNumber(" + std::string(key) + ")", "a real-valued key of the case-file schema",
-                 "\"" + std::string(key) + "\"");
+                 Excerpt(key));
   }
   const auto parts = SplitKey(key);
   auto it = impl_->origins.find(key);

@@ -50,7 +50,7 @@ const char* ToString(ParameterEffect effect) {
 }
 
 ModelParameter ModelParameter::Resolve(const CaseSpec& spec, std::string_view key) {
-  if (!CaseDocument::IsNumericKey(key)) ThrowInvalid("parameter key", kTypedForms, "\"" + std::string(key) + "\"");
+  if (!CaseDocument::IsNumericKey(key)) ThrowInvalid("parameter key", kTypedForms, Excerpt(key));
   ModelParameter p;
   p.key_ = std::string(key);
   const std::vector<std::string_view> parts = Split(key);

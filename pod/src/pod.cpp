@@ -57,11 +57,7 @@ PodMethod ParsePodMethod(std::string_view name) {
        {PodMethod::kAuto, PodMethod::kSvd, PodMethod::kDirect, PodMethod::kSnapshot}) {
     if (name == ToString(m)) return m;
   }
-  // Appended, not "\"" + std::string(name): GCC 12 at -O3 warns (-Wrestrict) on
-  // the inlined insert of operator+(const char*, string&&), a false positive.
-  std::string quoted = "\"";
-  quoted.append(name).append("\"");
-  ThrowInvalid("POD method", "one of auto, svd, direct, snapshot", quoted);
+  ThrowInvalid("POD method", "one of auto, svd, direct, snapshot", Excerpt(name));
 }
 
 bool PodOptions::IsValid(std::string* why) const {

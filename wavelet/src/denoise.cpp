@@ -40,7 +40,7 @@ const char* ToString(ThresholdRule rule) { return rule == ThresholdRule::kSoft ?
 ThresholdRule ParseThresholdRule(std::string_view name) {
   if (name == "soft") return ThresholdRule::kSoft;
   if (name == "hard") return ThresholdRule::kHard;
-  ThrowInvalid("threshold rule", "one of soft, hard", "\"" + std::string(name) + "\"");
+  ThrowInvalid("threshold rule", "one of soft, hard", Excerpt(name));
 }
 
 bool DenoiseOptions::IsValid(std::string* why) const {

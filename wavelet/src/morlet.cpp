@@ -33,7 +33,7 @@ const char* ToString(WaveletFamily family) {
 WaveletFamily ParseWaveletFamily(std::string_view name) {
   if (name == "morlet") return WaveletFamily::kMorlet;
   if (name == "morse") return WaveletFamily::kMorse;
-  ThrowInvalid("wavelet", "one of morlet, morse", "\"" + std::string(name) + "\"");
+  ThrowInvalid("wavelet", "one of morlet, morse", Excerpt(name));
 }
 
 const char* ToString(ScaleConvention convention) {
@@ -43,7 +43,7 @@ const char* ToString(ScaleConvention convention) {
 ScaleConvention ParseScaleConvention(std::string_view name) {
   if (name == "ridge") return ScaleConvention::kRidge;
   if (name == "peak") return ScaleConvention::kPeak;
-  ThrowInvalid("scale convention", "one of ridge, peak", "\"" + std::string(name) + "\"");
+  ThrowInvalid("scale convention", "one of ridge, peak", Excerpt(name));
 }
 
 const char* ToString(Padding padding) {
@@ -64,14 +64,14 @@ const char* ToString(FrequencySpacing spacing) {
 Normalisation ParseNormalisation(std::string_view name) {
   if (name == "amplitude") return Normalisation::kAmplitude;
   if (name == "energy") return Normalisation::kEnergy;
-  ThrowInvalid("normalisation", "one of amplitude, energy", "\"" + std::string(name) + "\"");
+  ThrowInvalid("normalisation", "one of amplitude, energy", Excerpt(name));
 }
 
 Padding ParsePadding(std::string_view name) {
   if (name == "reflect") return Padding::kReflect;
   if (name == "zero") return Padding::kZero;
   if (name == "periodic") return Padding::kPeriodic;
-  ThrowInvalid("padding", "one of reflect, zero, periodic", "\"" + std::string(name) + "\"");
+  ThrowInvalid("padding", "one of reflect, zero, periodic", Excerpt(name));
 }
 
 // ---------------------------------------------------------------- MorletWavelet

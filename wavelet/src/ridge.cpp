@@ -35,13 +35,13 @@ const char* ToString(FrequencyEstimator estimator) {
 RidgeMethod ParseRidgeMethod(std::string_view name) {
   if (name == "max") return RidgeMethod::kMaximum;
   if (name == "penalised" || name == "penalized") return RidgeMethod::kPenalised;
-  ThrowInvalid("ridge method", "one of max, penalised", "\"" + std::string(name) + "\"");
+  ThrowInvalid("ridge method", "one of max, penalised", Excerpt(name));
 }
 
 FrequencyEstimator ParseFrequencyEstimator(std::string_view name) {
   if (name == "phase") return FrequencyEstimator::kPhase;
   if (name == "scale") return FrequencyEstimator::kScale;
-  ThrowInvalid("frequency estimator", "one of phase, scale", "\"" + std::string(name) + "\"");
+  ThrowInvalid("frequency estimator", "one of phase, scale", Excerpt(name));
 }
 
 bool RidgeOptions::IsValid(std::string* why) const {
