@@ -167,10 +167,10 @@ void Run(const CwtArguments& a) {
   cwt.coi_factor = a.coi_factor;
   cwt.threads = a.threads;
   // The transform's budget is for W's 16 bytes a coefficient: the
-  // synchrosqueezed T and its reassignment field take 24 more, and
+  // synchrosqueezed T replaces W, its reassignment field takes 8 more, and
   // --scalogram copies |W| or |T| (8 more) before writing.
   const double cell_bytes =
-      16.0 + (a.synchrosqueeze ? 24.0 : 0.0) + (a.scalogram.empty() ? 0.0 : 8.0);
+      16.0 + (a.synchrosqueeze ? 8.0 : 0.0) + (a.scalogram.empty() ? 0.0 : 8.0);
   cwt.memory_budget_bytes = a.max_memory_MB * 1048576.0 * 16.0 / cell_bytes;
   cwt.frequencies.min_frequency_Hz = a.fmin_Hz;
   cwt.frequencies.max_frequency_Hz = a.fmax_Hz;
@@ -214,17 +214,18 @@ void Run(const CwtArguments& a) {
       if (streamed) {
         tracks.back().push_back(estimator->Estimate(signal, step_s));
       } else {
-        transform->Compute(signal, step_s, &whole);
+        // --synchrosqueeze: T replaces W in place (16 bytes a coefficient less).
+        wavelet::Scalogram& w = a.synchrosqueeze ? squeezed.sst : whole;
+        transform->Compute(signal, step_s, &w);
+        if (!a.inverse.empty()) in_band.push_back(wavelet::InverseCwt(w));
         if (a.synchrosqueeze) {
-          wavelet::Synchrosqueeze(whole, *transform, {}, &squeezed);
+          wavelet::SynchrosqueezeInPlace(*transform, {}, &squeezed);
           tracks.back() = wavelet::SynchrosqueezedRidges(squeezed, options.ridge);
         } else {
-          for (const Eigen::VectorXi& path : wavelet::FindRidges(whole, options.ridge)) {
-            tracks.back().push_back(
-                wavelet::TrackRidge(whole, path, options.ridge, transform.get()));
+          for (const Eigen::VectorXi& path : wavelet::FindRidges(w, options.ridge)) {
+            tracks.back().push_back(wavelet::TrackRidge(w, path, options.ridge, transform.get()));
           }
         }
-        if (!a.inverse.empty()) in_band.push_back(wavelet::InverseCwt(whole));
       }
     } catch (const std::invalid_argument& e) {  // name the signal the error is about
       // Escaped as ThrowInvalid escapes (e.what() already is: escaping is idempotent).
@@ -239,7 +240,9 @@ void Run(const CwtArguments& a) {
       throw std::invalid_argument(Escaped(label + " of " + a.data + ": ") + what);
     }
     // The grid (times, frequencies, decimation, cone) of either path.
-    const wavelet::Scalogram& sg = streamed ? estimator->scalogram() : whole;
+    const wavelet::Scalogram& sg = streamed           ? estimator->scalogram()
+                                   : a.synchrosqueeze ? squeezed.sst
+                                                      : whole;
     // Record time, not time from the first sample: the data's t0 (a window
     // or a file whose time column does not start at 0).
     for (wavelet::RidgeTrack& track : tracks.back()) track.time_s.array() += t0_s;
@@ -334,7 +337,7 @@ void Run(const CwtArguments& a) {
   if (!a.inverse.empty()) {
     // Columns named by channel (or "pomK"), on the transform's output times.
     TimeSeries band;
-    band.time_s = whole.time_s.array() + t0_s;
+    band.time_s = (a.synchrosqueeze ? squeezed.sst : whole).time_s.array() + t0_s;
     band.values.resize(band.time_s.size(), static_cast<Eigen::Index>(in_band.size()));
     for (std::size_t c = 0; c < in_band.size(); ++c) {
       band.channel_names.push_back(a.pom > 0 ? "pom" + ToText(a.pom) : signals[c].first);
@@ -461,7 +464,7 @@ void AddCwtCommand(CLI::App& app) {
           "Refuse transforms needing more than this many MB (1..16777216). One ridge without\n"
           "--scalogram/--plot/--synchrosqueeze/--inverse is streamed: about 1 byte per cell plus\n"
           "~43 per cell of a block; otherwise the coefficients take n_times x\n"
-          "n_frequencies x 16 bytes, 24 more with --synchrosqueeze, 8 more with\n"
+          "n_frequencies x 16 bytes, 8 more with --synchrosqueeze, 8 more with\n"
           "--scalogram; the ridges kept for -o about 64 bytes per channel, ridge and time,\n"
           "the in-band signals of --inverse 8 per channel and time)")
       ->capture_default_str();

@@ -10,6 +10,7 @@
 #include <complex>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <numbers>
 #include <vector>
 
@@ -314,6 +315,17 @@ TEST(Synchrosqueeze, EqualsTheDefinitionCoefficientByCoefficient) {
   EXPECT_LE(error, kTolerance * peak);
   EXPECT_EQ(mismatched_fields, 0);
   EXPECT_GT(moved_off_diagonal, 100000);  // the reassignment did move most of them
+
+  // In place (T over W, block by block): the same bits.
+  SynchrosqueezedTransform in_place;
+  transform.Compute(x, kStep_s, &in_place.sst);
+  SynchrosqueezeInPlace(transform, {}, &in_place);
+  EXPECT_TRUE((in_place.sst.coefficients.array() == sst.sst.coefficients.array()).all());
+  ASSERT_EQ(in_place.reassigned_frequency_Hz.size(), sst.reassigned_frequency_Hz.size());
+  EXPECT_EQ(
+      std::memcmp(in_place.reassigned_frequency_Hz.data(), sst.reassigned_frequency_Hz.data(),
+                  sizeof(double) * static_cast<std::size_t>(sst.reassigned_frequency_Hz.size())),
+      0);
 }
 
 TEST(Synchrosqueeze, ReconstructionFromTheSqueezedTransform) {

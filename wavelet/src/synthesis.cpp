@@ -111,11 +111,17 @@ SynchrosqueezedTransform Synchrosqueeze(const Scalogram& scalogram,
   return out;
 }
 
-void Synchrosqueeze(const Scalogram& scalogram,
-                    const CwtTransform& transform,
-                    const SynchrosqueezeOptions& options,
-                    SynchrosqueezedTransform* out) {
-  PODID_CHECK(out != nullptr);
+namespace {
+
+// T from the scalogram's W into *t, and the reassignment field into *field.
+// t may be &scalogram.coefficients (in place): pass 2 reads a block's rows
+// of W before it writes T's, into `scratch` first, and later blocks read
+// only later rows.
+void SqueezeInto(const Scalogram& scalogram,
+                 const CwtTransform& transform,
+                 const SynchrosqueezeOptions& options,
+                 Eigen::MatrixXcd* t,
+                 Eigen::MatrixXd* field) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("Synchrosqueeze: " + why);
   CheckComplex(scalogram, "Synchrosqueeze: scalogram");
@@ -138,15 +144,9 @@ void Synchrosqueeze(const Scalogram& scalogram,
   const double below2 = f(0) * f(0) * (f(0) / f(1));
   const double above2 = f(freqs - 1) * f(freqs - 1) * (f(freqs - 1) / f(freqs - 2));
 
-  // Into out's own memory: no allocation (and no page to fault in) when
-  // the sizes repeat. The scalogram's coefficients are not copied: T is
-  // zeroed block by block below.
-  PODID_CHECK_MSG(&out->sst != &scalogram, "Synchrosqueeze: the output aliases the scalogram");
-  CopyAllButCoefficients(scalogram, &out->sst);
-  out->sst.coefficients.resize(times, freqs);
-  out->reassigned_frequency_Hz.resize(times, freqs);
-  Eigen::MatrixXcd& t = out->sst.coefficients;
-  Eigen::MatrixXd& field = out->reassigned_frequency_Hz;
+  const bool in_place = t == &scalogram.coefficients;
+  if (!in_place) t->resize(times, freqs);  // no allocation when the sizes repeat
+  field->resize(times, freqs);
   const auto moved = [&](Eigen::Index j, Eigen::Index k, std::complex<double>* value) {
     *value = scalogram.coefficients(j, k);
     const double magnitude2 = std::norm(*value * scale);
@@ -169,7 +169,7 @@ void Synchrosqueeze(const Scalogram& scalogram,
         f_Hz =
             (std::conj(scaled) * (derivative(j) * scale)).imag() / (2.0 * kPi * std::norm(scaled));
       }
-      field(j, k) = f_Hz > 0.0 ? f_Hz : kNaN;
+      (*field)(j, k) = f_Hz > 0.0 ? f_Hz : kNaN;
     }
   }
 
@@ -182,16 +182,19 @@ void Synchrosqueeze(const Scalogram& scalogram,
     gains(k) = w(k) * Denormalise(scalogram.wavelet, scalogram.scales_s(k));
   }
   const Eigen::Index block = std::max<Eigen::Index>(16, kSqueezeBlockBytes / (16 * freqs));
+  Eigen::MatrixXcd scratch(in_place ? std::min(block, times) : 0, in_place ? freqs : 0);
   for (Eigen::Index j0 = 0; j0 < times; j0 += block) {
     const Eigen::Index rows = std::min(block, times - j0);
-    t.middleRows(j0, rows).setZero();
+    using Target = Eigen::Ref<Eigen::MatrixXcd, 0, Eigen::OuterStride<>>;
+    Target target = in_place ? Target(scratch.topRows(rows)) : Target(t->middleRows(j0, rows));
+    target.setZero();
     for (Eigen::Index k = 0; k < freqs; ++k) {
       const double gain = gains(k);
       Eigen::Index above = 0;  // lower_bound of the last IF: consecutive IFs are close
       for (Eigen::Index j = j0; j < j0 + rows; ++j) {
         std::complex<double> value;
         if (!moved(j, k, &value)) continue;
-        const double f_Hz = field(j, k);
+        const double f_Hz = (*field)(j, k);
         // Nearest grid frequency in ln f. An IF that is not positive or lies
         // beyond the grid's half-bin margins (near a zero of W, where two
         // components cancel, the phase derivative is wild) leaves the
@@ -210,10 +213,34 @@ void Synchrosqueeze(const Scalogram& scalogram,
             l = f2 < midpoint2(above - 1) ? above - 1 : above;
           }
         }
-        t(j, l) += value * gain;
+        target(j - j0, l) += value * gain;
       }
     }
+    if (in_place) t->middleRows(j0, rows) = target;
   }
+}
+
+}  // namespace
+
+void Synchrosqueeze(const Scalogram& scalogram,
+                    const CwtTransform& transform,
+                    const SynchrosqueezeOptions& options,
+                    SynchrosqueezedTransform* out) {
+  PODID_CHECK(out != nullptr);
+  // Into out's own memory: no allocation (and no page to fault in) when
+  // the sizes repeat. The scalogram's coefficients are not copied: T is
+  // written block by block.
+  PODID_CHECK_MSG(&out->sst != &scalogram, "Synchrosqueeze: the output aliases the scalogram");
+  SqueezeInto(scalogram, transform, options, &out->sst.coefficients, &out->reassigned_frequency_Hz);
+  CopyAllButCoefficients(scalogram, &out->sst);
+}
+
+void SynchrosqueezeInPlace(const CwtTransform& transform,
+                           const SynchrosqueezeOptions& options,
+                           SynchrosqueezedTransform* inout) {
+  PODID_CHECK(inout != nullptr);
+  SqueezeInto(inout->sst, transform, options, &inout->sst.coefficients,
+              &inout->reassigned_frequency_Hz);
 }
 
 namespace {

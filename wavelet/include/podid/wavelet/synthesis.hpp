@@ -72,6 +72,15 @@ void Synchrosqueeze(const Scalogram& scalogram,
                     const CwtTransform& transform,
                     const SynchrosqueezeOptions& options,
                     SynchrosqueezedTransform* out);
+/// The same in place: on entry inout->sst is the scalogram `transform`
+/// computed (CwtTransform::Compute(x, step, &inout->sst)); on return its
+/// coefficients are T, bit for bit Synchrosqueeze's. No second n_times x
+/// n_freq complex matrix: 24 bytes a coefficient with the field instead of
+/// 40 (podid cwt --synchrosqueeze). Invalid options, or a scalogram without
+/// complex coefficients, throw before anything is written.
+void SynchrosqueezeInPlace(const CwtTransform& transform,
+                           const SynchrosqueezeOptions& options,
+                           SynchrosqueezedTransform* inout);
 
 /// The IF along the strongest ridge of a synchrosqueezed transform. The path
 /// is FindRidges(sst.sst, options) on |T|; at each time the IF is the fixed
