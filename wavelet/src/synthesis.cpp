@@ -147,7 +147,7 @@ void SqueezeInto(const Scalogram& scalogram,
   const bool in_place = t == &scalogram.coefficients;
   if (!in_place) t->resize(times, freqs);  // no allocation when the sizes repeat
   field->resize(times, freqs);
-  const auto moved = [&](Eigen::Index j, Eigen::Index k, std::complex<double>* value) {
+  const auto above_threshold = [&](Eigen::Index j, Eigen::Index k, std::complex<double>* value) {
     *value = scalogram.coefficients(j, k);
     const double magnitude2 = std::norm(*value * scale);
     return magnitude2 > threshold2 && magnitude2 != 0.0;
@@ -164,7 +164,7 @@ void SqueezeInto(const Scalogram& scalogram,
     for (Eigen::Index j = 0; j < times; ++j) {
       std::complex<double> value;
       double f_Hz = kNaN;
-      if (moved(j, k, &value)) {
+      if (above_threshold(j, k, &value)) {
         const std::complex<double> scaled = value * scale;
         f_Hz =
             (std::conj(scaled) * (derivative(j) * scale)).imag() / (2.0 * kPi * std::norm(scaled));
@@ -193,7 +193,7 @@ void SqueezeInto(const Scalogram& scalogram,
       Eigen::Index above = 0;  // lower_bound of the last IF: consecutive IFs are close
       for (Eigen::Index j = j0; j < j0 + rows; ++j) {
         std::complex<double> value;
-        if (!moved(j, k, &value)) continue;
+        if (!above_threshold(j, k, &value)) continue;
         const double f_Hz = (*field)(j, k);
         // Nearest grid frequency in ln f. An IF that is not positive or lies
         // beyond the grid's half-bin margins (near a zero of W, where two
