@@ -12,19 +12,23 @@ from ._podid import (  # noqa: F401
     RidgeTrack,
     Scalogram,
     SimulationResult,
+    SynchrosqueezedTransform,
     TimeSeries,
     cwt,
     instantaneous_frequency,
+    inverse_cwt,
     pod,
     read,
     ridges,
     simulate,
+    synchrosqueeze,
 )
 
 __all__ = [
     "Objective", "identify", "landscape",
-    "PodResult", "RidgeTrack", "Scalogram", "SimulationResult", "TimeSeries",
-    "cwt", "instantaneous_frequency", "pod", "read", "ridges", "simulate",
+    "PodResult", "RidgeTrack", "Scalogram", "SimulationResult", "SynchrosqueezedTransform",
+    "TimeSeries", "cwt", "instantaneous_frequency", "inverse_cwt", "pod", "read", "ridges",
+    "simulate", "synchrosqueeze",
 ]
 
 

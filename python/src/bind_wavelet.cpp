@@ -1,5 +1,7 @@
-// podid.cwt(x, step_s, ...), podid.ridges(...), podid.instantaneous_frequency(...):
-// the Morlet CWT, its ridges and the IF of a 1-D array (docs/wavelet.md).
+// podid.cwt(x, step_s, ...), podid.ridges(...), podid.instantaneous_frequency(...),
+// podid.synchrosqueeze(...), podid.inverse_cwt(scalogram): the Morlet CWT, its
+// ridges, the IF, the synchrosqueezed transform and the inverse CWT of a 1-D
+// array (docs/wavelet.md).
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
@@ -9,6 +11,7 @@
 #include "bindings.hpp"
 #include "podid/wavelet/cwt.hpp"
 #include "podid/wavelet/ridge.hpp"
+#include "podid/wavelet/synthesis.hpp"
 
 namespace py = pybind11;
 
@@ -95,6 +98,60 @@ void BindWavelet(py::module_& m) {
       },
       py::arg("x"), py::arg("step_s"), py::arg("count") = 1, PODID_CWT_KWARGS,
       "The `count` strongest penalised ridges of x's CWT, strongest first.");
+
+  py::class_<wavelet::SynchrosqueezedTransform>(m, "SynchrosqueezedTransform",
+                                                "T(t, f) and the reassignment it was built from.")
+      .def_readonly("sst", &wavelet::SynchrosqueezedTransform::sst,
+                    "a Scalogram whose coefficients are T (times x frequencies, complex)")
+      .def_readonly("reassigned_frequency_Hz",
+                    &wavelet::SynchrosqueezedTransform::reassigned_frequency_Hz,
+                    "(times x frequencies) the IF each CWT coefficient was moved to; NaN where "
+                    "|W| is below the threshold or the IF is not positive")
+      .def(
+          "ridges",
+          [](const wavelet::SynchrosqueezedTransform& sst, int count) {
+            wavelet::RidgeOptions ridge;
+            ridge.ridges = count;
+            std::string why;
+            if (!ridge.IsValid(&why)) throw std::invalid_argument("count: " + why);
+            py::gil_scoped_release release;
+            return wavelet::SynchrosqueezedRidges(sst, ridge);
+          },
+          py::arg("count") = 1,
+          "The `count` strongest penalised ridges of |T|, strongest first, each IF at the "
+          "reassignment's fixed point (not quantised to the grid).");
+
+  m.def(
+      "synchrosqueeze",
+      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double threshold, double fmin,
+         double fmax, int voices, double omega0, const std::string& padding, double coi_factor,
+         int threads) {
+        const wavelet::CwtOptions options =
+            MakeCwtOptions(fmin, fmax, voices, omega0, padding, coi_factor, threads);
+        wavelet::SynchrosqueezeOptions squeeze;
+        squeeze.relative_threshold = threshold;
+        std::string why;
+        if (!squeeze.IsValid(&why)) throw std::invalid_argument("threshold: " + why);
+        py::gil_scoped_release release;
+        wavelet::CwtTransform transform(options);
+        wavelet::SynchrosqueezedTransform out;
+        transform.Compute(x, step_s, &out.sst);
+        wavelet::SynchrosqueezeInPlace(transform, squeeze, &out);  // T over W: no second matrix
+        return out;
+      },
+      py::arg("x"), py::arg("step_s"), py::arg("threshold") = 1e-6, PODID_CWT_KWARGS,
+      "Synchrosqueezed Morlet CWT of x (Daubechies, Lu & Wu 2011): each coefficient with |W| "
+      "above threshold x max |W| moved to the grid frequency of its IF.");
+
+  m.def(
+      "inverse_cwt",
+      [](const wavelet::Scalogram& scalogram) {
+        py::gil_scoped_release release;
+        return wavelet::InverseCwt(scalogram);
+      },
+      py::arg("scalogram"),
+      "The in-band part of the signal a podid.cwt scalogram came from, at its output times "
+      "(a wavelet band-pass: the inverse CWT).");
 
   m.def(
       "instantaneous_frequency",
