@@ -191,7 +191,7 @@ void Run(const CwtArguments& a) {
   // One transform for every signal (same length and step: laid out once).
   // Without a scalogram to write or plot, --synchrosqueeze or --inverse, one ridge is streamed
   // (RidgeFrequencyEstimator: memory bounded by blocks, about 1 byte per
-  // output cell, instead of 16-24 for the whole transform; the same ridge to
+  // output cell, instead of 16-32 for the whole transform; the same ridge to
   // about band_tolerance, tests StreamedRidge.*); --threads >= 2 then runs
   // the next block's transform beside the ridge's dynamic programme.
   const bool streamed = a.ridges == 1 && a.scalogram.empty() && a.plot.empty() &&
