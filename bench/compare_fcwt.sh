@@ -7,6 +7,10 @@
 #     fCWT:  single precision, power-of-2 zero padding, FFTW_ESTIMATE (its cwt()).
 #     podid: double precision, zero padding (the default) to a 7-smooth length,
 #            FFTW_ESTIMATE (BM_CwtFcwtCase/N/1/0 in bench/wavelet_benchmark.cpp).
+#   Each tool with the FFTW it is built with: fCWT with its own flags against
+#   Debian's libfftw3f (as its instructions build it); podid as BUILD_DIR was
+#   configured, with the presets build/fftw-simd (scripts/build-fftw.sh:
+#   Debian's FFTW source with its AVX2 and AVX-512 codelets) when it exists.
 #   measured plans (wisdom made once with FFTW_MEASURE, then loaded)
 #     fCWT:  its optimisation plans (create_FFT_optimization_plan(N, FFTW_MEASURE),
 #            then FCWT(..., use_optimization_plan = true)).

@@ -1,7 +1,11 @@
-# Every dependency comes from a Debian package; nothing is downloaded or vendored.
+# Every dependency comes from a Debian package; nothing is vendored.
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(PkgConfig REQUIRED)
+# FFTW: build/fftw-simd first when scripts/build-fftw.sh made it (Debian's
+# fftw3 source with AVX2/AVX-512 codelets; the presets put it in
+# CMAKE_PREFIX_PATH), else Debian's libfftw3-dev.
 pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET GLOBAL fftw3)
+message(STATUS "podid: FFTW ${FFTW3_VERSION} from ${FFTW3_LINK_LIBRARIES}")
 pkg_check_modules(MATIO REQUIRED IMPORTED_TARGET GLOBAL matio)
 # v7.3 .mat files: dataset storage checked and HDF5's own error printing
 # silenced before libmatio reads them (the HDF5 libmatio is built with).

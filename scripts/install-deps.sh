@@ -3,7 +3,7 @@
 # or as a user with sudo. Every dependency is a Debian package.
 set -euo pipefail
 packages=(
-  g++ cmake ninja-build pkg-config git
+  gcc g++ make cmake ninja-build pkg-config git
   libeigen3-dev libspectra-dev libmetis-dev libfftw3-dev libgsl-dev libnlopt-cxx-dev libmatio-dev libhdf5-dev zlib1g-dev
   libtomlplusplus-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
