@@ -67,7 +67,7 @@ apt-get "${apt_options[@]}" update -qq >"$work/log" 2>&1 || skip "apt-get update
 upstream=${version#*:}  # no epoch in the file names
 upstream=${upstream%-*}
 tar -xzf "$work/src/fftw3_$upstream.orig.tar.gz" -C "$work/src" || skip "cannot unpack fftw3_$upstream.orig.tar.gz"
-echo "podid: building FFTW $version with AVX2/AVX-512 codelets in $prefix (about 3 min on 2 cores)"
+echo "podid: building FFTW $version with AVX2/AVX-512 codelets in $prefix (about 6 min on 2 cores)"
 if ! (cd "$work/src/fftw-$upstream" &&
   ./configure --prefix="$prefix" --disable-shared --enable-static --with-pic \
     --disable-fortran --disable-doc "${flags[@]}" &&
