@@ -11,16 +11,16 @@
 #
 # Built by default on Intel CPUs only (PODID_FFTW_SIMD=auto): on an Intel
 # Xeon (family 6 model 207, AVX-512) the transforms are faster with it, with
-# FFTW_ESTIMATE's plans too (the CWT of fCWT's case 1.04-1.32x, the
-# Silverbox evaluation 1.36x), but on
-# an AMD Zen 4 FFTW_ESTIMATE picked slower plans among the new codelets (the
-# Silverbox evaluation 0.85x), and estimated plans are what every process
-# uses until `podid plan` has run (docs/benchmarks.md, "FFTW with its AVX2 and
-# AVX-512 codelets"). PODID_FFTW_SIMD=ON builds it on any x86-64 CPU, OFF
-# never. Whatever stops it (not x86-64, Debian's source archive out of reach,
-# a failed build) leaves podid on Debian's libfftw3-dev, as without this
-# script: it says why and exits 0. A finished build is kept
-# (build/fftw-simd/podid-stamp) and not repeated.
+# FFTW_ESTIMATE's plans too (the CWT of fCWT's case 1.04-1.32x, the Silverbox
+# evaluation 1.36x), but on an AMD Zen 4 FFTW_ESTIMATE picked slower plans
+# among the new codelets (the Silverbox evaluation 0.85x), and estimated plans
+# are what every process uses until `podid plan` has run (docs/benchmarks.md,
+# "FFTW with its AVX2 and AVX-512 codelets"). PODID_FFTW_SIMD=ON builds it on
+# any x86-64 CPU, OFF never; any other value is an error (exit 1). Whatever
+# stops it (not x86-64, Debian's source archive out of reach, a failed build)
+# leaves podid on Debian's libfftw3-dev, as without this script: it says why
+# and exits 0. A finished build is kept (build/fftw-simd/podid-stamp) and not
+# repeated.
 # Usage: bash scripts/build-fftw.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
