@@ -4,11 +4,14 @@
 //    Newton per step, and the cost's growth with the number of steps.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include "chain_model.hpp"
 #include "podid/core/case_file.hpp"
+#include "podid/core/error.hpp"
 #include "podid/core/newmark.hpp"
 #include "podid/core/simulate.hpp"
 
@@ -56,6 +59,7 @@ void RunLoop(benchmark::State& state,
   const double steps = integrator.options().steps;
   state.counters["steps"] = steps;
   state.counters["modal"] = integrator.modal() ? 1.0 : 0.0;
+  state.counters["one_dof"] = integrator.one_dof() ? 1.0 : 0.0;
   state.counters["newton_per_step"] = static_cast<double>(summary.newton_iterations) / steps;
   state.counters["per_step"] = benchmark::Counter(steps, benchmark::Counter::kIsIterationInvariantRate |
                                                              benchmark::Counter::kInvert);
@@ -101,6 +105,29 @@ void BM_TwoNonlinearDofs1s(benchmark::State& state) {
           true, state.range(0) != 0 ? Path::kModal : Path::kDefault);
 }
 BENCHMARK(BM_TwoNonlinearDofs1s)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// The Silverbox example's 1x1 Duffing model (examples/silverbox: m = 1, the
+// stiffness a polynomial element, the measured V1 as its force) over the
+// whole 131,072-sample record at its 16 sub-steps a sample: 2.1 million
+// one-dof steps, the simulation inside BM_EvaluateWaveletSilverbox.
+// range(0): 0 the default path (the one-dof loop, lib/src/newmark_one_dof.hpp),
+// 1 the modal path's AVX2 loop that the default took before it
+// (modal_portable = true).
+void BM_SilverboxSteps(benchmark::State& state) {
+  const std::string mat = std::string(PODID_TEST_DATA_DIR) + "/../../../shared/realdata/silverbox/SNLS80mV.mat";
+  if (!std::ifstream(mat).good()) {
+    state.SkipWithError("no ../shared/realdata/silverbox/SNLS80mV.mat");
+    return;
+  }
+  CaseDocument document = CaseDocument::Load(std::string(PODID_EXAMPLES_DIR) + "/silverbox/silverbox.toml");
+  const double step_s = std::ldexp(1.0, 14) / 1e7;
+  document.Set("data.file", "\"" + mat + "\"");
+  // The whole record: 131,071 sampling steps from its first sample.
+  document.Set("time.step", ToText(step_s));
+  document.Set("time.duration", ToText(131071 * step_s));
+  RunLoop(state, document.ToSpec(), true, state.range(0) != 0 ? Path::kModal : Path::kDefault);
+}
+BENCHMARK(BM_SilverboxSteps)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // No nonlinear dof: the reference beam's M, K, C imported without its
 // element, released with a tip velocity, 1 s. range(0) as above; range(1) =

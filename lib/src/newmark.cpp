@@ -13,6 +13,7 @@
 
 #include "newmark_kernels.hpp"
 #include "newmark_modal.hpp"
+#include "newmark_one_dof.hpp"
 #include "podid/core/error.hpp"
 #include "sparse_ordering.hpp"
 #include "sparse_step.hpp"
@@ -158,6 +159,11 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
   }
   if (options.type != IntegratorType::kModifiedNewmark) {
     modal_status_ = "not used: full Newton";
+  } else if (n_ == 1 && na_ == 1 && !sparse_ && !options.modal_portable) {
+    // Nothing to condense: the scalar loop, faster than either (the Silverbox's
+    // steps, docs/benchmarks.md).
+    one_dof_ = true;
+    modal_status_ = "not used: a one-dof model steps in its own scalar loop";
   } else if (!options.modal) {
     modal_status_ = "not used: NewmarkOptions::modal is false";
   } else if (!options.modal_portable &&
@@ -463,13 +469,14 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
     w.u.head(n_) = a0_ * x + a2_ * v + a3_ * acc;
     w.u.tail(n_) = a1_ * x + a4_ * v + a5_ * acc;
   }
-  // The modal path (newmark_modal.cpp) runs its own loop; the dense one below is then skipped.
   if (modal_) internal::ModalRunner::Prepare(*this, load, rec, w);
   summary.termination = SimulationTermination::kCompleted;
   int since_record = 0;
   SetMallocAllowed(false);
   if (modal_) internal::ModalRunner::Run(*this, load, rec, rows, recording, w, &summary);
-  const int dense_steps = modal_ ? 0 : steps;
+  if (one_dof_) internal::OneDofRunner::Run(*this, load, rec, rows, recording, w, &summary);
+  // The modal and one-dof paths run their own loops; the dense one below is then skipped.
+  const int dense_steps = modal_ || one_dof_ ? 0 : steps;
   for (int step = 1; step <= dense_steps; ++step) {
     int iterations = 0;
     double residual = 0.0;

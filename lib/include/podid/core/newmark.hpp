@@ -170,6 +170,7 @@ namespace internal {
 struct ModalStep;
 struct SparseStep;
 struct ModalRunner;
+struct OneDofRunner;
 /// The Newmark relations' coefficients (above) and the divergence bound, as
 /// the dense condensed path's update kernel takes them (newmark_kernels.hpp).
 struct NewmarkCoefficients {
@@ -187,6 +188,7 @@ class NewmarkWorkspace {
  private:
   friend class NewmarkIntegrator;
   friend struct internal::ModalRunner;
+  friend struct internal::OneDofRunner;
   Eigen::VectorXd z;  ///< state (dim 3 n): x, x', x'' in the permuted order
   Eigen::VectorXd x_new, rhs, r, dx;
   Eigen::VectorXd xa, xa_n, va, fa, ra, dxa, xa_trial;
@@ -225,6 +227,10 @@ class NewmarkIntegrator {
   /// modal_status() says why or why not.
   bool modal() const { return modal_ != nullptr; }
   const std::string& modal_status() const { return modal_status_; }
+  /// True when a one-dof model (every dof nonlinear) steps in its own scalar
+  /// loop on the dense condensed path (lib/src/newmark_one_dof.hpp): the
+  /// default there unless NewmarkOptions::modal_portable asks for the modal one.
+  bool one_dof() const { return one_dof_; }
   /// The sparse path's ordering of S_bb's factor: method, elimination tree
   /// height (the triangular solves' dependency chain) and nonzeros; empty on
   /// the dense path.
@@ -247,6 +253,7 @@ class NewmarkIntegrator {
  private:
   friend class NewmarkWorkspace;
   friend struct internal::ModalRunner;
+  friend struct internal::OneDofRunner;
   bool StepModified(NewmarkWorkspace& w, bool has_load, int* iterations, double* residual) const;
   /// rhs += the load's pattern times w.load_now (allocation-free; newmark_load.cpp).
   static void AddLoad(NewmarkWorkspace& w, Eigen::VectorXd& rhs);
@@ -312,6 +319,7 @@ class NewmarkIntegrator {
   /// The modal path (dense condensed, proportional damping), or null.
   std::shared_ptr<const internal::ModalStep> modal_;
   std::string modal_status_;
+  bool one_dof_ = false;  ///< the one-dof loop (one_dof())
 };
 
 }  // namespace podid
