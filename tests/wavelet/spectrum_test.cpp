@@ -102,5 +102,48 @@ TEST(WhiteNoiseMagnitudeTest, MatchesTheTransformOfWhiteNoise) {
   EXPECT_TRUE(WhiteNoiseMagnitude(options, n, step).isApprox(expected, 1e-9));
 }
 
+TEST(WhiteNoiseMagnitudeTest, EqualsTheImpulseTransformsEnergy) {
+  // The filters' energies by Parseval against what they replace: the
+  // full-rate, zero-padded transform of a unit impulse at the record's middle,
+  // |W|^2 summed over the record's times. That sum misses the filter's
+  // energy beyond half the record from the impulse, so it is a lower bound
+  // to round-off (~1e-15 log2 P: 1e-12). The Gaussian bands fit well inside
+  // (the lowest frequency, 20 Hz, lasts about 0.07 s of the 8 s), except
+  // where Nyquist cuts a band: the cut rings as 1/t, and measured the sum
+  // then misses up to 4.7e-7 of the energy (Morlet at 380 Hz, Nyquist 500
+  // Hz; 0 to round-off below 300 Hz): 1e-6 above.
+  constexpr double kRoundOff = 1e-12;
+  constexpr double kTailsMissed = 1e-6;
+  const double step = 1e-3;
+  const Eigen::Index n = 8000;
+  for (const bool morse : {false, true}) {
+    CwtOptions options;
+    options.frequencies.min_frequency_Hz = 20.0;
+    options.frequencies.max_frequency_Hz = 400.0;
+    options.frequencies.voices_per_octave = 8;
+    if (morse) options.wavelet.family = WaveletFamily::kMorse;  // gamma 3, beta 20
+    CwtOptions impulse_options = options;
+    impulse_options.padding = Padding::kZero;
+    impulse_options.remove_mean = false;
+    Eigen::VectorXd impulse = Eigen::VectorXd::Zero(n);
+    impulse[n / 2] = 1.0;
+    const Scalogram s = Cwt(impulse, step, impulse_options);
+    const Eigen::VectorXd expected = s.coefficients.colwise().norm().transpose() * s.coefficient_scale;
+    const Eigen::VectorXd magnitude = WhiteNoiseMagnitude(options, n, step);
+    ASSERT_EQ(magnitude.size(), expected.size());
+    for (Eigen::Index k = 0; k < expected.size(); ++k) {
+      const double ratio = magnitude[k] / expected[k];
+      EXPECT_GE(ratio, 1.0 - kRoundOff) << (morse ? "Morse " : "Morlet ") << s.frequencies_Hz[k] << " Hz";
+      EXPECT_LE(ratio, 1.0 + (s.frequencies_Hz[k] < 300.0 ? kRoundOff : kTailsMissed))
+          << (morse ? "Morse " : "Morlet ") << s.frequencies_Hz[k] << " Hz";
+    }
+  }
+  EXPECT_THROW(WhiteNoiseMagnitude(CwtOptions{}, 3, step), std::invalid_argument);
+  EXPECT_THROW(WhiteNoiseMagnitude(CwtOptions{}, n, 0.0), std::invalid_argument);
+  CwtOptions above;
+  above.frequencies.max_frequency_Hz = 600.0;  // Nyquist 500 Hz
+  EXPECT_THROW(WhiteNoiseMagnitude(above, n, step), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace podid::wavelet

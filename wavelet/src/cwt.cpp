@@ -411,6 +411,46 @@ FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
   return lengths;
 }
 
+Eigen::VectorXd CwtTransform::WhiteNoiseMagnitude(Eigen::Index samples, double step_s) const {
+  const Impl& s = *impl_;
+  if (samples < 4) ThrowInvalid("white-noise magnitude: samples", "at least 4", ToText(samples));
+  if (!std::isfinite(step_s) || step_s <= 0.0) {
+    ThrowInvalid("white-noise magnitude: step_s", "a finite value > 0", ToText(step_s));
+  }
+  const double nyquist_Hz = 0.5 / step_s;
+  if (s.options.frequencies.max_frequency_Hz > nyquist_Hz) {
+    ThrowInvalid("white-noise magnitude: max_frequency_Hz", "at most Nyquist, " + ToText(nyquist_Hz) + " Hz",
+                 ToText(s.options.frequencies.max_frequency_Hz) + " Hz");
+  }
+  const Sizes z = s.Plan(samples, step_s);
+  const Eigen::Index scales = s.scales_s.size();
+  const double bin_rad_per_s = 2.0 * kPi / (static_cast<double>(z.p) * step_s);
+  const bool energy = s.options.wavelet.normalisation == Normalisation::kEnergy;
+  // The filters as Layout sets them; a unit impulse has |X_b| = 1 at every
+  // bin, so its transform's energy over the P output times is P sum_b g_b^2
+  // (the inverse FFT is unnormalised; g carries the 1/P).
+  internal::ScaleFilters filters;
+  filters.Reset(s.options.wavelet, scales);
+  Eigen::VectorXd out(scales);
+  double scratch[internal::ScaleFilter::kChunkBins];
+  for (Eigen::Index k = 0; k < scales; ++k) {
+    Eigen::Index a = 0, b = 0;
+    s.Band(k, z.p, step_s, &a, &b);
+    const double norm = (energy ? std::sqrt(s.scales_s(k)) : 1.0) / static_cast<double>(z.p);
+    filters.Set(k, a, b, s.scales_s(k), norm, bin_rad_per_s);
+    const internal::ScaleFilter filter = filters.Filter(k);
+    const Eigen::Index bins = filters.bins(k);
+    double sum = 0.0;
+    for (Eigen::Index i = 0; i < bins; i += internal::ScaleFilter::kChunkBins) {
+      const Eigen::Index count = std::min(bins - i, internal::ScaleFilter::kChunkBins);
+      const double* g = filter.Values(i, count, scratch);
+      for (Eigen::Index j = 0; j < count; ++j) sum += g[j] * g[j];
+    }
+    out(k) = std::sqrt(static_cast<double>(z.p) * sum);
+  }
+  return out;
+}
+
 FftLengths CwtFftLengths(const CwtOptions& options, Eigen::Index samples, double step_s) {
   return CwtTransform(options).Lengths(samples, step_s);
 }

@@ -323,6 +323,15 @@ class CwtTransform {
   /// (> 0); throws std::invalid_argument otherwise. Nothing is planned.
   FftLengths Lengths(Eigen::Index samples, double step_s) const;
 
+  /// The rms |W| that unit-variance white noise gives at each frequency for
+  /// a record of `samples` (>= 4) at step_s: sqrt(P sum_b |H_k(b)|^2), the
+  /// energy over a period of the padded length of scale k's discrete filter
+  /// (Parseval), in the coefficients' units. Nothing is transformed or
+  /// planned; memory is the filters' (O(filter bins), not samples x
+  /// frequencies). Throws std::invalid_argument like Lengths() and for a
+  /// frequency above Nyquist.
+  Eigen::VectorXd WhiteNoiseMagnitude(Eigen::Index samples, double step_s) const;
+
   /// Padded length P and inverse-FFT length M of the last Compute() (0 before).
   Eigen::Index padded_length() const;
   Eigen::Index inverse_length() const;

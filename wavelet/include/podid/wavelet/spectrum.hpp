@@ -33,10 +33,14 @@ double SpectralPeak_Hz(const Eigen::Ref<const Eigen::VectorXd>& signal, double s
 /// produces at each frequency of options.frequencies (dim n_freq, ascending
 /// like Scalogram::frequencies_Hz), in the transform's units, for a record of
 /// `samples` samples at step_s: sqrt(sum_n |psi_f[n]|^2), the energy of the
-/// frequency's discrete filter, computed as the transform of a unit impulse
-/// at the record's middle (exact away from the edges; the same W values with
-/// or without band_limited). Noise of variance q gives sqrt(q) times these.
-/// Throws std::invalid_argument like CwtTransform::Compute.
+/// frequency's discrete filter at the zero-padded length, from its gains by
+/// Parseval (CwtTransform::WhiteNoiseMagnitude: no transform, memory of the
+/// filters only; the same values with or without band_limited). It equals
+/// the transform of a unit impulse at the record's middle summed over the
+/// record's times wherever the filter fits in half the record, i.e. inside
+/// the cone (tests/wavelet/spectrum_test.cpp). Noise of variance q gives
+/// sqrt(q) times these. Throws std::invalid_argument for samples < 4, a bad
+/// step or a frequency above Nyquist.
 Eigen::VectorXd WhiteNoiseMagnitude(const CwtOptions& options, Eigen::Index samples, double step_s);
 
 }  // namespace podid::wavelet
