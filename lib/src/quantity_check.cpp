@@ -88,13 +88,25 @@ QuantityCheck CheckMeasuredQuantity(const TimeSeries& measured,
   // within +-max(3, k / 20) bins, with more than 1e-8 of the peak power on
   // both sides. At a peak the ratio is the mode's w^k; between peaks both
   // spectra are the same peaks' leakage, whose ratio is flat.
+  // Both ends of the window never decrease with k, so one pass keeps its
+  // maximum: a queue of candidates (indices of decreasing power), O(n) in
+  // all instead of O(n r) (9.5 s of a 10^6-sample `podid identify`).
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   check.low_Hz = std::numeric_limits<double>::infinity();
   const Eigen::Index last = ps.size() - 1;
+  std::vector<Eigen::Index> candidates;
+  candidates.reserve(static_cast<std::size_t>(last));
+  std::size_t head = 0;
+  Eigen::Index next = 1;  // the first index not yet queued
   for (Eigen::Index k = 2; k < last; ++k) {
     const Eigen::Index r = std::max<Eigen::Index>(3, k / 20);
     const Eigen::Index lo = std::max<Eigen::Index>(1, k - r), hi = std::min(last, k + r);
-    if (ps[k] < ps.segment(lo, hi - lo + 1).maxCoeff()) continue;
+    for (; next <= hi; ++next) {
+      while (candidates.size() > head && ps[candidates.back()] <= ps[next]) candidates.pop_back();
+      candidates.push_back(next);
+    }
+    while (candidates[head] < lo) ++head;
+    if (ps[k] < ps[candidates[head]]) continue;
     if (!(ps[k] > 1e-8 * max_s && pm[k] > 1e-8 * max_m && pm[k] > kPeakOverFloor * floor)) continue;
     const double f = static_cast<double>(k) * df;
     const double x = std::log10(f), y = 0.5 * std::log10((pm[k] - floor) / ps[k]);
