@@ -83,5 +83,32 @@ TEST(NoAllocationTest, SparseCondensedLoop) {
                         "force.frequency=30"});
 }
 
+TEST(NoAllocationTest, OneDofLoop) {
+  // A 1x1 Duffing oscillator under a point force, sub-stepped, velocity and
+  // acceleration recorded: the one-dof loop (lib/src/newmark_one_dof.cpp).
+  NonlinearitySpec cubic;
+  cubic.type = NonlinearType::kPolynomial;
+  cubic.dof = 1;
+  cubic.k1_N_per_m = 1e4;
+  cubic.k3_N_per_m3 = 1e8;
+  const BeamModel model = BeamModel::FromMatrices(Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Zero(1, 1),
+                                                  Eigen::MatrixXd::Constant(1, 1, 2.0), {cubic});
+  NewmarkOptions options;
+  options.step_s = 1e-4;
+  options.steps = 1000;
+  options.record_stride = 4;
+  const NewmarkIntegrator integrator(model, options);
+  ASSERT_TRUE(integrator.one_dof());
+  NewmarkWorkspace workspace(integrator);
+  Recording recording;
+  recording.dofs = {0};
+  recording.record_velocity = recording.record_acceleration = true;
+  const ExternalLoad load = ExternalLoad::PointForce(1, 0, Eigen::VectorXd::LinSpaced(options.steps + 1, 0.0, 5.0));
+  const State initial{Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1)};
+  const SimulationSummary summary = integrator.Run(initial, load, &recording, &workspace);
+  EXPECT_TRUE(summary.IsSolutionUsable()) << summary.message;
+  EXPECT_GT(summary.newton_iterations, 0);
+}
+
 }  // namespace
 }  // namespace podid
