@@ -1,8 +1,9 @@
 // The one-dof loop of the dense condensed integrator (lib/src/newmark_one_dof.hpp)
 // against the closed form of Newmark's own recurrence for a linear
 // oscillator, and against the modal path (NewmarkOptions::modal_portable,
-// which newmark_modal_test.cpp holds to a long-double Newmark) on nonlinear,
-// forced, sub-stepped and failing runs: the same equations, round-off apart.
+// which newmark_modal_test.cpp holds to a long-double Newmark) and the
+// generic dense step on nonlinear, forced, sub-stepped and failing runs: the
+// same equations, round-off apart.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -127,12 +128,13 @@ TEST(NewmarkOneDofTest, LinearOscillatorFollowsNewmarksClosedForm) {
 
 // A Duffing oscillator with friction, forced through a load history and
 // sub-stepped (every 4th step recorded): the one-dof loop against the modal
-// loop, the same equations with other roundings of bhat and the predictor.
+// loop and the generic dense step (modal_portable with modal false), the
+// same equations with other roundings of bhat and the predictor.
 // Both converge each step to the Newton tolerance 1e-10 of the step's force
 // scale, so they may differ by that much a step in principle; measured they
-// agree to 4e-12 of the amplitude. 1e-9 relative to each quantity's largest
+// agree to 4e-12 (modal) and 2e-12 (dense) of the amplitude. 1e-9 relative to each quantity's largest
 // value over 8000 steps; the same Newton iteration count.
-TEST(NewmarkOneDofTest, NonlinearForcedRunMatchesTheModalPath) {
+TEST(NewmarkOneDofTest, NonlinearForcedRunMatchesTheModalAndDensePaths) {
   constexpr double kTolerance = 1e-9;
   const double m = 1.0, k = std::pow(2 * kPi * 20.0, 2), h = 1.0 / 4096.0;
   NonlinearitySpec friction;
@@ -150,18 +152,25 @@ TEST(NewmarkOneDofTest, NonlinearForcedRunMatchesTheModalPath) {
   const NewmarkIntegrator one(model, options);
   options.modal_portable = true;
   const NewmarkIntegrator modal(model, options);
+  options.modal = false;  // and modal_portable: the generic dense step
+  const NewmarkIntegrator dense(model, options);
   ASSERT_TRUE(one.one_dof() && modal.modal());
-  const Outcome a = Simulate(one, At(1e-3, 0.0), load), b = Simulate(modal, At(1e-3, 0.0), load);
-  ASSERT_TRUE(a.summary.IsSolutionUsable()) << a.summary.message;
-  ASSERT_TRUE(b.summary.IsSolutionUsable()) << b.summary.message;
+  ASSERT_FALSE(dense.one_dof() || dense.modal());
+  const Outcome a = Simulate(one, At(1e-3, 0.0), load);
   EXPECT_GT(a.summary.newton_iterations, steps);  // the cubic takes more than one correction
-  EXPECT_EQ(a.summary.newton_iterations, b.summary.newton_iterations);
   EXPECT_EQ(a.summary.rows_recorded, steps / 4 + 1);
-  EXPECT_EQ(a.recording.displacement.rows(), b.recording.displacement.rows());
-  for (const auto& [x, y] : {std::pair{&a.recording.displacement, &b.recording.displacement},
-                             std::pair{&a.recording.velocity, &b.recording.velocity},
-                             std::pair{&a.recording.acceleration, &b.recording.acceleration}}) {
-    EXPECT_LE(MaxAbs(*x - *y), kTolerance * MaxAbs(*y));
+  for (const NewmarkIntegrator* other : {&modal, &dense}) {
+    SCOPED_TRACE(other == &modal ? "modal" : "dense");
+    const Outcome b = Simulate(*other, At(1e-3, 0.0), load);
+    ASSERT_TRUE(a.summary.IsSolutionUsable()) << a.summary.message;
+    ASSERT_TRUE(b.summary.IsSolutionUsable()) << b.summary.message;
+    EXPECT_EQ(a.summary.newton_iterations, b.summary.newton_iterations);
+    EXPECT_EQ(a.recording.displacement.rows(), b.recording.displacement.rows());
+    for (const auto& [x, y] : {std::pair{&a.recording.displacement, &b.recording.displacement},
+                               std::pair{&a.recording.velocity, &b.recording.velocity},
+                               std::pair{&a.recording.acceleration, &b.recording.acceleration}}) {
+      EXPECT_LE(MaxAbs(*x - *y), kTolerance * MaxAbs(*y));
+    }
   }
 }
 

@@ -81,11 +81,13 @@ struct NewmarkOptions {
   /// why). Its portable loops are slower than the dense step (120 against
   /// 106 ns a step of the reference case, docs/benchmarks.md), so the dense
   /// condensation runs elsewhere. false keeps the dense condensation
-  /// (tests compare the two). No effect on full Newton or the sparse path.
+  /// (tests compare the two). No effect on full Newton or the sparse path,
+  /// nor on a one-dof model, which steps in its own loop (one_dof()).
   bool modal = true;
   /// With `modal`: take the modal path with its portable loop too, where the
   /// dense step is faster (the tests hold that loop to the AVX2 one and to
-  /// the references).
+  /// the references), and on a one-dof model instead of its own loop (with
+  /// `modal` false there: the generic dense step).
   bool modal_portable = false;
   /// Run() records every record_stride-th step (sub-stepping: step_s is the
   /// sampling step / record_stride): rows 0..steps / record_stride. >= 1 and
