@@ -130,10 +130,11 @@ TEST(NewmarkOneDofTest, LinearOscillatorFollowsNewmarksClosedForm) {
 // sub-stepped (every 4th step recorded): the one-dof loop against the modal
 // loop and the generic dense step (modal_portable with modal false), the
 // same equations with other roundings of bhat and the predictor.
-// Both converge each step to the Newton tolerance 1e-10 of the step's force
+// All converge each step to the Newton tolerance 1e-10 of the step's force
 // scale, so they may differ by that much a step in principle; measured they
-// agree to 4e-12 (modal) and 2e-12 (dense) of the amplitude. 1e-9 relative to each quantity's largest
-// value over 8000 steps; the same Newton iteration count.
+// agree to 4e-12 (modal) and 2e-12 (dense) of the amplitude. 1e-9 relative
+// to each quantity's largest value over 8000 steps; the same Newton
+// iteration count.
 TEST(NewmarkOneDofTest, NonlinearForcedRunMatchesTheModalAndDensePaths) {
   constexpr double kTolerance = 1e-9;
   const double m = 1.0, k = std::pow(2 * kPi * 20.0, 2), h = 1.0 / 4096.0;
