@@ -12,6 +12,7 @@
 #include <ctime>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "podid/core/case_file.hpp"
@@ -19,6 +20,7 @@
 #include "podid/core/io.hpp"
 #include "podid/ident/landscape.hpp"
 #include "podid/ident/objective.hpp"
+#include "silverbox_case.hpp"
 
 namespace podid {
 namespace {
@@ -133,14 +135,11 @@ double StatusMB(const std::string& field) {
 // later run reuses the memory an earlier one freed.
 void EvaluateSilverbox(
     benchmark::State& state, const char* preset, int substeps, int max_frequency_Hz, int threads) {
-  const std::string mat = std::string(PODID_TEST_DATA_DIR) + "/../../../shared/realdata/silverbox/SNLS80mV.mat";
-  if (!std::ifstream(mat).good()) {
-    state.SkipWithError("no ../shared/realdata/silverbox/SNLS80mV.mat");
-    return;
-  }
-  CaseDocument document = CaseDocument::Load(std::string(PODID_EXAMPLES_DIR) + "/silverbox/silverbox.toml");
-  const double step_s = std::ldexp(1.0, 14) / 1e7;
-  document.Set("data.file", "\"" + mat + "\"");
+  std::optional<CaseDocument> loaded = SilverboxCase(state);
+  if (!loaded) return;
+  CaseDocument& document = *loaded;
+  const std::string mat = SilverboxMat();
+  const double step_s = kSilverboxStep_s;
   document.Set("integrator.substeps", ToText(substeps));
   MatReadOptions read;
   read.variable = "V2";

@@ -4,12 +4,12 @@
 //    Newton per step, and the cost's growth with the number of steps.
 #include <benchmark/benchmark.h>
 
-#include <cmath>
-#include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "chain_model.hpp"
+#include "silverbox_case.hpp"
 #include "podid/core/case_file.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/newmark.hpp"
@@ -114,18 +114,12 @@ BENCHMARK(BM_TwoNonlinearDofs1s)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 // 1 the modal path's AVX2 loop that the default took before it
 // (modal_portable = true).
 void BM_SilverboxSteps(benchmark::State& state) {
-  const std::string mat = std::string(PODID_TEST_DATA_DIR) + "/../../../shared/realdata/silverbox/SNLS80mV.mat";
-  if (!std::ifstream(mat).good()) {
-    state.SkipWithError("no ../shared/realdata/silverbox/SNLS80mV.mat");
-    return;
-  }
-  CaseDocument document = CaseDocument::Load(std::string(PODID_EXAMPLES_DIR) + "/silverbox/silverbox.toml");
-  const double step_s = std::ldexp(1.0, 14) / 1e7;
-  document.Set("data.file", "\"" + mat + "\"");
+  std::optional<CaseDocument> document = SilverboxCase(state);
+  if (!document) return;
   // The whole record: 131,071 sampling steps from its first sample.
-  document.Set("time.step", ToText(step_s));
-  document.Set("time.duration", ToText(131071 * step_s));
-  RunLoop(state, document.ToSpec(), true, state.range(0) != 0 ? Path::kModal : Path::kDefault);
+  document->Set("time.step", ToText(kSilverboxStep_s));
+  document->Set("time.duration", ToText(131071 * kSilverboxStep_s));
+  RunLoop(state, document->ToSpec(), true, state.range(0) != 0 ? Path::kModal : Path::kDefault);
 }
 BENCHMARK(BM_SilverboxSteps)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 

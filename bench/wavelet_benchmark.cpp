@@ -15,6 +15,7 @@
 #include "podid/wavelet/denoise.hpp"
 #include "podid/wavelet/ridge.hpp"
 #include "podid/wavelet/synthesis.hpp"
+#include "silverbox_case.hpp"
 
 namespace {
 
@@ -116,16 +117,11 @@ BENCHMARK(BM_LongRecordRidgeFirstCall)
 // whole scalogram, 0: streamed), cwt.threads (2: the streamed pass 1 as a
 // two-thread pipeline). Wall time (real_time): the pipeline's point.
 void BM_SilverboxRidge(benchmark::State& state) {
-  const std::string path =
-      std::string(PODID_TEST_DATA_DIR) + "/../../../shared/realdata/silverbox/SNLS80mV.mat";
-  if (!std::ifstream(path).good()) {
-    state.SkipWithError("no ../shared/realdata/silverbox/SNLS80mV.mat");
-    return;
-  }
+  if (!podid::HaveSilverbox(state)) return;
   podid::MatReadOptions read;
   read.variable = "V2";
-  read.step_s = std::ldexp(1.0, 14) / 1e7;
-  const Eigen::VectorXd x = podid::ReadMat(path, read).values.col(0);
+  read.step_s = podid::kSilverboxStep_s;
+  const Eigen::VectorXd x = podid::ReadMat(podid::SilverboxMat(), read).values.col(0);
   RidgeFrequencyOptions o;
   o.cwt.frequencies.max_frequency_Hz = 300.0;
   o.keep_scalogram = state.range(0) != 0;

@@ -486,18 +486,7 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
                     : options_.type == IntegratorType::kModifiedNewmark
                         ? StepModified(w, has_load, &iterations, &residual)
                         : StepFull(w, has_load, &iterations, &residual);
-    summary.newton_iterations += iterations;
-    if (iterations > summary.max_step_iterations) {
-      summary.max_step_iterations = iterations;
-      summary.worst_step_time_s = step * dt;
-    }
-    if (!ok) {
-      summary.termination = std::isfinite(residual) ? SimulationTermination::kNewtonFailed
-                                                    : SimulationTermination::kNonFinite;
-      summary.failure_time_s = step * dt;
-      summary.failure_residual = residual;
-      break;
-    }
+    if (!internal::CountStep(ok, iterations, residual, step, dt, &summary)) break;
     if ((dense_condensed && !dense_scalar) || sparse_) {
       // The bounds check, the Newmark update and the next step's u in one kernel.
       bounded = update_(coefficients_, n_, nullptr, nullptr, 0.0, w.x_new.data(), w.z.data(), w.u.data());

@@ -64,4 +64,22 @@ inline bool SolveScalarNewton(const Forces& forces, double shat, double bhat, do
 }
 UpdateKernel SelectUpdateKernel(bool cpu_dispatch);
 
+/// A step's Newton count in the summary (its total, and its worst step and
+/// when) and, if the step failed, why and when: false then, and the loop
+/// ends. Shared by the dense, modal and one-dof loops.
+inline bool CountStep(bool ok, int iterations, double residual, int step, double dt,
+                      SimulationSummary* summary) {
+  summary->newton_iterations += iterations;
+  if (iterations > summary->max_step_iterations) {
+    summary->max_step_iterations = iterations;
+    summary->worst_step_time_s = step * dt;
+  }
+  if (ok) return true;
+  summary->termination = std::isfinite(residual) ? SimulationTermination::kNewtonFailed
+                                                 : SimulationTermination::kNonFinite;
+  summary->failure_time_s = step * dt;
+  summary->failure_residual = residual;
+  return false;
+}
+
 }  // namespace podid::internal

@@ -305,18 +305,7 @@ template <int kNa, bool kVector>
         }
       }
     }
-    summary->newton_iterations += iterations;
-    if (iterations > summary->max_step_iterations) {
-      summary->max_step_iterations = iterations;
-      summary->worst_step_time_s = step * dt;
-    }
-    if (!ok) {
-      summary->termination = std::isfinite(residual) ? SimulationTermination::kNewtonFailed
-                                                     : SimulationTermination::kNonFinite;
-      summary->failure_time_s = step * dt;
-      summary->failure_residual = residual;
-      break;
-    }
+    if (!CountStep(ok, iterations, residual, step, dt, summary)) break;
     // The next step's load share (t_{step+1}), then its da = Phi_a P + (Phi_a Q) delta.
     // The one-dof vector loop forms the modes' share in registers below: a
     // round trip through load_next (zeroed by a memset call, then read as

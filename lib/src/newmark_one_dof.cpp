@@ -71,18 +71,7 @@ void OneDofRunner::Run(const NewmarkIntegrator& in, const ExternalLoad& load,
     int iterations = 0;
     const bool ok = SolveScalarNewton(in.nonlinear_, shat, bhat, a1, x_n, v0, tolerance,
                                       max_iterations, &x, &iterations, &residual);
-    summary->newton_iterations += iterations;
-    if (iterations > summary->max_step_iterations) {
-      summary->max_step_iterations = iterations;
-      summary->worst_step_time_s = step * dt;
-    }
-    if (!ok) {
-      summary->termination = std::isfinite(residual) ? SimulationTermination::kNewtonFailed
-                                                     : SimulationTermination::kNonFinite;
-      summary->failure_time_s = step * dt;
-      summary->failure_residual = residual;
-      break;
-    }
+    if (!CountStep(ok, iterations, residual, step, dt, summary)) break;
     if (!(std::abs(x) <= max_displacement)) {  // NaN fails too
       summary->termination = std::isfinite(x) ? SimulationTermination::kDiverged
                                               : SimulationTermination::kNonFinite;
