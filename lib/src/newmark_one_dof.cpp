@@ -41,14 +41,14 @@ void OneDofRunner::Run(const NewmarkIntegrator& in, const ExternalLoad& load,
   // would be a fixed frequency error (1e-11 relative at a0 m / k = 5e4). In u,
   // bhat' = B u + Shat (x_n + (Q v_c + R c1 - k x_n + g') / Shat) with
   // B = P + Q dt g a0 + R a0 (P, Q, R: the u1, u2 coefficients of x, x', x'').
-  const double k = in.stiffness_(0, 0), inv_shat = 1.0 / shat;
+  const double stiffness = in.stiffness_(0, 0), inv_shat = 1.0 / shat;  // K's k (0 if in an element)
   const double p = m * a0 + damping * a1, q = m * a2 + damping * a4, r = m * a3 + damping * a5;
   const double b_gain = p + q * (dt * g * a0) + r * a0;
   const double pred_gain = 1.0 + a0 * dt * dt * (g + 0.5);
 
   double* const z = w.z.data();
   double x_n = z[0], v_n = z[1], a_n = z[2];
-  double first = (m * (a2 * v_n + a3 * a_n) + damping * (a4 * v_n + a5 * a_n)) - k * x_n;
+  double first = (m * (a2 * v_n + a3 * a_n) + damping * (a4 * v_n + a5 * a_n)) - stiffness * x_n;
   if (columns > 0 && steps > 0) first += load_at(1);
   double bhat = shat * (x_n + first * inv_shat);
   double x_pred = x_n + dt * (v_n + 0.5 * dt * a_n);
@@ -63,7 +63,7 @@ void OneDofRunner::Run(const NewmarkIntegrator& in, const ExternalLoad& load,
     const double c1 = -(a2 * v_n) - a3 * a_n;
     const double v_c = v_n + dt * (one_minus_g * a_n + g * c1);
     const double pred_const = x_n + dt * v_c + half_dt2 * c1;
-    double next = (q * v_c + r * c1) - k * x_n;
+    double next = (q * v_c + r * c1) - stiffness * x_n;
     if (columns > 0 && step < steps) next += load_at(step + 1);
     const double b_const = shat * (x_n + next * inv_shat);
 
@@ -89,8 +89,8 @@ void OneDofRunner::Run(const NewmarkIntegrator& in, const ExternalLoad& load,
     if (++since_record == stride) {  // step % stride == 0 without a division
       since_record = 0;
       const int row = step / stride;
-      for (int k = 0; k < n_recorded; ++k) {
-        const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(k) * rows + row;
+      for (int i = 0; i < n_recorded; ++i) {
+        const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(i) * rows + row;
         rec_x[at] = x_n;
         if (rec_v) rec_v[at] = v_n;
         if (rec_a) rec_a[at] = a_n;
