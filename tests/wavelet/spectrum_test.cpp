@@ -140,6 +140,7 @@ TEST(WhiteNoiseMagnitudeTest, EqualsTheImpulseTransformsEnergy) {
   }
   EXPECT_THROW(WhiteNoiseMagnitude(CwtOptions{}, 3, step), std::invalid_argument);
   EXPECT_THROW(WhiteNoiseMagnitude(CwtOptions{}, n, 0.0), std::invalid_argument);
+  EXPECT_THROW(WhiteNoiseMagnitude(CwtOptions{}, Eigen::Index{1} << 28, step), std::invalid_argument);
   CwtOptions above;
   above.frequencies.max_frequency_Hz = 600.0;  // Nyquist 500 Hz
   EXPECT_THROW(WhiteNoiseMagnitude(above, n, step), std::invalid_argument);

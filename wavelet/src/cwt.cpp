@@ -423,6 +423,7 @@ Eigen::VectorXd CwtTransform::WhiteNoiseMagnitude(Eigen::Index samples, double s
                  ToText(s.options.frequencies.max_frequency_Hz) + " Hz");
   }
   const Sizes z = s.Plan(samples, step_s);
+  if (z.p > (1 << 27)) ThrowInvalid("white-noise magnitude", "at most 2^27 padded points", ToText(z.p));
   const Eigen::Index scales = s.scales_s.size();
   const double bin_rad_per_s = 2.0 * kPi / (static_cast<double>(z.p) * step_s);
   const bool energy = s.options.wavelet.normalisation == Normalisation::kEnergy;
