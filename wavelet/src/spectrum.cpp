@@ -88,12 +88,9 @@ Eigen::VectorXd WhiteNoiseMagnitude(const CwtOptions& options, Eigen::Index samp
   // impulse: that kept samples x frequencies complex coefficients (241 MB
   // for the Silverbox's 131,072 x 115, 1.8 GB at 10^6 samples) for one
   // number a frequency.
-  CwtOptions impulse_options = options;
-  impulse_options.band_limited = false;
-  impulse_options.padding = Padding::kZero;
-  impulse_options.remove_mean = false;
-  impulse_options.threads = 1;
-  return CwtTransform(impulse_options).WhiteNoiseMagnitude(samples, step_s);
+  CwtOptions zero_padded = options;
+  zero_padded.padding = Padding::kZero;
+  return CwtTransform(zero_padded).WhiteNoiseMagnitude(samples, step_s);
 }
 
 }  // namespace podid::wavelet

@@ -38,9 +38,11 @@ double SpectralPeak_Hz(const Eigen::Ref<const Eigen::VectorXd>& signal, double s
 /// filters only; the same values with or without band_limited). It equals
 /// the transform of a unit impulse at the record's middle summed over the
 /// record's times wherever the filter fits in half the record, i.e. inside
-/// the cone (tests/wavelet/spectrum_test.cpp). Noise of variance q gives
-/// sqrt(q) times these. Throws std::invalid_argument for samples < 4, a bad
-/// step or a frequency above Nyquist.
+/// the cone, and exceeds it by up to 5e-7 where Nyquist cuts a band (the
+/// cut's ringing leaves the record; tests/wavelet/spectrum_test.cpp). Noise
+/// of variance q gives sqrt(q) times these. Throws std::invalid_argument for
+/// samples < 4, a bad step, a frequency above Nyquist or more than 2^27
+/// padded points.
 Eigen::VectorXd WhiteNoiseMagnitude(const CwtOptions& options, Eigen::Index samples, double step_s);
 
 }  // namespace podid::wavelet
