@@ -1,6 +1,6 @@
 #pragma once
 // The Silverbox record and examples/silverbox's case around it, shared by
-// the benchmarks that run it (ident_benchmark, simulate_benchmark).
+// the benchmarks that run it (ident, simulate and wavelet_benchmark).
 #include <benchmark/benchmark.h>
 
 #include <fstream>

@@ -111,6 +111,8 @@ struct CwtTransform::Impl {
   // Scale k's band at padded length p: bins [*a, *b] (signed; empty if *b < *a).
   void Band(Eigen::Index k, Eigen::Index p, double step, Eigen::Index* a, Eigen::Index* b) const;
   void Layout(Eigen::Index samples, double step);
+  // Every scale's band and gains n(s) psi^(s w_b) / P at padded length p.
+  void SetFilters(Eigen::Index p, double step, internal::ScaleFilters* out) const;
   // W (derivative: dW/dt) of scale k at the M decimated times into w.
   void Synthesise(Eigen::Index k, bool derivative, Complex* w) const;
 };
@@ -192,16 +194,7 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   times = z.times;
   r = (p - n + 1) / 2;
   bin_rad_per_s = 2.0 * kPi / (static_cast<double>(p) * step_s);
-  const bool energy = options.wavelet.normalisation == Normalisation::kEnergy;
-  const Eigen::Index scales = scales_s.size();
-  filters.Reset(options.wavelet, scales);
-  for (Eigen::Index k = 0; k < scales; ++k) {
-    const double s = scales_s(k);
-    Eigen::Index a = 0, b = 0;
-    Band(k, p, step_s, &a, &b);
-    const double norm = (energy ? std::sqrt(s) : 1.0) / static_cast<double>(p);
-    filters.Set(k, a, b, s, norm, bin_rad_per_s);
-  }
+  SetFilters(p, step_s, &filters);
   const bool measure = options.planning == FftPlanning::kMeasure;
   forward = internal::ComplexForwardPlan(static_cast<int>(p), measure);
   backward = internal::ComplexBackwardPlan(static_cast<int>(m), measure);
@@ -219,6 +212,20 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
     coi_frequency_Hz(j) = edge_s > 0.0
                               ? options.coi_factor * kappa * 2.0 * time_spread / (2.0 * kPi * edge_s)
                               : std::numeric_limits<double>::infinity();
+  }
+}
+
+void CwtTransform::Impl::SetFilters(Eigen::Index p, double step, internal::ScaleFilters* out) const {
+  const double bin = 2.0 * kPi / (static_cast<double>(p) * step);
+  const bool energy = options.wavelet.normalisation == Normalisation::kEnergy;
+  const Eigen::Index scales = scales_s.size();
+  out->Reset(options.wavelet, scales);
+  for (Eigen::Index k = 0; k < scales; ++k) {
+    const double s = scales_s(k);
+    Eigen::Index a = 0, b = 0;
+    Band(k, p, step, &a, &b);
+    const double norm = (energy ? std::sqrt(s) : 1.0) / static_cast<double>(p);
+    out->Set(k, a, b, s, norm, bin);
   }
 }
 
@@ -413,32 +420,19 @@ FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
 
 Eigen::VectorXd CwtTransform::WhiteNoiseMagnitude(Eigen::Index samples, double step_s) const {
   const Impl& s = *impl_;
-  if (samples < 4) ThrowInvalid("white-noise magnitude: samples", "at least 4", ToText(samples));
-  if (!std::isfinite(step_s) || step_s <= 0.0) {
-    ThrowInvalid("white-noise magnitude: step_s", "a finite value > 0", ToText(step_s));
-  }
-  const double nyquist_Hz = 0.5 / step_s;
-  if (s.options.frequencies.max_frequency_Hz > nyquist_Hz) {
-    ThrowInvalid("white-noise magnitude: max_frequency_Hz", "at most Nyquist, " + ToText(nyquist_Hz) + " Hz",
-                 ToText(s.options.frequencies.max_frequency_Hz) + " Hz");
-  }
+  // Compute()'s checks on the record's size and step (the same messages).
+  internal::CheckSamples(samples);
+  internal::CheckStep(step_s, s.options.frequencies.max_frequency_Hz);
   const Sizes z = s.Plan(samples, step_s);
   if (z.p > (1 << 27)) ThrowInvalid("white-noise magnitude", "at most 2^27 padded points", ToText(z.p));
-  const Eigen::Index scales = s.scales_s.size();
-  const double bin_rad_per_s = 2.0 * kPi / (static_cast<double>(z.p) * step_s);
-  const bool energy = s.options.wavelet.normalisation == Normalisation::kEnergy;
   // The filters as Layout sets them; a unit impulse has |X_b| = 1 at every
   // bin, so its transform's energy over the P output times is P sum_b g_b^2
   // (the inverse FFT is unnormalised; g carries the 1/P).
   internal::ScaleFilters filters;
-  filters.Reset(s.options.wavelet, scales);
-  Eigen::VectorXd out(scales);
+  s.SetFilters(z.p, step_s, &filters);
+  Eigen::VectorXd out(s.scales_s.size());
   double scratch[internal::ScaleFilter::kChunkBins];
-  for (Eigen::Index k = 0; k < scales; ++k) {
-    Eigen::Index a = 0, b = 0;
-    s.Band(k, z.p, step_s, &a, &b);
-    const double norm = (energy ? std::sqrt(s.scales_s(k)) : 1.0) / static_cast<double>(z.p);
-    filters.Set(k, a, b, s.scales_s(k), norm, bin_rad_per_s);
+  for (Eigen::Index k = 0; k < out.size(); ++k) {
     const internal::ScaleFilter filter = filters.Filter(k);
     const Eigen::Index bins = filters.bins(k);
     double sum = 0.0;

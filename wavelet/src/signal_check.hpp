@@ -1,6 +1,6 @@
 #pragma once
 // The checks every transform applies to its input, with one set of messages
-// (CwtTransform::Compute and the streamed ridge).
+// (CwtTransform::Compute, WhiteNoiseMagnitude and the streamed ridge).
 
 #include <Eigen/Core>
 #include <cmath>
@@ -9,16 +9,14 @@
 
 namespace podid::wavelet::internal {
 
-/// Throws std::invalid_argument for fewer than 4 samples, NaN/Inf, a constant
-/// signal, step_s not finite and > 0, or max_Hz above Nyquist.
-inline void CheckSignal(const Eigen::Ref<const Eigen::VectorXd>& signal, double step_s, double max_Hz) {
-  const Eigen::Index n = signal.size();
+/// Throws std::invalid_argument for fewer than 4 samples.
+inline void CheckSamples(Eigen::Index n) {
   if (n < 4) ThrowInvalid("Cwt: signal", "at least 4 samples", ToText(n) + " samples");
-  if (!signal.allFinite()) ThrowInvalid("Cwt: signal", "finite values", "NaN or Inf");
-  if (signal.maxCoeff() == signal.minCoeff()) {
-    ThrowInvalid("Cwt: signal", "a non-constant signal",
-                 "all " + ToText(n) + " samples equal to " + ToText(signal(0)));
-  }
+}
+
+/// Throws std::invalid_argument for step_s not finite and > 0, or max_Hz
+/// above Nyquist (beyond a rounding of 1e-12).
+inline void CheckStep(double step_s, double max_Hz) {
   if (!std::isfinite(step_s) || step_s <= 0.0) {
     ThrowInvalid("Cwt: step_s", "a finite value > 0", ToText(step_s));
   }
@@ -28,6 +26,18 @@ inline void CheckSignal(const Eigen::Ref<const Eigen::VectorXd>& signal, double 
                  "<= the Nyquist frequency 1 / (2 step_s) = " + ToText(nyquist_Hz) + " Hz",
                  ToText(max_Hz) + " Hz");
   }
+}
+
+/// CheckSamples, then NaN/Inf or a constant signal, then CheckStep.
+inline void CheckSignal(const Eigen::Ref<const Eigen::VectorXd>& signal, double step_s, double max_Hz) {
+  const Eigen::Index n = signal.size();
+  CheckSamples(n);
+  if (!signal.allFinite()) ThrowInvalid("Cwt: signal", "finite values", "NaN or Inf");
+  if (signal.maxCoeff() == signal.minCoeff()) {
+    ThrowInvalid("Cwt: signal", "a non-constant signal",
+                 "all " + ToText(n) + " samples equal to " + ToText(signal(0)));
+  }
+  CheckStep(step_s, max_Hz);
 }
 
 }  // namespace podid::wavelet::internal
