@@ -199,6 +199,36 @@ TEST(RidgeProgramme, EqualsEveryPredecessorMinimisationExactlyWithTiesAndForbidd
   }
 }
 
+TEST(RidgeProgramme, EqualsTheBruteForceExactlyOnANearlyUniformGrid) {
+  // The programme finds each q's parabola from guesses on a grid within two
+  // bins of uniform (log-spaced frequencies) and corrects them by exact tests;
+  // here the grid is uniform only to within a quarter of a bin (x_k = 4 k +
+  // -1, 0 or 1), so guesses are often off by one and every correction runs.
+  // Integers and lambda a power of 2, as above: exact sums, identical paths.
+  std::mt19937 rng(29);
+  for (int trial = 0; trial < 300; ++trial) {
+    const Eigen::Index freqs = trial % 10 == 0 ? 300 : 2 + static_cast<Eigen::Index>(rng() % 60);
+    const Eigen::Index times = 1 + static_cast<Eigen::Index>(rng() % 30);
+    Eigen::VectorXd x(freqs);
+    for (Eigen::Index k = 0; k < freqs; ++k)
+      x(k) = 4.0 * static_cast<double>(k) + static_cast<double>(rng() % 3) - 1.0;
+    const double lambda = std::ldexp(1.0, static_cast<int>(rng() % 7) - 6);  // 1/64 .. 1
+    Eigen::MatrixXd cost(freqs, times);
+    const unsigned levels = 1 + rng() % 40;
+    const unsigned forbidden = rng() % 3;  // 0, 1/8, 1/4 of the cells
+    for (Eigen::Index j = 0; j < times; ++j) {
+      for (Eigen::Index k = 0; k < freqs; ++k)
+        cost(k, j) = rng() % 8 < forbidden ? kInf : static_cast<double>(rng() % levels);
+    }
+    const Eigen::VectorXi expected = BruteForcePath(x, lambda, cost);
+    ASSERT_EQ(ProgrammePath(x, lambda, cost), expected)
+        << "trial " << trial << ", " << freqs << " frequencies, lambda " << lambda;
+    const Eigen::Index pushed = static_cast<Eigen::Index>(rng() % static_cast<unsigned>(times));
+    ASSERT_EQ(PushLastPath(x, lambda, cost, pushed, trial % 2 == 0), expected)
+        << "trial " << trial << ", PushLast after " << pushed << " of " << times << " columns";
+  }
+}
+
 TEST(RidgeProgramme, PushLastGivesPushsPathOnClearAndNoisyRidges) {
   // Real costs as the ridge has them: -log|W| of a drifting Gaussian ridge
   // (clear: the bounds skip most cells) plus noise of growing amplitude

@@ -94,6 +94,25 @@ PODID_CLONES_V4 void ColumnMaxima(const double* power,
   ColumnExtrema<true>(power, count, freqs, freq_stride, high, arg);
 }
 
+// guess[b] = 1 + floor((zn[b] / zd[b] - x0) * inverse_spacing), in [0, n]: on
+// a uniform grid the first q past the boundary zn / zd (a guess, corrected by
+// exact tests in Segments, so no clone's rounding changes a result). NaN: 0.
+PODID_CLONES_V4 void GuessCrossings(const double* zn,
+                                    const double* zd,
+                                    Eigen::Index count,
+                                    double x0,
+                                    double inverse_spacing,
+                                    Eigen::Index n,
+                                    Eigen::Index* guess) {
+  const double last = static_cast<double>(n);
+  for (Eigen::Index b = 0; b < count; ++b) {
+    double g = (zn[b] / zd[b] - x0) * inverse_spacing + 1.0;
+    g = g >= 0.0 ? g : 0.0;
+    g = g <= last ? g : last;
+    guess[b] = static_cast<Eigen::Index>(g);
+  }
+}
+
 RidgeProgramme::RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool maximum)
     : x_(x), lambda_(lambda), maximum_(maximum), width_(Width(x.size())) {
   none_ = (std::int64_t{1} << (8 * width_)) - 1;
@@ -109,6 +128,20 @@ RidgeProgramme::RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool max
   xv_.resize(static_cast<std::size_t>(x_.size()));
   zn_.resize(static_cast<std::size_t>(x_.size() + 1));
   zd_.resize(static_cast<std::size_t>(x_.size() + 1));
+  starts_.resize(static_cast<std::size_t>(x_.size() + 1));
+  guess_.resize(static_cast<std::size_t>(x_.size() + 1));
+  // Guesses only where x is within kGridSlack bins of a uniform grid (log-spaced
+  // frequencies): then Segments walks at most a few bins from each.
+  const Eigen::Index n = x_.size();
+  const double span = n >= 2 ? x_(n - 1) - x_(0) : 0.0;
+  if (span > 0.0 && std::isfinite(span)) {
+    const double spacing = span / static_cast<double>(n - 1);
+    double off = 0.0;
+    for (Eigen::Index q = 0; q < n; ++q)
+      off = std::max(off, std::abs(x_(q) - (x_(0) + static_cast<double>(q) * spacing)));
+    constexpr double kGridSlack = 2.0;
+    if (off <= kGridSlack * spacing) inverse_spacing_ = 1.0 / spacing;
+  }
 }
 
 double RidgeProgramme::Bytes(Eigen::Index frequencies, Eigen::Index times, bool maximum) {
@@ -176,7 +209,9 @@ void RidgeProgramme::Push(const double* cost, Eigen::Index stride) {
     prev_ = column.array() + floor;
     FillColumn(j, static_cast<std::uint32_t>(before));
   } else {
-    RelaxInto<false>(cost, stride, j, Bounds{0, freqs - 1, 0, freqs - 1, 0.0, 0.0, kInf});
+    best_[static_cast<std::size_t>(j)] =
+        RelaxInto<false>(cost, stride, j, Bounds{0, freqs - 1, 0, freqs - 1, 0.0, 0.0, kInf});
+    return;
   }
   best_[static_cast<std::size_t>(j)] = Argmin(prev_);
 }
@@ -240,18 +275,14 @@ void RidgeProgramme::PushColumns(const Columns& c, Eigen::Index count) {
 }
 
 template <bool kBounded>
-void RidgeProgramme::RelaxInto(const double* cost,
-                               Eigen::Index stride,
-                               Eigen::Index j,
-                               const Bounds& bounds) {
+int RidgeProgramme::RelaxInto(const double* cost,
+                              Eigen::Index stride,
+                              Eigen::Index j,
+                              const Bounds& bounds) {
   const std::size_t first = static_cast<std::size_t>(j * x_.size());
-  if (width_ == 1) {
-    Relax<kBounded>(cost, stride, back8_.data() + first, bounds);
-  } else if (width_ == 2) {
-    Relax<kBounded>(cost, stride, back16_.data() + first, bounds);
-  } else {
-    Relax<kBounded>(cost, stride, back32_.data() + first, bounds);
-  }
+  if (width_ == 1) return Relax<kBounded>(cost, stride, back8_.data() + first, bounds);
+  if (width_ == 2) return Relax<kBounded>(cost, stride, back16_.data() + first, bounds);
+  return Relax<kBounded>(cost, stride, back32_.data() + first, bounds);
 }
 
 // PushLast's columns 1..count-1 (column 0 pushed), pruned by bounds:
@@ -414,15 +445,20 @@ bool RidgeProgramme::PushBounded(const Columns& c, Eigen::Index count) {
   return true;
 }
 
+// The shortest run of q (less one) Relax gives Segments: PushLast's pruned
+// columns (BM_RidgeFrequencyBandLimited) were up to 1.15x slower through it,
+// Push's full ones (BM_SilverboxRidge, 115-158 cells) 1.07x faster.
+constexpr Eigen::Index kSegmentedCells = 16;
+
 // One column of the envelope. Intersections z = num / den (den > 0) are
 // compared by cross-multiplying: no division on the stack's dependency chain.
 // Raw pointers: through the members, every store to the stack would reload
 // them (they may alias), 1.2x slower.
 template <bool kBounded, typename Index>
-void RidgeProgramme::Relax(const double* cost,
-                           Eigen::Index stride,
-                           Index* back,
-                           const Bounds& bounds) {
+int RidgeProgramme::Relax(const double* cost,
+                          Eigen::Index stride,
+                          Index* back,
+                          const Bounds& bounds) {
   const Eigen::Index p_end = bounds.p_last + 1;
   const double* xs = x_.data();
   const double* pv = prev_.data();
@@ -470,25 +506,79 @@ void RidgeProgramme::Relax(const double* cost,
     zn[top] = top_zn = num;
     zd[top] = top_zd = den;
   }
-  zn[top + 1] = kInf;
-  zd[top + 1] = 1.0;
+  // Each q's parabola v[e]: from Segments where every q of a long run is
+  // computed (Push); on short runs, and on PushLast's pruned columns (most q
+  // skipped), Segments' set-up costs more than the scan advancing e past the
+  // boundaries x_q has crossed (the same e).
+  const bool segmented = !kBounded && bounds.q_last - bounds.q_first >= kSegmentedCells;
+  if (segmented) {
+    Segments(top, bounds.q_first, bounds.q_last);
+  } else {
+    zn[top + 1] = kInf;
+    zd[top + 1] = 1.0;
+  }
+  const Eigen::Index* starts = starts_.data();
   double* out = next_.data();
   Eigen::Index e = 0;
+  double low = kInf;  // unbounded: the first argmin, as Argmin (no second pass)
+  int best = -1;
   for (Eigen::Index q = bounds.q_first; q <= bounds.q_last; ++q) {
+    if (segmented) e += starts[q - bounds.q_first];
     const double c = cost[q * stride];
     if (kBounded && !(c + bounds.floor + bounds.rest <= bounds.bound)) {
       out[q] = kInf;
       continue;
     }
     const double xq = xs[q];
-    while (zn[e + 1] < xq * zd[e + 1]) ++e;
+    if (!segmented) {
+      while (zn[e + 1] < xq * zd[e + 1]) ++e;
+    }
     const Eigen::Index p = v[e];
     const double dx = xq - xs[p];
-    out[q] = c + pv[p] + lambda * dx * dx;
+    const double total = c + pv[p] + lambda * dx * dx;
+    out[q] = total;
     back[q] = static_cast<Index>(p);
-    if (kBounded && !(out[q] + bounds.rest <= bounds.bound)) out[q] = kInf;
+    if constexpr (kBounded) {
+      if (!(total + bounds.rest <= bounds.bound)) out[q] = kInf;
+    } else if (total < low) {
+      low = total;
+      best = static_cast<int>(q);
+    }
   }
   std::swap(prev_, next_);
+  return best;
+}
+
+// Where each of the envelope's top boundaries is crossed. q lies in segment e
+// (parabola v_[e]) once x_q is past boundaries 1..e (zn[b] < x_q zd[b], as
+// the pop test cross-multiplied, monotone in q) and not past e + 1: boundary
+// b is first crossed at t_b = the first q >= t_(b-1) past it, from q_first.
+// A scan of q advancing e branched unpredictably at every q (a third of the
+// programme); from guesses the walks below are nearly always empty. Without
+// guesses (x not uniform) the forward walk from t_(b-1) is that scan.
+void RidgeProgramme::Segments(Eigen::Index top, Eigen::Index q_first, Eigen::Index q_last) {
+  const Eigen::Index q_end = q_last + 1;
+  const double* xs = x_.data();
+  const double* zn = zn_.data();
+  const double* zd = zd_.data();
+  Eigen::Index* starts = starts_.data();  // starts[q - q_first]
+  std::fill(starts, starts + (q_end - q_first), Eigen::Index{0});
+  Eigen::Index* guess = guess_.data();
+  if (inverse_spacing_ > 0.0) {
+    GuessCrossings(zn + 1, zd + 1, top, xs[0], inverse_spacing_, x_.size(), guess + 1);
+  } else {
+    std::fill(guess + 1, guess + top + 1, Eigen::Index{0});  // each walk starts at t
+  }
+  Eigen::Index t = q_first;
+  for (Eigen::Index b = 1; b <= top; ++b) {
+    const double num = zn[b], den = zd[b];
+    Eigen::Index s = std::clamp(guess[b], t, q_end);
+    while (s > t && num < xs[s - 1] * den) --s;
+    while (s < q_end && !(num < xs[s] * den)) ++s;
+    if (s == q_end) break;  // this boundary and the later ones lie beyond q_last
+    t = s;
+    ++starts[t - q_first];
+  }
 }
 
 Eigen::VectorXi RidgeProgramme::Path() const {

@@ -60,10 +60,12 @@ class RidgeProgramme {
     Eigen::Index p_first, p_last, q_first, q_last;
     double floor, rest, bound;
   };
+  // Unbounded, they return the column's first argmin (-1: no finite total),
+  // found as the totals are written; bounded, -1 (PushBounded scans its survivors).
   template <bool kBounded, typename Index>
-  void Relax(const double* cost, Eigen::Index stride, Index* back, const Bounds& bounds);
+  int Relax(const double* cost, Eigen::Index stride, Index* back, const Bounds& bounds);
   template <bool kBounded>
-  void RelaxInto(const double* cost, Eigen::Index stride, Eigen::Index j, const Bounds& bounds);
+  int RelaxInto(const double* cost, Eigen::Index stride, Eigen::Index j, const Bounds& bounds);
   // PushLast's columns: costs, or powers whose costs are computed on demand.
   struct Columns {
     const double* data;
@@ -94,6 +96,12 @@ class RidgeProgramme {
   Eigen::VectorXd prev_, next_;
   std::vector<Eigen::Index> v_;        // the envelope's parabolas
   std::vector<double> h_, xv_, zn_, zd_;  // their prev + lambda x^2, x; intersections zn / zd
+  // Each q's parabola without a branch per q: starts_[q - q_first] = the
+  // boundaries first crossed at q, found from guess_ (where x = ln f is
+  // uniform to within kGridSlack bins: inverse_spacing_ > 0, else 0: no guesses).
+  std::vector<Eigen::Index> starts_, guess_;
+  double inverse_spacing_ = 0.0;
+  void Segments(Eigen::Index top, Eigen::Index q_first, Eigen::Index q_last);
   // PushLast: a lower bound on each column's smallest cost (the smallest cost
   // itself for costs), an argmin and its cost, the sums of the later bounds.
   std::vector<double> lows_, rest_, lows_at_, at_cost_;  // lows_at_: as a double (vectorised)
