@@ -161,6 +161,29 @@ double PathTotal(const Eigen::VectorXd& x, double lambda, const Eigen::MatrixXd&
   return total;
 }
 
+// Exact costs (integers, lambda a power of 2): Push's path and PushLast's
+// (bounded, after a random number of pushed columns, frequency-major on even
+// trials, else time-major: bounds prune no optimal cell, and exact sums keep
+// every tie as Push breaks it) both equal BruteForcePath's.
+::testing::AssertionResult SamePathsAsTheBruteForce(const Eigen::VectorXd& x,
+                                                    double lambda,
+                                                    const Eigen::MatrixXd& cost,
+                                                    int trial,
+                                                    std::mt19937& rng) {
+  const Eigen::Index freqs = cost.rows(), times = cost.cols();
+  const Eigen::VectorXi expected = BruteForcePath(x, lambda, cost);
+  if (ProgrammePath(x, lambda, cost) != expected) {
+    return ::testing::AssertionFailure() << "trial " << trial << ", " << freqs << " frequencies, "
+                                         << times << " times, lambda " << lambda << ": Push";
+  }
+  const Eigen::Index pushed = static_cast<Eigen::Index>(rng() % static_cast<unsigned>(times));
+  if (PushLastPath(x, lambda, cost, pushed, trial % 2 == 0) != expected) {
+    return ::testing::AssertionFailure()
+           << "trial " << trial << ", PushLast after " << pushed << " of " << times << " columns";
+  }
+  return ::testing::AssertionSuccess();
+}
+
 TEST(RidgeProgramme, EqualsEveryPredecessorMinimisationExactlyWithTiesAndForbiddenCells) {
   // Integer positions, lambda a power of 2 and small integer costs: every
   // sum and product is exact, so the envelope's intersections decide exactly
@@ -187,15 +210,7 @@ TEST(RidgeProgramme, EqualsEveryPredecessorMinimisationExactlyWithTiesAndForbidd
         cost(k, j) = dead || rng() % 8 < forbidden ? kInf : static_cast<double>(rng() % levels);
       }
     }
-    const Eigen::VectorXi expected = BruteForcePath(x, lambda, cost);
-    const Eigen::VectorXi path = ProgrammePath(x, lambda, cost);
-    ASSERT_EQ(path, expected) << "trial " << trial << ", " << freqs << " frequencies, " << times
-                              << " times, lambda " << lambda;
-    // PushLast (bounded) from any column, both layouts: bounds prune no
-    // optimal cell, and exact sums keep every tie as Push breaks it.
-    const Eigen::Index pushed = static_cast<Eigen::Index>(rng() % static_cast<unsigned>(times));
-    ASSERT_EQ(PushLastPath(x, lambda, cost, pushed, trial % 2 == 0), expected)
-        << "trial " << trial << ", PushLast after " << pushed << " of " << times << " columns";
+    ASSERT_TRUE(SamePathsAsTheBruteForce(x, lambda, cost, trial, rng));
   }
 }
 
@@ -220,12 +235,7 @@ TEST(RidgeProgramme, EqualsTheBruteForceExactlyOnANearlyUniformGrid) {
       for (Eigen::Index k = 0; k < freqs; ++k)
         cost(k, j) = rng() % 8 < forbidden ? kInf : static_cast<double>(rng() % levels);
     }
-    const Eigen::VectorXi expected = BruteForcePath(x, lambda, cost);
-    ASSERT_EQ(ProgrammePath(x, lambda, cost), expected)
-        << "trial " << trial << ", " << freqs << " frequencies, lambda " << lambda;
-    const Eigen::Index pushed = static_cast<Eigen::Index>(rng() % static_cast<unsigned>(times));
-    ASSERT_EQ(PushLastPath(x, lambda, cost, pushed, trial % 2 == 0), expected)
-        << "trial " << trial << ", PushLast after " << pushed << " of " << times << " columns";
+    ASSERT_TRUE(SamePathsAsTheBruteForce(x, lambda, cost, trial, rng));
   }
 }
 
