@@ -459,6 +459,7 @@ TEST(WriteFileAtomically, DiskFullLikeWriteError) {
     }
     std::_Exit(1);
   };
+  const testing::DeathTestTempRoot child_folders;
   GTEST_FLAG_SET(death_test_style, "threadsafe");
   EXPECT_EXIT(child(), ::testing::ExitedWithCode(0), "");
   EXPECT_EQ(ReadText(path), "precious\n");

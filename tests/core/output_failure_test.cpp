@@ -159,6 +159,7 @@ TEST(SpecialTargets, ReadOnlyFileIsRefused) {
     }
     std::_Exit(1);
   };
+  const testing::DeathTestTempRoot child_folders;
   GTEST_FLAG_SET(death_test_style, "threadsafe");
   EXPECT_EXIT(child(), ::testing::ExitedWithCode(0), "");
   EXPECT_EQ(ReadText(path), "precious\n");

@@ -79,6 +79,7 @@ void ExpectSignalRemovesTheTemporary(int signal_number) {
       std::_Exit(4);  // not reached: the default action ends the process
     });
   };
+  const testing::DeathTestTempRoot child_folders;
   GTEST_FLAG_SET(death_test_style, "threadsafe");
   EXPECT_EXIT(child(), ::testing::KilledBySignal(signal_number), "");
   EXPECT_EQ(ReadText(path), "precious\n");

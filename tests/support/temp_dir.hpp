@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -49,6 +50,36 @@ class TempDir {
 
  private:
   std::string path_;
+};
+
+/// For a death test in the "threadsafe" style, declared before EXPECT_EXIT:
+/// that style runs the whole test again in a new process, whose own TempDirs
+/// outlive it (it ends by _Exit or a signal, without destructors). The child
+/// inherits TMPDIR, set here to a folder of this one's, so its folders are
+/// created there and removed with it; TMPDIR is restored afterwards.
+class DeathTestTempRoot {
+ public:
+  DeathTestTempRoot() {
+    if (const char* old = std::getenv("TMPDIR")) saved_ = old;
+    // Searchable by all: a child that drops root's privileges must reach its folder.
+    std::filesystem::permissions(
+        root_.path(), std::filesystem::perms::group_exec | std::filesystem::perms::others_exec,
+        std::filesystem::perm_options::add);
+    ::setenv("TMPDIR", root_.path().c_str(), 1);
+  }
+  ~DeathTestTempRoot() {
+    if (saved_) {
+      ::setenv("TMPDIR", saved_->c_str(), 1);
+    } else {
+      ::unsetenv("TMPDIR");
+    }
+  }
+  DeathTestTempRoot(const DeathTestTempRoot&) = delete;
+  DeathTestTempRoot& operator=(const DeathTestTempRoot&) = delete;
+
+ private:
+  TempDir root_;  // destroyed after the destructor's body has restored TMPDIR
+  std::optional<std::string> saved_;
 };
 
 inline std::string ReadText(const std::string& path) {
