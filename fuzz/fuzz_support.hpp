@@ -8,21 +8,34 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "podid/core/time_series.hpp"
 
 namespace podid::fuzz {
 
 /// Writes `data` to "<TMPDIR or /tmp>/podid-fuzz-<pid><suffix>" (overwritten on
-/// every call with that suffix) and returns the path. Aborts if the file cannot
-/// be written: that is a problem of the machine, not a finding.
+/// every call with that suffix) and returns the path; the files are removed
+/// when the process exits normally (a crash keeps them beside its report).
+/// Aborts if the file cannot be written: that is a problem of the machine, not
+/// a finding.
 inline std::string WriteInput(const std::uint8_t* data, std::size_t size, const char* suffix) {
+  struct Written {
+    std::vector<std::string> paths;
+    ~Written() {
+      for (const std::string& path : paths) std::remove(path.c_str());
+    }
+  };
+  static Written written;
   static const std::string prefix = [] {
     const char* tmp = std::getenv("TMPDIR");
     return std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/podid-fuzz-" +
            std::to_string(getpid());
   }();
   const std::string path = prefix + suffix;
+  bool known = false;
+  for (const std::string& p : written.paths) known |= p == path;
+  if (!known) written.paths.push_back(path);
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (f == nullptr || (size > 0 && std::fwrite(data, 1, size, f) != size) || std::fclose(f) != 0) {
     std::perror(path.c_str());
