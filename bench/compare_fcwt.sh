@@ -7,10 +7,13 @@
 #     fCWT:  single precision, power-of-2 zero padding, FFTW_ESTIMATE (its cwt()).
 #     podid: double precision, zero padding (the default) to a 7-smooth length,
 #            FFTW_ESTIMATE (BM_CwtFcwtCase/N/1/0 in bench/wavelet_benchmark.cpp).
-#   Each tool with the FFTW it is built with: fCWT with its own flags against
-#   Debian's libfftw3f (as its instructions build it); podid as BUILD_DIR was
-#   configured, with the presets build/fftw-simd (scripts/build-fftw.sh:
-#   Debian's FFTW source with its AVX2 and AVX-512 codelets) when it exists.
+#   Each tool with the FFTW it is built with: fCWT with its own flags in both
+#   its builds, against Debian's libfftw3f (USE_OWN_FFTW=ON: SSE2 and AVX
+#   codelets) and, when its tree has them (libs/libfftw3fl.so, Linux), against
+#   the FFTW it bundles (its default build: AVX2 codelets too), the faster of
+#   the two compared; podid as BUILD_DIR was configured, with the presets
+#   build/fftw-simd (scripts/build-fftw.sh: Debian's FFTW source with its AVX2
+#   and AVX-512 codelets) when it exists.
 #   measured plans (wisdom made once with FFTW_MEASURE, then loaded)
 #     fCWT:  its optimisation plans (create_FFT_optimization_plan(N, FFTW_MEASURE),
 #            then FCWT(..., use_optimization_plan = true)).
@@ -73,26 +76,53 @@ int main(int argc, char** argv) {
 }
 CPP
 # fCWT's own build flags (its CMakeLists.txt: -mavx -O2), one thread.
-g++ -O2 -mavx -fopenmp -std=c++17 -include cassert -include cstring -I"$FCWT_DIR/src/fcwt" \
-  "$work/driver.cpp" "$FCWT_DIR/src/fcwt/fcwt.cpp" -o "$work/fcwt" -lfftw3f -lfftw3f_omp
-# One timing: "$1" estimated|measured|patient, "$2" samples; prints fCWT's and
-# podid's seconds. Each configuration has its own fCWT wisdom folder and podid cache.
+fcwt_build() {  # "$1": output name, then the FFTW link arguments
+  local out=$1
+  shift
+  g++ -O2 -mavx -fopenmp -std=c++17 -include cassert -include cstring -I"$FCWT_DIR/src/fcwt" \
+    "$work/driver.cpp" "$FCWT_DIR/src/fcwt/fcwt.cpp" -o "$work/$out" "$@"
+}
+fcwt_build fcwt-debian -lfftw3f -lfftw3f_omp
+builds=debian
+bundled=$FCWT_DIR/libs
+if [ -f "$bundled/libfftw3fl.so" ] && [ -f "$bundled/libfftw3f_ompl.so" ]; then
+  # Its libraries carry the SONAMEs of Debian's (libfftw3f.so.3, libfftw3f_omp.so.3):
+  # links under those names keep the loader from taking Debian's instead.
+  mkdir -p "$work/lib"
+  ln -s "$bundled/libfftw3fl.so" "$work/lib/libfftw3f.so.3"
+  ln -s "$bundled/libfftw3f_ompl.so" "$work/lib/libfftw3f_omp.so.3"
+  fcwt_build fcwt-bundled -L"$bundled" -lfftw3fl -lfftw3f_ompl -Wl,-rpath,"$work/lib"
+  if ldd "$work/fcwt-bundled" | grep -q "$work/lib/libfftw3f.so.3"; then
+    builds="debian bundled"
+  else
+    echo "compare_fcwt: fCWT's bundled FFTW did not load: timed against Debian's only" >&2
+  fi
+fi
+# One timing: "$1" estimated|measured|patient, "$2" samples; prints the
+# seconds of each fCWT build (in $builds' order) and podid's. Each
+# configuration has its own fCWT wisdom folder per build and podid cache.
 time_pair() {
-  local f p flag=1 mode=m
+  local f b p flag=1 mode=m times=""
   if [ "$1" = estimated ]; then flag=0; mode=e; fi
-  mkdir -p "$work/fcwt-$1"
-  f=$(cd "$work/fcwt-$1" && "$work/fcwt" "$2" "$mode")
+  for b in $builds; do
+    mkdir -p "$work/fcwt-$b-$1"
+    f=$(cd "$work/fcwt-$b-$1" && "$work/fcwt-$b" "$2" "$mode")
+    case "$f" in *[!0-9.]* | "") echo "compare_fcwt: fCWT ($b) printed '$f'" >&2; exit 1 ;; esac
+    times="$times$f "
+  done
   p=$(XDG_CACHE_HOME="$work/cache-$1" "$build/bench/wavelet_benchmark" \
       --benchmark_filter="BM_CwtFcwtCase/$2/1/$flag" --benchmark_format=csv 2>/dev/null |
       awk -F, '/BM_CwtFcwtCase/ { print $4 / 1000 }')
-  case "$f" in *[!0-9.]* | "") echo "compare_fcwt: fCWT printed '$f'" >&2; exit 1 ;; esac
   [ -n "$p" ] || { echo "compare_fcwt: no BM_CwtFcwtCase/$2/1/$flag result" >&2; exit 1; }
-  echo "$f $p"
+  echo "$times$p"
 }
 # Wisdom for "$1" measured|patient at "$2" samples, made once outside the timing.
 make_wisdom() {
-  mkdir -p "$work/fcwt-$1"
-  (cd "$work/fcwt-$1" && "$work/fcwt" "$2" plan "$1" >/dev/null)
+  local b
+  for b in $builds; do
+    mkdir -p "$work/fcwt-$b-$1"
+    (cd "$work/fcwt-$b-$1" && "$work/fcwt-$b" "$2" plan "$1" >/dev/null)
+  done
   if [ "$1" = patient ]; then
     # fCWT's case: 300 frequencies from 1 Hz at 60 voices per octave (to 2^(299/60) Hz).
     XDG_CACHE_HOME="$work/cache-patient" "$build/apps/podid" plan --effort patient \
@@ -108,22 +138,26 @@ make_wisdom() {
     time_pair measured "$2" >/dev/null  # the first run measures and caches
   fi
 }
-printf "%-10s %-8s %12s %12s %8s\n" plans samples "fCWT (ms)" "podid (ms)" ratio
+printf "%-10s %-8s %14s %14s %12s %8s\n" plans samples "fCWT Debian" "fCWT bundled" "podid (ms)" ratio
 for plans in $plans_list; do
   case "$plans" in estimated | measured | patient) ;; *)
     echo "compare_fcwt: PLANS: expected estimated, measured or patient, got '$plans'" >&2; exit 1 ;;
   esac
   for n in 10000 100000; do
     [ "$plans" = estimated ] || make_wisdom "$plans" "$n"
-    best_f=1e9; best_p=1e9
+    best="1e9 1e9 1e9"  # fCWT Debian, fCWT bundled, podid
     for r in $(seq "$repeats"); do
       pair=$(time_pair "$plans" "$n")  # set -e: a failed timing stops the script
-      read -r f p <<<"$pair"
-      best_f=$(awk -v a="$best_f" -v b="$f" 'BEGIN { print (b < a ? b : a) }')
-      best_p=$(awk -v a="$best_p" -v b="$p" 'BEGIN { print (b < a ? b : a) }')
+      [ "$builds" = debian ] && pair="${pair%% *} 1e9 ${pair#* }"
+      best=$(awk -v a="$best" -v b="$pair" 'BEGIN {
+        split(a, x, " "); split(b, y, " ")
+        for (i = 1; i <= 3; ++i) printf "%s%s", (y[i] < x[i] ? y[i] : x[i]), (i < 3 ? " " : "\n") }')
     done
-    awk -v m="$plans" -v n="$n" -v f="$best_f" -v p="$best_p" \
-      'BEGIN { printf "%-10s %-8d %12.1f %12.1f %7.2fx\n", m, n, 1000 * f, 1000 * p, f / p }'
+    awk -v m="$plans" -v n="$n" -v t="$best" 'BEGIN {
+      split(t, x, " "); f = x[1] < x[2] ? x[1] : x[2]
+      bundled = x[2] < 1e9 ? sprintf("%14.1f", 1000 * x[2]) : sprintf("%14s", "-")
+      printf "%-10s %-8d %14.1f %s %12.1f %7.2fx\n", m, n, 1000 * x[1], bundled, 1000 * x[3], f / x[3] }'
   done
 done
-echo "ratio = fCWT CPU time / podid CPU time (> 1: podid faster); best of $repeats interleaved runs"
+echo "fCWT columns: ms with each FFTW; ratio = the faster fCWT's CPU time / podid's (> 1: podid"
+echo "faster); best of $repeats interleaved runs"
