@@ -78,6 +78,16 @@ awk -v c="$w_cwt" -v s="$w_sst" 'BEGIN { exit !(s <= c && s < 0.05) }' \
 awk -F, 'NR > 1 && $1 >= 0.3 && $1 <= 1.7 { n++
   if ($2 < 19.999 || $2 > 20.001 || $5 < 59.97 || $5 > 60.03) { print "t " $1 ": " $2 ", " $5; bad = 1; exit } }
   END { exit bad || n < 1300 }' "$out/two_sst.csv" || fail "SST ridges of two tones"
+# One tone, two SST ridges: outside the first ridge's exclusion |T| is 0, so
+# the second ridge has no cell at some times; those rows say nan (this
+# crashed with a segmentation fault before).
+awk 'BEGIN { print "t,x"; for (i = 0; i <= 2000; i++) { t = i / 1000;
+  printf "%.6f,%.12f\n", t, cos(2 * 3.141592653589793 * 40 * t) } }' >"$out/tone.csv"
+"$podid" cwt "$out/tone.csv" --channel x --ridges 2 --synchrosqueeze -o "$out/tone_sst.csv" >/dev/null \
+  || fail "one tone, --ridges 2 --synchrosqueeze exited $?"
+[ "$(wc -l <"$out/tone_sst.csv")" -eq 2002 ] || fail "one tone, two SST ridges: rows"
+awk -F, 'NR > 1 && tolower($5) == "nan" { n++ } END { exit n < 1 }' "$out/tone_sst.csv" \
+  || fail "one tone, two SST ridges: no nan row in the second ridge"
 # W (then T in its place) and the reassignment field: 24 bytes a cell
 # (5001 x 115 x 24 = 13.8 MB; W alone 9.2 MB).
 "$podid" cwt "$data" --channel w6 --synchrosqueeze --max-memory 12 2>"$out/stderr"

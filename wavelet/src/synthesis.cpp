@@ -263,8 +263,15 @@ RidgeTrack TrackSqueezedPath(const SynchrosqueezedTransform& sst,
   track.screened.setConstant(times, false);
   const Eigen::MatrixXd& field = sst.reassigned_frequency_Hz;
   constexpr Eigen::Index kReach = 3;  // bins either side of the path searched for the fixed point
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   for (Eigen::Index j = 0; j < times; ++j) {
     const Eigen::Index k = path(j);
+    if (k < 0) {  // no ridge at this time (every cell +inf: |T| = 0 outside the
+                  // earlier ridges' exclusions): no IF, as TrackRidge leaves it
+      track.grid_frequency_Hz(j) = track.frequency_Hz(j) = track.amplitude(j) = kNaN;
+      track.inside_coi(j) = false;
+      continue;
+    }
     // g(q) = ln f(s_q, t) - ln f_q decreases through 0 at the fixed point.
     const auto g = [&](Eigen::Index q) { return std::log(field(j, q) / s.frequencies_Hz(q)); };
     double best = std::numeric_limits<double>::quiet_NaN();
@@ -295,9 +302,10 @@ RidgeTrack TrackSqueezedPath(const SynchrosqueezedTransform& sst,
   // times), there is no usable IF.
   double peak = 0.0;
   for (Eigen::Index j = 0; j < times; ++j) {
-    peak = std::max(peak, std::abs(s.coefficients(j, path(j))));
+    if (path(j) >= 0) peak = std::max(peak, std::abs(s.coefficients(j, path(j))));
   }
   for (Eigen::Index j = 0; j < times; ++j) {
+    if (path(j) < 0) continue;
     if (std::isfinite(track.frequency_Hz(j)) &&
         std::abs(s.coefficients(j, path(j))) > options.min_relative_magnitude * peak) {
       continue;

@@ -102,7 +102,10 @@ RidgeTrack SynchrosqueezedRidge(const SynchrosqueezedTransform& sst,
 /// options.ridges ridges of |T| (FindRidges: strongest first, each excluding
 /// options.separation_octaves either side of those before it), each tracked
 /// as SynchrosqueezedRidge tracks the strongest; the first is
-/// SynchrosqueezedRidge's.
+/// SynchrosqueezedRidge's. |T| is 0 away from the components, so a later
+/// ridge may have times with no cell left (frequency_index -1): there, as
+/// TrackRidge leaves such times, frequency_Hz, grid_frequency_Hz and
+/// amplitude are NaN and the time is outside the cone (not screened).
 std::vector<RidgeTrack> SynchrosqueezedRidges(const SynchrosqueezedTransform& sst,
                                               const RidgeOptions& options = {});
 
