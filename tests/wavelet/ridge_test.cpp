@@ -418,5 +418,46 @@ TEST(Ridge, BadInputNamesWhatWasExpected) {
                           "expected one of max, penalised");
 }
 
+TEST(Ridge, ThePhaseIfNeedsTheTransformThatWroteTheScalogram) {
+  // TrackRidge's phase IF reads the transform's TimeDerivative, which is its
+  // last Compute()'s: with another transform's it read past the end of a
+  // shorter one (a crash) or took another signal's dW/dt (a wrong IF).
+  constexpr const char* kExpected =
+      "expected the CwtTransform whose last Compute() wrote the scalogram";
+  const Eigen::VectorXd x = (2 * kPi * 33.0 * Time().array()).cos();
+  Analysis a{CwtOptions{}}, shorter{CwtOptions{}};
+  a.transform.Compute(x, kStep, &a.scalogram);
+  shorter.transform.Compute(x.head(1001), kStep, &shorter.scalogram);
+  const Eigen::VectorXi path = FindRidges(a.scalogram, RidgeOptions{}).front();
+  EXPECT_TRUE(a.transform.Produced(a.scalogram));
+  EXPECT_FALSE(shorter.transform.Produced(a.scalogram));
+  PODID_EXPECT_THROW_WITH(TrackRidge(a.scalogram, path, RidgeOptions{}, &shorter.transform),
+                          std::invalid_argument, kExpected);
+  // The same transform after it has transformed another signal of the same
+  // length: its dW/dt is that signal's now.
+  const Scalogram first = a.scalogram;  // a copy counts as the same output
+  EXPECT_TRUE(a.transform.Produced(first));
+  const Eigen::VectorXd y = (2 * kPi * 47.0 * Time().array()).cos();
+  a.transform.Compute(y, kStep, &a.scalogram);
+  EXPECT_FALSE(a.transform.Produced(first));
+  PODID_EXPECT_THROW_WITH(TrackRidge(first, path, RidgeOptions{}, &a.transform),
+                          std::invalid_argument, kExpected);
+  // Invalid input throws before anything changes: y's scalogram stays the
+  // transform's output.
+  EXPECT_THROW(a.transform.Compute(Eigen::VectorXd::Ones(kSamples), kStep, &a.scalogram),
+               std::invalid_argument);
+  EXPECT_TRUE(a.transform.Produced(a.scalogram));
+  // The scale estimator needs no transform: any scalogram will do.
+  RidgeOptions by_scale;
+  by_scale.estimator = FrequencyEstimator::kScale;
+  EXPECT_NO_THROW(TrackRidge(first, path, by_scale, &shorter.transform));
+  // The right pair gives the tone's IF, to PureTonePhaseDerivativeIsExact's
+  // 1e-6 relative in mid-record.
+  constexpr double kTolerance = 1e-6;
+  a.transform.Compute(x, kStep, &a.scalogram);
+  const RidgeTrack track = TrackRidge(a.scalogram, path, RidgeOptions{}, &a.transform);
+  EXPECT_NEAR(track.frequency_Hz(kSamples / 2), 33.0, 33.0 * kTolerance);
+}
+
 }  // namespace
 }  // namespace podid::wavelet

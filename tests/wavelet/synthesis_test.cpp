@@ -14,6 +14,9 @@
 #include <numbers>
 #include <vector>
 
+#include "podid/wavelet/ridge.hpp"
+#include "test_support.hpp"
+
 namespace podid::wavelet {
 namespace {
 
@@ -255,6 +258,41 @@ TEST(Synchrosqueeze, ASecondRidgeWithNoFiniteCellHasNoIf) {
     if (sg.time_s(j) < 0.3 || sg.time_s(j) > 1.7) continue;
     EXPECT_NEAR(ridges[0].frequency_Hz(j), 40.0, kToneTolerance_Hz) << "t " << sg.time_s(j);
   }
+}
+
+TEST(Synchrosqueeze, NeedsTheTransformThatWroteTheScalogram) {
+  // The reassignment reads the transform's dW/dt (its last Compute()'s):
+  // another transform's read past a shorter record (a crash), a transform
+  // never run aborted, and one run since on another signal moved every
+  // coefficient by that signal's IF. Each is now an invalid argument, thrown
+  // before anything is written.
+  constexpr const char* kExpected =
+      "expected the CwtTransform whose last Compute() wrote the scalogram";
+  const Eigen::VectorXd t = Time(2001);
+  const Eigen::VectorXd x = (2 * kPi * 40.0 * t.array()).cos();
+  CwtTransform transform(TenTo120Hz()), shorter(TenTo120Hz()), idle(TenTo120Hz());
+  Scalogram sg, short_sg;
+  transform.Compute(x, kStep_s, &sg);
+  shorter.Compute(x.head(501), kStep_s, &short_sg);
+  PODID_EXPECT_THROW_WITH(Synchrosqueeze(sg, shorter), std::invalid_argument, kExpected);
+  PODID_EXPECT_THROW_WITH(Synchrosqueeze(sg, idle), std::invalid_argument, kExpected);
+  SynchrosqueezedTransform out;
+  transform.Compute(x, kStep_s, &out.sst);
+  const Scalogram w = out.sst;
+  transform.Compute((2 * kPi * 70.0 * t.array()).cos(), kStep_s, &sg);
+  PODID_EXPECT_THROW_WITH(SynchrosqueezeInPlace(transform, {}, &out), std::invalid_argument,
+                          kExpected);
+  EXPECT_TRUE(out.sst.coefficients == w.coefficients);  // nothing written
+  // T is no CWT output: its phase has no TimeDerivative, so TrackRidge's
+  // phase IF refuses it, and squeezing it again is refused too.
+  const SynchrosqueezedTransform sst = Synchrosqueeze(sg, transform);
+  EXPECT_EQ(sst.sst.computation, 0u);
+  const Eigen::VectorXi path = FindRidges(sst.sst, RidgeOptions{}).front();
+  PODID_EXPECT_THROW_WITH(TrackRidge(sst.sst, path, RidgeOptions{}, &transform),
+                          std::invalid_argument, kExpected);
+  SynchrosqueezedTransform again = sst;
+  PODID_EXPECT_THROW_WITH(SynchrosqueezeInPlace(transform, {}, &again), std::invalid_argument,
+                          kExpected);
 }
 
 TEST(Synchrosqueeze, AnImpulsesRidgeIsScreenedWhereItHasNoIf) {

@@ -2,6 +2,7 @@
 #include "podid/wavelet/cwt.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -106,6 +107,7 @@ struct CwtTransform::Impl {
   internal::FullRateCwt full_rate;                    // the full-rate path's plans and buffers
   Eigen::VectorXd coi_frequency_Hz;
   double output_scale = 1.0;  // multiplies the scaled transform into Scalogram units
+  std::uint64_t computation = 0;  // the last Compute()'s Scalogram::computation, 0: none
 
   Sizes Plan(Eigen::Index samples, double step) const;
   // Scale k's band at padded length p: bins [*a, *b] (signed; empty if *b < *a).
@@ -289,6 +291,9 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
   if (!std::isfinite(start_time_s)) {
     ThrowInvalid("Cwt: start_time_s", "a finite value", ToText(start_time_s));
   }
+  // The spectrum and layout are about to change: an earlier scalogram's
+  // TimeDerivative is gone, and if this call throws there is no new one.
+  s.computation = 0;
   if (n != s.n || step_s != s.step_s) s.Layout(n, step_s);
 
   // Scale by 2^-e (exact) to a peak in [1, 2): no overflow in the mean or
@@ -316,7 +321,11 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
   const bool unscaled = std::abs(exponent) <= kMaxUnscaledExponent;
   s.output_scale = unscaled ? std::ldexp(1.0, exponent) : 1.0;
 
+  // Process-wide: no two Compute() calls, of any transform, share a number.
+  static std::atomic<std::uint64_t> computations{0};
+  s.computation = ++computations;
   const Eigen::Index scales = s.scales_s.size();
+  out->computation = s.computation;
   out->wavelet = s.options.wavelet;
   out->frequencies_Hz = s.frequencies_Hz;
   out->scales_s = s.scales_s;
@@ -382,6 +391,12 @@ void CwtTransform::TimeDerivative(Eigen::Index frequency_index, Eigen::VectorXcd
   s.Synthesise(frequency_index, true, w);
   out->resize(s.times);
   for (Eigen::Index j = 0; j < s.times; ++j) (*out)(j) = w[j] * s.output_scale;
+}
+
+bool CwtTransform::Produced(const Scalogram& scalogram) const {
+  const Impl& s = *impl_;
+  return s.computation != 0 && scalogram.computation == s.computation &&
+         scalogram.times() == s.times && scalogram.frequencies() == s.scales_s.size();
 }
 
 Scalogram Cwt(const Eigen::Ref<const Eigen::VectorXd>& signal,

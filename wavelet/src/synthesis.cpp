@@ -44,6 +44,16 @@ void CheckComplex(const Scalogram& scalogram, const char* where) {
   }
 }
 
+// TimeDerivative's values belong to the scalogram only if its transform's
+// last Compute() wrote it: else its reassignment would use another signal's
+// dW/dt (or index past it, for another length).
+void CheckProduced(const CwtTransform& transform, const Scalogram& scalogram, const char* where) {
+  if (!transform.Produced(scalogram)) {
+    ThrowInvalid(where, "the CwtTransform whose last Compute() wrote the scalogram",
+                 "one that did not (another transform, or it has computed since)");
+  }
+}
+
 // 1 / n(s): divides kEnergy coefficients back to kAmplitude's.
 double Denormalise(const MorletWavelet& wavelet, double scale_s) {
   return wavelet.normalisation == Normalisation::kEnergy ? 1.0 / std::sqrt(scale_s) : 1.0;
@@ -61,6 +71,7 @@ void CopyAllButCoefficients(const Scalogram& from, Scalogram* to) {
   to->coefficient_scale = from.coefficient_scale;
   to->magnitude = from.magnitude;
   to->coi_frequency_Hz = from.coi_frequency_Hz;
+  to->computation = 0;  // T, not the transform's W: no TimeDerivative belongs to it
 }
 
 }  // namespace
@@ -125,7 +136,7 @@ void SqueezeInto(const Scalogram& scalogram,
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("Synchrosqueeze: " + why);
   CheckComplex(scalogram, "Synchrosqueeze: scalogram");
-  PODID_CHECK_MSG(transform.inverse_length() > 0, "Synchrosqueeze before Compute");
+  CheckProduced(transform, scalogram, "Synchrosqueeze: transform");
   const Eigen::Index times = scalogram.times(), freqs = scalogram.frequencies();
   const Eigen::VectorXd w = LogScaleWeights(scalogram.scales_s);
   const Eigen::VectorXd& f = scalogram.frequencies_Hz;
@@ -241,6 +252,7 @@ void SynchrosqueezeInPlace(const CwtTransform& transform,
   PODID_CHECK(inout != nullptr);
   SqueezeInto(inout->sst, transform, options, &inout->sst.coefficients,
               &inout->reassigned_frequency_Hz);
+  inout->sst.computation = 0;  // T now: no TimeDerivative belongs to it
 }
 
 namespace {

@@ -80,6 +80,7 @@
 
 #include <Eigen/Core>
 #include <complex>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <string>
@@ -266,6 +267,11 @@ struct Scalogram {
   /// time, coi_factor c 2 sigma_t / (2 pi distance_to_nearest_edge_s) (c: the scale
   /// convention's constant, 2 sigma_t = sqrt(2) for Morlet); +inf at the edges.
   Eigen::VectorXd coi_frequency_Hz;
+  /// Which CwtTransform::Compute() call produced the coefficients (unique in
+  /// the process; 0: none, e.g. a synchrosqueezed T). What reads the
+  /// transform's state beside them (TimeDerivative: Synchrosqueeze,
+  /// TrackRidge's phase IF) checks it with CwtTransform::Produced().
+  std::uint64_t computation = 0;
 
   Eigen::Index times() const { return time_s.size(); }
   Eigen::Index frequencies() const { return frequencies_Hz.size(); }
@@ -318,6 +324,13 @@ class CwtTransform {
   /// output times (dim n_times); computed spectrally (i w X_k), so it is exact
   /// to band_tolerance. One extra inverse FFT.
   void TimeDerivative(Eigen::Index frequency_index, Eigen::VectorXcd* out) const;
+
+  /// Whether `scalogram` is what this transform's last Compute() wrote (a
+  /// copy counts): only then do TimeDerivative's values belong to it. False
+  /// for another transform's and for one written before the last Compute();
+  /// a Compute() that rejects its input changes nothing, one that throws
+  /// after it began (a memory budget) leaves no output valid.
+  bool Produced(const Scalogram& scalogram) const;
 
   /// The FFT lengths Compute() would use for `samples` (>= 4) at step_s
   /// (> 0); throws std::invalid_argument otherwise. Nothing is planned.

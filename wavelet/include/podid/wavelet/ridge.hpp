@@ -95,8 +95,9 @@ struct RidgeTrack {
 /// Throws std::invalid_argument if !options.IsValid() or the scalogram is empty.
 std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeOptions& options);
 
-/// IF and amplitude along `path`. `transform` must be the one that computed
-/// `scalogram` (kPhase uses its TimeDerivative); it may be null for kScale.
+/// IF and amplitude along `path`. `transform` must be the one whose last
+/// Compute() wrote `scalogram` (kPhase uses its TimeDerivative;
+/// CwtTransform::Produced, else std::invalid_argument); it may be null for kScale.
 RidgeTrack TrackRidge(const Scalogram& scalogram,
                       const Eigen::VectorXi& path,
                       const RidgeOptions& options,

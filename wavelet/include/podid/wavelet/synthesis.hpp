@@ -61,8 +61,10 @@ struct SynchrosqueezedTransform {
   Eigen::MatrixXd reassigned_frequency_Hz;
 };
 
-/// `transform` must be the one that computed `scalogram` (its TimeDerivative
-/// gives dW/dt); the scalogram needs complex coefficients.
+/// `transform` must be the one whose last Compute() wrote `scalogram` (its
+/// TimeDerivative gives dW/dt; CwtTransform::Produced); the scalogram needs
+/// complex coefficients. Else std::invalid_argument. The result's sst has
+/// computation 0: T has no TimeDerivative.
 SynchrosqueezedTransform Synchrosqueeze(const Scalogram& scalogram,
                                         const CwtTransform& transform,
                                         const SynchrosqueezeOptions& options = {});
