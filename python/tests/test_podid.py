@@ -159,6 +159,18 @@ def test_synchrosqueezed_ridges_of_two_tones():
         podid.synchrosqueeze(x, step, threshold=1.5)
 
 
+def test_a_second_synchrosqueezed_ridge_of_one_tone_is_nan_where_t_is_empty():
+    # |T| of one tone is 0 outside a few bins of it: the second ridge has
+    # times with no cell (this crashed the interpreter before), which get NaN.
+    step = 1e-3
+    t = np.arange(2001) * step
+    tracks = podid.synchrosqueeze(np.cos(2 * math.pi * 40.0 * t), step).ridges(2)
+    assert len(tracks) == 2
+    assert np.isnan(tracks[1].frequency_Hz).any()
+    middle = (tracks[0].time_s >= 0.3) & (tracks[0].time_s <= 1.7)
+    assert np.max(np.abs(tracks[0].frequency_Hz[middle] - 40.0)) < SST_TONE_TOLERANCE_HZ[0]
+
+
 def test_inverse_cwt_returns_the_in_band_tone():
     step = 1e-3
     t = np.arange(2001) * step
