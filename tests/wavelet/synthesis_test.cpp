@@ -36,6 +36,19 @@ CwtOptions TenTo120Hz() {
   return o;
 }
 
+// The synchrosqueezed transform of x on TenTo120Hz's grid (its CWT into *sg).
+SynchrosqueezedTransform Squeezed(const Eigen::VectorXd& x, Scalogram* sg) {
+  CwtTransform transform(TenTo120Hz());
+  transform.Compute(x, kStep_s, sg);
+  return Synchrosqueeze(*sg, transform);
+}
+
+RidgeOptions Ridges(int count) {
+  RidgeOptions o;
+  o.ridges = count;
+  return o;
+}
+
 // Relative RMS of (y - x) over the output times where every grid frequency is
 // inside the cone of influence (widened by `widen`).
 double RelativeRmsInsideCone(const Scalogram& sg, const Eigen::VectorXd& x,
@@ -191,12 +204,9 @@ TEST(Synchrosqueeze, TwoRidgesFollowTwoTones) {
   const Eigen::VectorXd t = Time(2001);
   const Eigen::VectorXd x =
       (2 * kPi * 20.0 * t.array()).cos() + 0.5 * (2 * kPi * 60.0 * t.array()).cos();
-  CwtTransform transform(TenTo120Hz());
   Scalogram sg;
-  transform.Compute(x, kStep_s, &sg);
-  const SynchrosqueezedTransform sst = Synchrosqueeze(sg, transform);
-  RidgeOptions two;
-  two.ridges = 2;
+  const SynchrosqueezedTransform sst = Squeezed(x, &sg);
+  const RidgeOptions two = Ridges(2);
   const std::vector<RidgeTrack> ridges = SynchrosqueezedRidges(sst, two);
   ASSERT_EQ(ridges.size(), 2u);
   // The first is SynchrosqueezedRidge's, bit for bit.
@@ -227,12 +237,9 @@ TEST(Synchrosqueeze, ASecondRidgeWithNoFiniteCellHasNoIf) {
   // leaves them: NaN frequency and amplitude, outside the cone, not screened.
   const Eigen::VectorXd t = Time(2001);
   const Eigen::VectorXd x = (2 * kPi * 40.0 * t.array()).cos();
-  CwtTransform transform(TenTo120Hz());
   Scalogram sg;
-  transform.Compute(x, kStep_s, &sg);
-  const SynchrosqueezedTransform sst = Synchrosqueeze(sg, transform);
-  RidgeOptions two;
-  two.ridges = 2;
+  const SynchrosqueezedTransform sst = Squeezed(x, &sg);
+  const RidgeOptions two = Ridges(2);
   const std::vector<Eigen::VectorXi> paths = FindRidges(sst.sst, two);
   ASSERT_EQ(paths.size(), 2u);
   const Eigen::Index missing = (paths[1].array() < 0).count();
