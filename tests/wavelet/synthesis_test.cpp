@@ -146,6 +146,41 @@ TEST(InverseCwt, RejectsMagnitudeOnlyScalograms) {
   }
 }
 
+TEST(Synthesis, AHandMadeScalogramOfInconsistentSizesIsRefused) {
+  // Scalogram and SynchrosqueezedTransform are plain structs that a caller
+  // may fill or resize: what reads them by time and frequency index checks
+  // their sizes first (a short cone or scale vector, or a field of another
+  // shape, read past their ends; descending frequencies aborted
+  // Synchrosqueeze).
+  const Eigen::VectorXd x = (2 * kPi * 40.0 * Time(1001).array()).cos();
+  CwtTransform transform(TenTo120Hz());
+  Scalogram sg;
+  transform.Compute(x, kStep_s, &sg);
+  const Eigen::VectorXi path = FindRidges(sg, RidgeOptions{}).front();
+  Scalogram short_cone = sg;
+  short_cone.coi_frequency_Hz.resize(3);
+  PODID_EXPECT_THROW_WITH(TrackRidge(short_cone, path, RidgeOptions{}, &transform),
+                          std::invalid_argument, "got 115 scales and 3 cone frequencies");
+  Scalogram short_scales = sg;
+  short_scales.scales_s.resize(2);
+  PODID_EXPECT_THROW_WITH(InverseCwt(short_scales), std::invalid_argument,
+                          "got 2 scales and 1001 cone frequencies");
+  Scalogram descending = sg;
+  descending.frequencies_Hz.reverseInPlace();
+  PODID_EXPECT_THROW_WITH(Synchrosqueeze(descending, transform), std::invalid_argument,
+                          "expected frequencies_Hz finite, > 0 and ascending");
+  Scalogram short_time = sg;
+  short_time.time_s.resize(2);
+  PODID_EXPECT_THROW_WITH(FindRidges(short_time, RidgeOptions{}), std::invalid_argument,
+                          "2 x 115 as time_s and frequencies_Hz, got 1001 x 115 coefficients");
+  SynchrosqueezedTransform sst = Synchrosqueeze(sg, transform);
+  sst.reassigned_frequency_Hz.resize(3, 3);
+  PODID_EXPECT_THROW_WITH(SynchrosqueezedRidge(sst), std::invalid_argument,
+                          "expected reassigned_frequency_Hz of the shape of sst (1001 x 115)");
+  PODID_EXPECT_THROW_WITH(SynchrosqueezedRidges(sst, Ridges(2)), std::invalid_argument,
+                          "got 3 x 3");
+}
+
 TEST(Synchrosqueeze, ChirpRidgeIsAtLeastAsAccurateAsTheCwtRidge) {
   // x = cos(2 pi (20 t + 15 t^2)): f(t) = 20 + 30 t Hz over 2 s at 1 kHz.
   // Both IFs are compared with the analytic one inside the cone (coi_factor 2);

@@ -10,6 +10,7 @@
 
 #include "podid/core/error.hpp"
 #include "ridge_cost.hpp"
+#include "scalogram_check.hpp"
 
 namespace podid::wavelet {
 namespace {
@@ -33,14 +34,18 @@ Eigen::VectorXd LogScaleWeights(const Eigen::VectorXd& scales_s) {
 }
 
 void CheckComplex(const Scalogram& scalogram, const char* where) {
+  internal::CheckScalogramShape(scalogram, where);
   if (scalogram.frequencies() < 2) {
     ThrowInvalid(where, "a scalogram with at least 2 frequencies",
                  ToText(scalogram.frequencies()) + " frequencies");
   }
   if (scalogram.coefficients.rows() != scalogram.times() ||
       scalogram.coefficients.cols() != scalogram.frequencies()) {
-    ThrowInvalid(where, "complex coefficients (CwtOutput::kComplex)",
-                 "a scalogram without them");
+    ThrowInvalid(where,
+                 "complex coefficients (CwtOutput::kComplex), " + ToText(scalogram.times()) +
+                     " x " + ToText(scalogram.frequencies()) + " as time_s and frequencies_Hz",
+                 ToText(scalogram.coefficients.rows()) + " x " +
+                     ToText(scalogram.coefficients.cols()) + " coefficients");
   }
 }
 
@@ -329,10 +334,23 @@ RidgeTrack TrackSqueezedPath(const SynchrosqueezedTransform& sst,
   return track;
 }
 
+// The field must be T's: a SynchrosqueezedTransform is a plain struct, which
+// a caller may fill (or resize) by hand.
+void CheckField(const SynchrosqueezedTransform& sst, const char* where) {
+  const Eigen::MatrixXd& field = sst.reassigned_frequency_Hz;
+  if (field.rows() != sst.sst.times() || field.cols() != sst.sst.frequencies()) {
+    ThrowInvalid(where,
+                 "reassigned_frequency_Hz of the shape of sst (" + ToText(sst.sst.times()) + " x " +
+                     ToText(sst.sst.frequencies()) + "), as Synchrosqueeze writes it",
+                 ToText(field.rows()) + " x " + ToText(field.cols()));
+  }
+}
+
 }  // namespace
 
 std::vector<RidgeTrack> SynchrosqueezedRidges(const SynchrosqueezedTransform& sst,
                                               const RidgeOptions& options) {
+  CheckField(sst, "SynchrosqueezedRidges: sst");
   std::vector<RidgeTrack> tracks;
   for (const Eigen::VectorXi& path : FindRidges(sst.sst, options)) {
     tracks.push_back(TrackSqueezedPath(sst, path, options));
@@ -341,6 +359,7 @@ std::vector<RidgeTrack> SynchrosqueezedRidges(const SynchrosqueezedTransform& ss
 }
 
 RidgeTrack SynchrosqueezedRidge(const SynchrosqueezedTransform& sst, const RidgeOptions& options) {
+  CheckField(sst, "SynchrosqueezedRidge: sst");
   RidgeOptions one = options;
   one.ridges = 1;
   return TrackSqueezedPath(sst, FindRidges(sst.sst, one).front(), options);

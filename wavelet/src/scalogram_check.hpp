@@ -1,0 +1,34 @@
+#pragma once
+// The shape checks of what reads a Scalogram (ridges, inverse,
+// synchrosqueezing): a Scalogram is a plain struct that a caller may fill or
+// resize by hand, and its vectors are indexed by time and frequency.
+
+#include <cmath>
+
+#include "podid/core/error.hpp"
+#include "podid/wavelet/cwt.hpp"
+
+namespace podid::wavelet::internal {
+
+/// Throws std::invalid_argument naming `where` unless scales_s has one entry
+/// per frequency, coi_frequency_Hz one per output time and frequencies_Hz
+/// ascends from above 0, as Compute() writes them.
+inline void CheckScalogramShape(const Scalogram& scalogram, const char* where) {
+  const Eigen::Index times = scalogram.times(), freqs = scalogram.frequencies();
+  for (Eigen::Index k = 0; k < freqs; ++k) {
+    const double f = scalogram.frequencies_Hz(k);
+    if (!(f > (k > 0 ? scalogram.frequencies_Hz(k - 1) : 0.0)) || !std::isfinite(f)) {
+      ThrowInvalid(where, "frequencies_Hz finite, > 0 and ascending, as Compute() writes them",
+                   "frequencies_Hz(" + ToText(k) + ") = " + ToText(f));
+    }
+  }
+  if (scalogram.scales_s.size() != freqs || scalogram.coi_frequency_Hz.size() != times) {
+    ThrowInvalid(where,
+                 "scales_s (" + ToText(freqs) + " frequencies) and coi_frequency_Hz (" +
+                     ToText(times) + " times) of the scalogram's own sizes, as Compute() writes them",
+                 ToText(scalogram.scales_s.size()) + " scales and " +
+                     ToText(scalogram.coi_frequency_Hz.size()) + " cone frequencies");
+  }
+}
+
+}  // namespace podid::wavelet::internal
