@@ -447,6 +447,13 @@ TEST(Ridge, ThePhaseIfNeedsTheTransformThatWroteTheScalogram) {
   EXPECT_THROW(a.transform.Compute(Eigen::VectorXd::Ones(kSamples), kStep, &a.scalogram),
                std::invalid_argument);
   EXPECT_TRUE(a.transform.Produced(a.scalogram));
+  // TimeDerivative itself: a frequency index outside the grid, and a
+  // transform never run, are invalid arguments (they aborted).
+  Eigen::VectorXcd derivative;
+  PODID_EXPECT_THROW_WITH(a.transform.TimeDerivative(a.scalogram.frequencies(), &derivative),
+                          std::invalid_argument, "frequency_index: expected 0..");
+  PODID_EXPECT_THROW_WITH(CwtTransform(CwtOptions{}).TimeDerivative(0, &derivative),
+                          std::invalid_argument, "expected a Compute() that succeeded first");
   // The scale estimator needs no transform: any scalogram will do.
   RidgeOptions by_scale;
   by_scale.estimator = FrequencyEstimator::kScale;

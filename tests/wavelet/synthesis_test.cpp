@@ -335,6 +335,10 @@ TEST(Synchrosqueeze, NeedsTheTransformThatWroteTheScalogram) {
   SynchrosqueezedTransform again = sst;
   PODID_EXPECT_THROW_WITH(SynchrosqueezeInPlace(transform, {}, &again), std::invalid_argument,
                           kExpected);
+  // Out of place into the scalogram itself: refused, not aborted.
+  transform.Compute(x, kStep_s, &again.sst);
+  PODID_EXPECT_THROW_WITH(Synchrosqueeze(again.sst, transform, {}, &again), std::invalid_argument,
+                          "in place: SynchrosqueezeInPlace");
 }
 
 TEST(Synchrosqueeze, AnImpulsesRidgeIsScreenedWhereItHasNoIf) {

@@ -385,8 +385,13 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
 void CwtTransform::TimeDerivative(Eigen::Index frequency_index, Eigen::VectorXcd* out) const {
   PODID_CHECK(out != nullptr);
   const Impl& s = *impl_;
-  PODID_CHECK_MSG(s.n > 0, "TimeDerivative before Compute");
-  PODID_CHECK(frequency_index >= 0 && frequency_index < s.scales_s.size());
+  if (s.computation == 0) {
+    ThrowInvalid("TimeDerivative: transform", "a Compute() that succeeded first", "none");
+  }
+  if (frequency_index < 0 || frequency_index >= s.scales_s.size()) {
+    ThrowInvalid("TimeDerivative: frequency_index", "0.." + ToText(s.scales_s.size() - 1),
+                 ToText(frequency_index));
+  }
   Complex* w = s.work.front().get();
   s.Synthesise(frequency_index, true, w);
   out->resize(s.times);

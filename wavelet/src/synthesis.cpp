@@ -246,7 +246,11 @@ void Synchrosqueeze(const Scalogram& scalogram,
   // Into out's own memory: no allocation (and no page to fault in) when
   // the sizes repeat. The scalogram's coefficients are not copied: T is
   // written block by block.
-  PODID_CHECK_MSG(&out->sst != &scalogram, "Synchrosqueeze: the output aliases the scalogram");
+  if (&out->sst == &scalogram) {  // T would overwrite the W it is built from
+    ThrowInvalid("Synchrosqueeze: out",
+                 "an output apart from the scalogram (in place: SynchrosqueezeInPlace)",
+                 "out->sst is the scalogram");
+  }
   SqueezeInto(scalogram, transform, options, &out->sst.coefficients, &out->reassigned_frequency_Hz);
   CopyAllButCoefficients(scalogram, &out->sst);
 }

@@ -322,7 +322,8 @@ class CwtTransform {
   /// dW/dt (units of W per s, divided by coefficient_scale like the
   /// coefficients) at frequency index k of the last Compute(), at the same
   /// output times (dim n_times); computed spectrally (i w X_k), so it is exact
-  /// to band_tolerance. One extra inverse FFT.
+  /// to band_tolerance. One extra inverse FFT. Throws std::invalid_argument
+  /// before a Compute() has succeeded or for k outside 0..n_freq - 1.
   void TimeDerivative(Eigen::Index frequency_index, Eigen::VectorXcd* out) const;
 
   /// Whether `scalogram` is what this transform's last Compute() wrote (a
