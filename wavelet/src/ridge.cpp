@@ -160,12 +160,8 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
     ThrowInvalid("TrackRidge: transform", "the CwtTransform that computed the scalogram (kPhase)",
                  "null");
   }
-  // Its TimeDerivative must be the scalogram's: else the IF would be another
-  // signal's (or read past it, for another length).
-  if (options.estimator == FrequencyEstimator::kPhase && !transform->Produced(scalogram)) {
-    ThrowInvalid("TrackRidge: transform",
-                 "the CwtTransform whose last Compute() wrote the scalogram (kPhase)",
-                 "one that did not (another transform, or it has computed since)");
+  if (options.estimator == FrequencyEstimator::kPhase) {
+    internal::CheckProduced(*transform, scalogram, "TrackRidge: transform (kPhase)");
   }
   const MorletWavelet& wavelet = scalogram.wavelet;
   const double kappa = wavelet.RidgeAngularFrequency();

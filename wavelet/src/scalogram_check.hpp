@@ -1,7 +1,8 @@
 #pragma once
-// The shape checks of what reads a Scalogram (ridges, inverse,
-// synchrosqueezing): a Scalogram is a plain struct that a caller may fill or
-// resize by hand, and its vectors are indexed by time and frequency.
+// The checks of what reads a Scalogram (ridges, inverse, synchrosqueezing):
+// a Scalogram is a plain struct that a caller may fill or resize by hand, its
+// vectors are indexed by time and frequency, and its dW/dt is its
+// transform's last Compute()'s.
 
 #include <cmath>
 
@@ -28,6 +29,19 @@ inline void CheckScalogramShape(const Scalogram& scalogram, const char* where) {
                      ToText(times) + " times) of the scalogram's own sizes, as Compute() writes them",
                  ToText(scalogram.scales_s.size()) + " scales and " +
                      ToText(scalogram.coi_frequency_Hz.size()) + " cone frequencies");
+  }
+}
+
+/// TimeDerivative's values belong to the scalogram only if the transform's
+/// last Compute() wrote it (CwtTransform::Produced): else what reads them
+/// (the reassignment, the phase IF) would use another signal's dW/dt, or
+/// index past it for another length. Throws std::invalid_argument naming `where`.
+inline void CheckProduced(const CwtTransform& transform,
+                          const Scalogram& scalogram,
+                          const char* where) {
+  if (!transform.Produced(scalogram)) {
+    ThrowInvalid(where, "the CwtTransform whose last Compute() wrote the scalogram",
+                 "one that did not (another transform, or it has computed since)");
   }
 }
 

@@ -16,6 +16,7 @@ namespace podid::wavelet {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Synchrosqueeze's pass 2 works on blocks of T of about this size (rows x
 // frequencies x 16 bytes): well inside a 1 MiB L2 cache, beside the
 // columns of W and of the field it reads.
@@ -46,16 +47,6 @@ void CheckComplex(const Scalogram& scalogram, const char* where) {
                      " x " + ToText(scalogram.frequencies()) + " as time_s and frequencies_Hz",
                  ToText(scalogram.coefficients.rows()) + " x " +
                      ToText(scalogram.coefficients.cols()) + " coefficients");
-  }
-}
-
-// TimeDerivative's values belong to the scalogram only if its transform's
-// last Compute() wrote it: else its reassignment would use another signal's
-// dW/dt (or index past it, for another length).
-void CheckProduced(const CwtTransform& transform, const Scalogram& scalogram, const char* where) {
-  if (!transform.Produced(scalogram)) {
-    ThrowInvalid(where, "the CwtTransform whose last Compute() wrote the scalogram",
-                 "one that did not (another transform, or it has computed since)");
   }
 }
 
@@ -141,7 +132,7 @@ void SqueezeInto(const Scalogram& scalogram,
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("Synchrosqueeze: " + why);
   CheckComplex(scalogram, "Synchrosqueeze: scalogram");
-  CheckProduced(transform, scalogram, "Synchrosqueeze: transform");
+  internal::CheckProduced(transform, scalogram, "Synchrosqueeze: transform");
   const Eigen::Index times = scalogram.times(), freqs = scalogram.frequencies();
   const Eigen::VectorXd w = LogScaleWeights(scalogram.scales_s);
   const Eigen::VectorXd& f = scalogram.frequencies_Hz;
@@ -173,7 +164,6 @@ void SqueezeInto(const Scalogram& scalogram,
   // IF of every coefficient above the threshold, f = Im(conj(W) dW/dt) /
   // (2 pi |W|^2); NaN below it, or where f is not positive (such a
   // coefficient stays where it is).
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   Eigen::VectorXcd derivative;
   for (Eigen::Index k = 0; k < freqs; ++k) {
     transform.TimeDerivative(k, &derivative);
@@ -284,7 +274,6 @@ RidgeTrack TrackSqueezedPath(const SynchrosqueezedTransform& sst,
   track.screened.setConstant(times, false);
   const Eigen::MatrixXd& field = sst.reassigned_frequency_Hz;
   constexpr Eigen::Index kReach = 3;  // bins either side of the path searched for the fixed point
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   for (Eigen::Index j = 0; j < times; ++j) {
     const Eigen::Index k = path(j);
     if (k < 0) {  // no ridge at this time (every cell +inf: |T| = 0 outside the
@@ -295,7 +284,7 @@ RidgeTrack TrackSqueezedPath(const SynchrosqueezedTransform& sst,
     }
     // g(q) = ln f(s_q, t) - ln f_q decreases through 0 at the fixed point.
     const auto g = [&](Eigen::Index q) { return std::log(field(j, q) / s.frequencies_Hz(q)); };
-    double best = std::numeric_limits<double>::quiet_NaN();
+    double best = kNaN;
     Eigen::Index best_distance = kReach + 1;
     for (Eigen::Index q = std::max<Eigen::Index>(0, k - kReach);
          q < std::min<Eigen::Index>(freqs - 1, k + kReach); ++q) {
@@ -333,7 +322,7 @@ RidgeTrack TrackSqueezedPath(const SynchrosqueezedTransform& sst,
     }
     track.screened(j) = true;
     track.inside_coi(j) = false;
-    track.frequency_Hz(j) = std::numeric_limits<double>::quiet_NaN();
+    track.frequency_Hz(j) = kNaN;
   }
   return track;
 }
