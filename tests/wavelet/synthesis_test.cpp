@@ -141,7 +141,8 @@ TEST(InverseCwt, RejectsMagnitudeOnlyScalograms) {
     InverseCwt(sg);
     FAIL() << "no exception";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("expected complex coefficients"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("expected a computed scalogram with complex coefficients"),
+              std::string::npos)
         << e.what();
   }
 }

@@ -68,15 +68,7 @@ std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeO
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
   const Eigen::Index times = scalogram.times(), freqs = scalogram.frequencies();
-  if (times < 1 || freqs < 1 || scalogram.coefficients.rows() != times ||
-      scalogram.coefficients.cols() != freqs) {
-    ThrowInvalid("FindRidges: scalogram",
-                 "a computed scalogram with complex coefficients (CwtOutput::kComplex), " +
-                     ToText(times) + " x " + ToText(freqs) + " as time_s and frequencies_Hz",
-                 ToText(scalogram.coefficients.rows()) + " x " +
-                     ToText(scalogram.coefficients.cols()) + " coefficients");
-  }
-  internal::CheckScalogramShape(scalogram, "FindRidges: scalogram");
+  internal::CheckComplexScalogram(scalogram, "FindRidges: scalogram");
   // cost(k, j) = -log|W(j, k)| + const, frequency-major for the per-time
   // sweeps. W is first scaled by a power of 2 (exact) to a peak of about 1 so
   // that |W|^2 neither overflows nor underflows (any finite W, e.g. from a
@@ -138,14 +130,7 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
   const Eigen::Index times = scalogram.times(), freqs = scalogram.frequencies();
-  if (scalogram.coefficients.rows() != times || scalogram.coefficients.cols() != freqs) {
-    ThrowInvalid("TrackRidge: scalogram",
-                 "a computed scalogram with complex coefficients (CwtOutput::kComplex), " +
-                     ToText(times) + " x " + ToText(freqs) + " as time_s and frequencies_Hz",
-                 ToText(scalogram.coefficients.rows()) + " x " +
-                     ToText(scalogram.coefficients.cols()) + " coefficients");
-  }
-  internal::CheckScalogramShape(scalogram, "TrackRidge: scalogram");
+  internal::CheckComplexScalogram(scalogram, "TrackRidge: scalogram");
   if (path.size() != times) {
     ThrowInvalid("TrackRidge: path", "one index per output time (" + ToText(times) + ")",
                  ToText(path.size()));

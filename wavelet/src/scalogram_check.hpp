@@ -32,6 +32,22 @@ inline void CheckScalogramShape(const Scalogram& scalogram, const char* where) {
   }
 }
 
+/// CheckScalogramShape, after the coefficients: complex (CwtOutput::kComplex,
+/// the only output with a phase), one row per output time and one column per
+/// frequency. What reads W (ridges, inverse, synchrosqueezing) calls it first.
+inline void CheckComplexScalogram(const Scalogram& scalogram, const char* where) {
+  const Eigen::Index times = scalogram.times(), freqs = scalogram.frequencies();
+  if (times < 1 || freqs < 1 || scalogram.coefficients.rows() != times ||
+      scalogram.coefficients.cols() != freqs) {
+    ThrowInvalid(where,
+                 "a computed scalogram with complex coefficients (CwtOutput::kComplex), " +
+                     ToText(times) + " x " + ToText(freqs) + " as time_s and frequencies_Hz",
+                 ToText(scalogram.coefficients.rows()) + " x " +
+                     ToText(scalogram.coefficients.cols()) + " coefficients");
+  }
+  CheckScalogramShape(scalogram, where);
+}
+
 /// TimeDerivative's values belong to the scalogram only if the transform's
 /// last Compute() wrote it (CwtTransform::Produced): else what reads them
 /// (the reassignment, the phase IF) would use another signal's dW/dt, or

@@ -35,19 +35,11 @@ Eigen::VectorXd LogScaleWeights(const Eigen::VectorXd& scales_s) {
 }
 
 void CheckComplex(const Scalogram& scalogram, const char* where) {
-  internal::CheckScalogramShape(scalogram, where);
   if (scalogram.frequencies() < 2) {
     ThrowInvalid(where, "a scalogram with at least 2 frequencies",
                  ToText(scalogram.frequencies()) + " frequencies");
   }
-  if (scalogram.coefficients.rows() != scalogram.times() ||
-      scalogram.coefficients.cols() != scalogram.frequencies()) {
-    ThrowInvalid(where,
-                 "complex coefficients (CwtOutput::kComplex), " + ToText(scalogram.times()) +
-                     " x " + ToText(scalogram.frequencies()) + " as time_s and frequencies_Hz",
-                 ToText(scalogram.coefficients.rows()) + " x " +
-                     ToText(scalogram.coefficients.cols()) + " coefficients");
-  }
+  internal::CheckComplexScalogram(scalogram, where);
 }
 
 // 1 / n(s): divides kEnergy coefficients back to kAmplitude's.
