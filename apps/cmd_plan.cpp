@@ -2,6 +2,7 @@
 // so that later `podid cwt` / `identify` runs plan nothing (docs/wavelet.md,
 // "Planning").
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <set>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "data_arguments.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
 #include "podid/wavelet/cwt.hpp"
@@ -23,8 +25,12 @@ constexpr std::size_t kMaxRecords = 64;
 
 struct PlanArguments {
   std::vector<std::string> data;
+  // As cwt reads DATA (--rate / --step for a file without time, --window,
+  // --decimate...): the same record length and step, so the same plans.
+  DataArguments reading;
   std::vector<long> samples;
   double fs_Hz = 0.0;
+  CLI::Option* fs_option = nullptr;
   double fmin_Hz = 10.0;
   double fmax_Hz = 120.0;
   int voices = 32;
@@ -36,12 +42,20 @@ struct PlanArguments {
 void Run(const PlanArguments& a) {
   // (samples, step) of every record to plan for.
   std::vector<std::pair<long, double>> records;
-  for (const std::string& path : a.data) {
-    const TimeSeries series = ReadTimeSeries(path);
-    records.emplace_back(static_cast<long>(series.samples()), series.step_s());
+  const bool fs_given = a.fs_option->count() > 0;
+  if (fs_given && !(a.fs_Hz > 0.0 && std::isfinite(a.fs_Hz))) {
+    ThrowInvalid("plan --fs", "a finite sampling frequency > 0 Hz", ToText(a.fs_Hz));
   }
-  if (!a.samples.empty() && !(a.fs_Hz > 0.0)) {
+  if (!a.samples.empty() && !fs_given) {
     ThrowInvalid("plan --samples", "--fs HZ (the sampling frequency) as well", "no --fs");
+  }
+  if (fs_given && a.samples.empty()) {
+    ThrowInvalid("plan --fs", "--samples N (the record lengths at that frequency) as well",
+                 "no --samples");
+  }
+  for (const std::string& path : a.data) {
+    const TimeSeries series = a.reading.ReadConditioned(path);
+    records.emplace_back(static_cast<long>(series.samples()), series.step_s());
   }
   for (long n : a.samples) {
     if (n < 4 || n > kMaxSamples) {
@@ -117,10 +131,12 @@ void AddPlanCommand(CLI::App& app) {
       "time, into the cache $XDG_CACHE_HOME/podid (else ~/.cache/podid). Without it each\n"
       "process uses quick estimated plans. docs/wavelet.md, \"Planning\"");
   command->add_option("data", a->data,
-                      "Time series (.csv or .mat) whose length and step to plan for");
+                      "Time series (.csv, .mat, .uff or .unv) whose length and step to plan for,\n"
+                      "read and conditioned with the data options below as cwt reads them");
+  a->reading.AddTo(*command);
   command->add_option("--samples", a->samples, "Record lengths N[,N...] (4..67108864), with --fs")
       ->delimiter(',');
-  command->add_option("--fs", a->fs_Hz, "Sampling frequency (Hz) of --samples");
+  a->fs_option = command->add_option("--fs", a->fs_Hz, "Sampling frequency (Hz) of --samples");
   command->add_option("--fmin", a->fmin_Hz, "Lowest analysis frequency (Hz), as for cwt")
       ->capture_default_str();
   command->add_option("--fmax", a->fmax_Hz, "Highest analysis frequency (Hz), capped at Nyquist")

@@ -26,6 +26,21 @@ ls "$out/cache/podid" | grep -qv '^fftw3-wisdom$' && fail "temporary files left 
 grep -q "expected --fs HZ" "$out/stderr" || fail "--fs message"
 "$podid" plan --samples 3 --fs 100 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--samples 3 not exit 1"
+# A given --fs must be a finite rate > 0 (-5 was reported as "no --fs", inf
+# as an internal step_s of 0); --fs without --samples plans nothing.
+for fs in -5 0 nan inf; do
+  "$podid" plan --samples 999 --fs "$fs" 2>"$out/stderr"
+  [ $? -eq 1 ] || fail "--fs $fs not exit 1"
+  grep -q "plan --fs: expected a finite sampling frequency > 0 Hz, got $fs" "$out/stderr" ||
+    fail "--fs $fs message: $(cat "$out/stderr")"
+done
+"$podid" plan "$data" --fs 1000 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--fs without --samples not exit 1"
+grep -q "expected --samples N" "$out/stderr" || fail "--fs without --samples: $(cat "$out/stderr")"
+# DATA is read as cwt reads it: --decimate 2 halves the record (5001 -> 2501
+# samples), so cwt's zero padding plans 4608 points instead of 9216.
+"$podid" plan "$data" --decimate 2 --padding zero >"$out/plan7" || fail "plan --decimate exited $?"
+grep -q "FFT lengths 4608 real" "$out/plan7" || fail "plan --decimate: $(cat "$out/plan7")"
 "$podid" plan --samples 999 --fs 1000 --effort fast 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--effort fast not exit 1"
 grep -q "effort: fast not in {measure,patient}" "$out/stderr" || fail "--effort message: $(cat "$out/stderr")"
