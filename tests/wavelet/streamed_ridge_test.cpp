@@ -113,6 +113,33 @@ TEST(StreamedRidge, OneBlockEqualsTheWholeScalogramPath) {
   EXPECT_LE(d.amplitude, kTolerance);
 }
 
+TEST(StreamedRidge, AWaveletLongerThanTheRecordIsOneBlock) {
+  // Blocks overlap by the wavelet's support at the lowest frequency; at a
+  // step of 1e-300 s that is about 1e299 samples and overflowed an index
+  // (UBSan: `podid cwt --step 1e-300`). Overlaps longer than the record save
+  // nothing, so such a record is one block, laid out as with a block_cells
+  // large enough for the whole scalogram: the same track bit for bit.
+  const Eigen::VectorXd x = Decay(5001, 3);
+  for (double step_s : {1e-300, kStep / 100.0}) {  // the second: 0.01 s against a 0.3 s wavelet
+    SCOPED_TRACE(step_s);
+    RidgeFrequencyOptions small, large;
+    small.block_cells = 4096;
+    small.cwt.band_limited = large.cwt.band_limited = false;  // full rate: 5001 output times
+    large.block_cells = 1 << 26;  // its upper bound: every scalogram here in one
+    RidgeFrequencyEstimator blocked(small), whole(large);
+    const RidgeTrack a = blocked.Estimate(x, step_s);
+    EXPECT_EQ(blocked.blocks(), 1);
+    const RidgeTrack b = whole.Estimate(x, step_s);
+    EXPECT_EQ(a.frequency_index, b.frequency_index);
+    const auto same = [](const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
+      return u.size() == v.size() &&
+             (u.array() == v.array() || (u.array().isNaN() && v.array().isNaN())).all();
+    };
+    EXPECT_TRUE(same(a.frequency_Hz, b.frequency_Hz));
+    EXPECT_TRUE(same(a.amplitude, b.amplitude));
+  }
+}
+
 TEST(StreamedRidge, BlocksEqualTheWholeRecordTransformAtBoundariesAndBorders) {
   // 20-120 Hz keeps the padded length above N + 2 supports, where each
   // padding's transform is that of the record's extension (even, zero,

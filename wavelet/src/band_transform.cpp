@@ -99,7 +99,14 @@ BandTransform::Shape BandTransform::Plan(Eigen::Index samples, double step_s, do
   z.times = (samples - 1) / z.d + 1;
   const double freqs = static_cast<double>(scales_s_.size());
   Eigen::Index widest = 0;
-  if (static_cast<double>(z.times) * freqs <= max_block_cells) {
+  const double radius = SupportRadius(
+      time_spread_, options_.wavelet.family == WaveletFamily::kMorse, options_.band_tolerance);
+  const double support_samples = std::ceil(radius * scales_s_.maxCoeff() / step_s);
+  // One block for a small scalogram, and for a wavelet longer than the record
+  // (overlaps of more than the record save nothing; at a step such as 1e-300 s
+  // the support in samples overflowed the index): the memory budget decides.
+  if (static_cast<double>(z.times) * freqs <= max_block_cells ||
+      !(support_samples < static_cast<double>(samples))) {
     z.blocks = 1;
     z.block_times = z.times;
     z.pb = z.p;
@@ -107,9 +114,7 @@ BandTransform::Shape BandTransform::Plan(Eigen::Index samples, double step_s, do
     z.filter_bins = FilterBins(z.p, step_s, &widest);
     return z;
   }
-  const double radius = SupportRadius(time_spread_, options_.wavelet.family == WaveletFamily::kMorse,
-                                      options_.band_tolerance);
-  const Eigen::Index support = static_cast<Eigen::Index>(std::ceil(radius * scales_s_.maxCoeff() / step_s));
+  const auto support = static_cast<Eigen::Index>(support_samples);
   const Eigen::Index overlap = (support + z.d) / z.d;  // output steps, > support / D
   z.h = overlap * z.d;
   const Eigen::Index by_cells =
