@@ -4,8 +4,9 @@
 //
 // The output grid is CwtTransform's: padded length P, inverse length M,
 // decimation D = P / M, output time j at input sample j D. A record whose
-// scalogram is small is one block laid out exactly as CwtTransform lays it out
-// (the same padded sequence, filters and FFTs). A longer one is cut into
+// scalogram is small, or that is shorter than the wavelet's support, is one
+// block laid out exactly as CwtTransform lays it out (the same padded
+// sequence, filters and FFTs). A longer one is cut into
 // blocks of L output times; block b transforms the input samples
 // [b L D - H, b L D - H + Pb) of the record's extension (reflect: the infinite
 // even extension; zero: zeros; periodic: the record repeated), with the

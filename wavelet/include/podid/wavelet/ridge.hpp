@@ -151,7 +151,8 @@ struct RidgeFrequencyOptions {
 /// Streamed (unless keep_scalogram): the band-limited transform runs over
 /// blocks of output times with an overlap of the wavelet's support at the
 /// lowest frequency (one block when the scalogram has at most block_cells
-/// cells, as for 5001 samples at 10-120 Hz); the dynamic
+/// cells, as for 5001 samples at 10-120 Hz, or when that support is longer
+/// than the record); the dynamic
 /// programme takes one time column at a time and keeps a back-pointer per
 /// cell (1 byte up to 255 frequencies, 2 up to 65535); the IF is then
 /// computed block by block along the chosen path, recomputing W and dW/dt
