@@ -1,5 +1,6 @@
 #include "data_arguments.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -118,11 +119,15 @@ DataReadOptions DataArguments::Options() const {
   options.rate_Hz = rate_Hz;
   options.step_s = step_s;
   options.channels = ChannelList();
-  if (rate_option_ != nullptr && rate_option_->count() > 0 && !(rate_Hz > 0.0)) {
-    ThrowInvalid(rate_option_->get_name(), "a sampling rate > 0 Hz", ToText(rate_Hz));
+  // A subnormal value (1e-320) has an infinite reciprocal (IsSamplingStep).
+  if (rate_option_ != nullptr && rate_option_->count() > 0 &&
+      !(rate_Hz > 0.0 && std::isfinite(rate_Hz) && IsSamplingStep(1.0 / rate_Hz))) {
+    ThrowInvalid(rate_option_->get_name(),
+                 "a finite sampling rate > 0 Hz with a finite step 1 / rate", ToText(rate_Hz));
   }
-  if (step_option_ != nullptr && step_option_->count() > 0 && !(step_s > 0.0)) {
-    ThrowInvalid(step_option_->get_name(), "a sampling step > 0 s", ToText(step_s));
+  if (step_option_ != nullptr && step_option_->count() > 0 && !IsSamplingStep(step_s)) {
+    ThrowInvalid(step_option_->get_name(),
+                 "a finite sampling step > 0 s with a finite rate 1 / step", ToText(step_s));
   }
   options.Check();
   return options;

@@ -358,6 +358,13 @@ DataSpec ReadData(const CaseDocument::Impl& doc) {
   }
   data.rate_Hz = s.Real("rate", Positive("Hz"), 0.0);
   data.step_s = s.Real("step", Positive("s"), 0.0);
+  // A subnormal step (1e-320 s) or rate has an infinite reciprocal (time_series.hpp).
+  if (data.step_s > 0.0 && !IsSamplingStep(data.step_s)) {
+    s.Fail("step", "a step whose rate 1 / step is finite (s)", FormatReal(data.step_s));
+  }
+  if (data.rate_Hz > 0.0 && !IsSamplingStep(1.0 / data.rate_Hz)) {
+    s.Fail("rate", "a rate whose step 1 / rate is finite (Hz)", FormatReal(data.rate_Hz));
+  }
   ConditioningOptions& c = data.conditioning;
   if (s.Has("channels")) {
     c.channels = s.StringArray("channels", 0);

@@ -82,6 +82,10 @@ UniformGrid FitUniformGrid(const double* t,
   const double b = sxy / sxx;
   const double a = mean_u - b * mean_i;
   UniformGrid grid{t[0] + a, h0 + b};
+  if (!IsSamplingStep(grid.step_s)) {  // increasing stamps 1e-320 s apart, say
+    ThrowInvalid(where(1), "a time step whose rate 1 / step is finite",
+                 "a step of " + ToText(grid.step_s) + " s");
+  }
   for (std::size_t i = 0; i < n; ++i) {
     const double on_grid = grid.start_s + static_cast<double>(i) * grid.step_s;
     const double off = t[i] - on_grid;
@@ -110,6 +114,10 @@ Eigen::VectorXd UniformTimes(double start_s,
   constexpr double kResolved = 500.0 * std::numeric_limits<double>::epsilon();
   const double end_s = start_s + static_cast<double>(n > 0 ? n - 1 : 0) * step_s;
   const double largest = std::max(std::abs(start_s), std::abs(end_s));
+  if (step_s > 0.0 && !IsSamplingStep(step_s)) {  // 1e-320 s: an infinite rate
+    ThrowInvalid(where, "a time step whose rate 1 / step is finite",
+                 "a step of " + ToText(step_s) + " s");
+  }
   if (!std::isfinite(start_s) || !(step_s > 0.0) || !std::isfinite(end_s) ||
       !(step_s >= kResolved * largest)) {
     ThrowInvalid(where,
@@ -223,8 +231,9 @@ void DataReadOptions::Check() const {
       !(rate_Hz > 0.0 && std::isfinite(rate_Hz) && std::isfinite(1.0 / rate_Hz))) {
     ThrowInvalid("sampling rate", "a finite rate > 0 Hz", ToText(rate_Hz));
   }
-  if (step_s != 0.0 && !(step_s > 0.0 && std::isfinite(step_s))) {
-    ThrowInvalid("sampling step", "a finite step > 0 s", ToText(step_s));
+  if (step_s != 0.0 && !IsSamplingStep(step_s)) {
+    ThrowInvalid("sampling step", "a finite step > 0 s whose rate 1 / step is finite",
+                 ToText(step_s));
   }
   if (channels.size() > kMaxSelectedChannels) {
     ThrowInvalid("channels", "at most " + std::to_string(kMaxSelectedChannels) + " names",

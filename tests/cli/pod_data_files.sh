@@ -149,5 +149,10 @@ grep -q "expected a variable 'nope' (variables: Signal_0, Signal_1, Signal_2), g
 grep -q 'expected a channel "9+X" (channels: 1+Z, 2-Y, 3+X, 4+Z), got none' "$out/err" \
   || fail "channel message: $(cat "$out/err")"
 "$podid" pod "$data/uff_four_accelerations_58.uff" --rate 0 2>"$out/err" && fail "--rate 0 accepted"
-grep -q "expected a sampling rate > 0 Hz, got 0" "$out/err" || fail "rate message: $(cat "$out/err")"
+grep -q "expected a finite sampling rate > 0 Hz with a finite step 1 / rate, got 0" "$out/err" ||
+  fail "rate message: $(cat "$out/err")"
+# A subnormal step has an infinite rate (fs was printed as inf).
+"$podid" pod "$data/uff_four_accelerations_58.uff" --step 1e-320 2>"$out/err" && fail "--step 1e-320 accepted"
+grep -q -- "--step: expected a finite sampling step > 0 s with a finite rate 1 / step, got 9.999888672e-321" \
+  "$out/err" || fail "step message: $(cat "$out/err")"
 echo "pod data files: ok"

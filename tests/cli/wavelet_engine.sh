@@ -27,13 +27,20 @@ grep -q "expected --fs HZ" "$out/stderr" || fail "--fs message"
 "$podid" plan --samples 3 --fs 100 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--samples 3 not exit 1"
 # A given --fs must be a finite rate > 0 (-5 was reported as "no --fs", inf
-# as an internal step_s of 0); --fs without --samples plans nothing.
-for fs in -5 0 nan inf; do
+# as an internal step_s of 0) whose step is finite (1e-320: step inf); --fs
+# without --samples plans nothing.
+for fs in -5 0 nan inf 1e-320; do
   "$podid" plan --samples 999 --fs "$fs" 2>"$out/stderr"
   [ $? -eq 1 ] || fail "--fs $fs not exit 1"
-  grep -q "plan --fs: expected a finite sampling frequency > 0 Hz, got $fs" "$out/stderr" ||
-    fail "--fs $fs message: $(cat "$out/stderr")"
+  grep -q "plan --fs: expected a finite sampling frequency > 0 Hz with a finite step 1 / fs, got" \
+    "$out/stderr" || fail "--fs $fs message: $(cat "$out/stderr")"
 done
+# The same rule for cwt's --step and --rate: a subnormal step's rate is inf.
+"$podid" cwt "$data" --channel w6 --step 1e-320 -o "$out/sub.csv" 2>"$out/stderr"
+[ $? -eq 1 ] || fail "cwt --step 1e-320 not exit 1"
+grep -q -- "--step: expected a finite sampling step > 0 s with a finite rate 1 / step" "$out/stderr" ||
+  fail "cwt --step 1e-320: $(cat "$out/stderr")"
+[ ! -e "$out/sub.csv" ] || fail "cwt --step 1e-320 wrote output"
 "$podid" plan "$data" --fs 1000 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--fs without --samples not exit 1"
 grep -q "expected --samples N" "$out/stderr" || fail "--fs without --samples: $(cat "$out/stderr")"

@@ -512,6 +512,12 @@ constexpr Rejection kRejections[] = {
     {"Time", "step = 2.0e-4", "step = 1e-12", "time.step: expected at most 1e9 steps"},
     {"Time", "step = 2.0e-4", "",
      "case.toml:20: time.step: expected a number > 0 (s), got nothing"},
+    // A subnormal step or rate has an infinite reciprocal (IsSamplingStep).
+    {"Data", "", "[data]\nstep = 1e-320\n",
+     "data.step: expected a step whose rate 1 / step is finite (s), got 1e-320"},
+    {"Data", "", "[data]\nrate = 1e-320\n",
+     "data.rate: expected a rate whose step 1 / rate is finite (Hz), got 1e-320"},
+    {"Data", "", "[data]\nstep = 0.0\n", "data.step: expected a number > 0 (s), got 0"},
     {"SensorsNoiseIntegrator", "dof = \"w\"", "dof = \"u\"",
      "case.toml:25: sensors.dof: expected one of \"w\", \"theta\", got \"u\""},
     {"SensorsNoiseIntegrator", "dof = \"w\"", "nodes = [1, 7]",
@@ -661,6 +667,8 @@ TEST(CaseFileRejects, Force) {
 }
 
 TEST(CaseFileRejects, Time) { ExpectRejections("Time"); }
+
+TEST(CaseFileRejects, Data) { ExpectRejections("Data"); }
 
 TEST(CaseFileRejects, SensorsNoiseIntegrator) { ExpectRejections("SensorsNoiseIntegrator"); }
 

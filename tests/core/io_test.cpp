@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -306,6 +307,33 @@ TEST(ReadMat, SamplingStepInsteadOfTimeAndExplicitNames) {
                               "is at least 1.11e-13 of its largest time (double precision "
                               "resolves it), got a start of 0 s, a step of 1e+308 s and 3 "
                               "samples (up to inf s)");
+  // A subnormal step: its rate 1 / step overflows (IsSamplingStep).
+  options.step_s = 1e-320;
+  PODID_EXPECT_THROW_WITH(ReadMat(path, options), std::invalid_argument,
+                          path +
+                              " (sampling step): expected a time step whose rate 1 / step is "
+                              "finite, got a step of 9.999888672e-321 s");
+  DataReadOptions read;
+  read.step_s = 1e-320;
+  PODID_EXPECT_THROW_WITH(ReadTimeSeries(path, read), std::invalid_argument,
+                          "sampling step: expected a finite step > 0 s whose rate 1 / step is "
+                          "finite, got 9.999888672e-321");
+  read.step_s = 0.0;
+  read.rate_Hz = 1e-320;
+  PODID_EXPECT_THROW_WITH(ReadTimeSeries(path, read), std::invalid_argument,
+                          "sampling rate: expected a finite rate > 0 Hz");
+}
+
+TEST(IsSamplingStep, RequiresAFiniteRate) {
+  EXPECT_TRUE(IsSamplingStep(1e-3));
+  EXPECT_TRUE(
+      IsSamplingStep(std::numeric_limits<double>::min()));  // smallest normal: rate 4.5e307 Hz
+  EXPECT_TRUE(IsSamplingStep(std::numeric_limits<double>::max()));  // rate 5.6e-309 Hz, > 0
+  EXPECT_FALSE(IsSamplingStep(1e-320));                             // subnormal: 1 / step = inf
+  EXPECT_FALSE(IsSamplingStep(0.0));
+  EXPECT_FALSE(IsSamplingStep(-1e-3));
+  EXPECT_FALSE(IsSamplingStep(std::numeric_limits<double>::infinity()));
+  EXPECT_FALSE(IsSamplingStep(std::nan("")));
 }
 
 TEST(ReadMat, Rejections) {

@@ -82,6 +82,21 @@ TEST(TimeGrid, AJitterBeyondThePrintingIsStillRejected) {
   EXPECT_NO_THROW(ReadCsv(dir.Write("fine.csv", SpreadsheetCsv(-1, 300, 2e-5))));
 }
 
+TEST(TimeGrid, SubnormalStepsAreRejected) {
+  // Increasing, uniform stamps 1e-320 s apart fit a grid whose rate 1 / step
+  // is infinite: a transform's every frequency would inherit it (IsSamplingStep).
+  const testing::TempDir dir;
+  std::string text = "t,x\n";
+  for (int i = 0; i < 16; ++i) {
+    char line[64];
+    std::snprintf(line, sizeof line, "%.17g,%d\n", i * 1e-320, i % 3);
+    text += line;
+  }
+  PODID_EXPECT_THROW_WITH(ReadCsv(dir.Write("subnormal.csv", text)), std::invalid_argument,
+                          "subnormal.csv:3:1: expected a time step whose rate 1 / step is finite, "
+                          "got a step of ");
+}
+
 TEST(TimeGrid, FullPrecisionStampsAreKeptAsWritten) {
   // The reference data's %.12e stamps stay exactly as written.
   const std::string path = testing::DataPath("clean_knl50_T0.1.csv");

@@ -415,8 +415,9 @@ Scalogram Cwt(const Eigen::Ref<const Eigen::VectorXd>& signal,
 
 FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
   if (samples < 4) ThrowInvalid("FFT lengths: samples", "at least 4", ToText(samples));
-  if (!std::isfinite(step_s) || step_s <= 0.0) {
-    ThrowInvalid("FFT lengths: step_s", "a finite value > 0", ToText(step_s));
+  if (!IsSamplingStep(step_s)) {
+    ThrowInvalid("FFT lengths: step_s", "a finite value > 0 whose rate 1 / step_s is finite",
+                 ToText(step_s));
   }
   const Sizes z = impl_->Plan(samples, step_s);
   if (z.p > (1 << 27)) ThrowInvalid("FFT lengths", "at most 2^27 points", ToText(z.p));

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "podid/core/error.hpp"
+#include "podid/core/time_series.hpp"
 
 namespace podid::wavelet::internal {
 
@@ -14,11 +15,13 @@ inline void CheckSamples(Eigen::Index n) {
   if (n < 4) ThrowInvalid("Cwt: signal", "at least 4 samples", ToText(n) + " samples");
 }
 
-/// Throws std::invalid_argument for step_s not finite and > 0, or max_Hz
-/// above Nyquist (beyond a rounding of 1e-12).
+/// Throws std::invalid_argument for step_s not a sampling step (finite, > 0,
+/// a finite rate: IsSamplingStep), or max_Hz above Nyquist (beyond a
+/// rounding of 1e-12).
 inline void CheckStep(double step_s, double max_Hz) {
-  if (!std::isfinite(step_s) || step_s <= 0.0) {
-    ThrowInvalid("Cwt: step_s", "a finite value > 0", ToText(step_s));
+  if (!IsSamplingStep(step_s)) {
+    ThrowInvalid("Cwt: step_s", "a finite value > 0 whose rate 1 / step_s is finite",
+                 ToText(step_s));
   }
   const double nyquist_Hz = 0.5 / step_s;
   if (max_Hz > nyquist_Hz * (1.0 + 1e-12)) {

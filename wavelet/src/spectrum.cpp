@@ -7,6 +7,7 @@
 
 #include "fftw_plans.hpp"
 #include "podid/core/error.hpp"
+#include "podid/core/time_series.hpp"
 
 namespace podid::wavelet {
 
@@ -15,7 +16,9 @@ double SpectralPeak_Hz(const Eigen::Ref<const Eigen::VectorXd>& signal, double s
                        double exclude_octaves) {
   const Eigen::Index n = signal.size();
   if (n < 8) ThrowInvalid("SpectralPeak_Hz: signal", "at least 8 samples", ToText(n));
-  if (!(step_s > 0) || !std::isfinite(step_s)) ThrowInvalid("SpectralPeak_Hz: step_s", "> 0", ToText(step_s));
+  if (!IsSamplingStep(step_s)) {
+    ThrowInvalid("SpectralPeak_Hz: step_s", "> 0 with a finite rate 1 / step_s", ToText(step_s));
+  }
   if (!(min_Hz >= 0 && min_Hz < max_Hz && std::isfinite(max_Hz))) {
     ThrowInvalid("SpectralPeak_Hz: band", "0 <= min < max", ToText(min_Hz) + ".." + ToText(max_Hz));
   }

@@ -3,10 +3,19 @@
 // Units are SI (time in s, displacements in m).
 
 #include <Eigen/Core>
+#include <cmath>
 #include <string>
 #include <vector>
 
 namespace podid {
+
+/// Whether step_s can be a sampling step: finite, > 0, and its rate 1 / step_s
+/// finite too (a subnormal step such as 1e-320 s has an infinite rate, which
+/// every frequency derived from it would inherit). The readers, the case
+/// file's data.step and the wavelet transforms check it.
+inline bool IsSamplingStep(double step_s) {
+  return step_s > 0.0 && std::isfinite(step_s) && std::isfinite(1.0 / step_s);
+}
 
 struct TimeSeries {
   Eigen::VectorXd time_s;                  ///< (dim n_samples) uniform, increasing
