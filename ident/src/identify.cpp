@@ -245,8 +245,11 @@ bool IdentifyOptions::IsValid(int parameter_count, std::string* why) const {
     return fail(std::string("local algorithm: expected an LN_ algorithm, got ") + ToString(local_algorithm));
   if (start.size() != 0 && start.size() != parameter_count)
     return fail("start: expected " + ToText(parameter_count) + " values, got " + ToText(start.size()));
-  if (!(xtol_rel > 0)) return fail("xtol_rel: expected > 0, got " + ToText(xtol_rel));
-  if (!(ftol_rel >= 0)) return fail("ftol_rel: expected >= 0, got " + ToText(ftol_rel));
+  // Finite: NLopt stops at its first step on an infinite relative tolerance.
+  if (!(xtol_rel > 0 && std::isfinite(xtol_rel)))
+    return fail("xtol_rel: expected a finite value > 0, got " + ToText(xtol_rel));
+  if (!(ftol_rel >= 0 && std::isfinite(ftol_rel)))
+    return fail("ftol_rel: expected a finite value >= 0, got " + ToText(ftol_rel));
   if (max_evaluations < 1 || max_evaluations > kMaxEvaluations)
     return fail("max_evaluations: expected 1 to " + ToText(kMaxEvaluations) + ", got " +
                 ToText(max_evaluations));

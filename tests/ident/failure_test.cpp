@@ -232,6 +232,20 @@ TEST(IdentifyFailure, CountsAreBoundedBeforeAllocation) {
                           "all, got 1000 * 10000");
 }
 
+// An infinite relative tolerance stopped NLopt at its first step (--xtol inf
+// ran two evaluations and reported convergence).
+TEST(IdentifyFailure, TolerancesAreFinite) {
+  const ObjectiveFunction f = KnlObjective(-100.0, 200.0, 40.0);
+  IdentifyOptions options;
+  options.xtol_rel = std::numeric_limits<double>::infinity();
+  PODID_EXPECT_THROW_WITH(Identify(f, options), std::invalid_argument,
+                          "identify options: xtol_rel: expected a finite value > 0, got inf");
+  options.xtol_rel = 1e-6;
+  options.ftol_rel = std::numeric_limits<double>::infinity();
+  PODID_EXPECT_THROW_WITH(Identify(f, options), std::invalid_argument,
+                          "identify options: ftol_rel: expected a finite value >= 0, got inf");
+}
+
 // Issue 10 item 7: with no static tip force the response is zero and the CWT
 // of the simulated time mode throws; that used to cross NLopt's C callback
 // and an OpenMP region (SIGABRT). Now each such point is a failed evaluation.

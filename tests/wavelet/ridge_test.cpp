@@ -416,6 +416,21 @@ TEST(Ridge, BadInputNamesWhatWasExpected) {
                           "expected a non-constant signal");
   PODID_EXPECT_THROW_WITH(ParseRidgeMethod("greedy"), std::invalid_argument,
                           "expected one of max, penalised");
+  // A finite penalty whose jump cost penalty_s / step_s (ln f)^2 overflows:
+  // lambda = inf made every envelope test inf or NaN (identify --penalty 1e308
+  // ran and returned an objective).
+  o = RidgeOptions{};
+  o.penalty_s = 1e308;
+  ASSERT_TRUE(o.IsValid(nullptr));
+  PODID_EXPECT_THROW_WITH(FindRidges(sg, o), std::invalid_argument,
+                          "RidgeOptions.penalty_s: expected a penalty whose jump cost penalty_s / "
+                          "step_s x (2 max |ln f|)^2 is finite");
+  RidgeFrequencyOptions streamed;
+  streamed.ridge.penalty_s = 1e308;
+  PODID_EXPECT_THROW_WITH(RidgeFrequency(x, kStep, streamed), std::invalid_argument,
+                          "RidgeOptions.penalty_s: expected a penalty whose jump cost");
+  streamed.ridge.penalty_s = 1e290;  // lambda 1e293 at kStep: finite costs, a path
+  EXPECT_EQ(RidgeFrequency(x, kStep, streamed).size(), RidgeFrequency(x, kStep).size());
 }
 
 TEST(Ridge, ThePhaseIfNeedsTheTransformThatWroteTheScalogram) {

@@ -97,6 +97,7 @@ std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeO
     }
   }
   const Eigen::VectorXd x = scalogram.frequencies_Hz.array().log();
+  internal::CheckRidgePenalty(options.penalty_s, scalogram.step_s, x);
   const double lambda = options.penalty_s / scalogram.step_s;
   const double half_width = options.separation_octaves * std::numbers::ln2;
   std::vector<Eigen::VectorXi> paths;

@@ -113,8 +113,26 @@ PODID_CLONES_V4 void GuessCrossings(const double* zn,
   }
 }
 
+namespace {
+// The largest cost lambda (x_q - x_p)^2 a jump can have.
+double LargestJumpCost(const Eigen::VectorXd& x, double lambda) {
+  const double reach = x.size() > 0 ? 2.0 * x.cwiseAbs().maxCoeff() : 0.0;
+  return lambda * reach * reach;
+}
+}  // namespace
+
+void CheckRidgePenalty(double penalty_s, double step_s, const Eigen::VectorXd& x) {
+  if (std::isfinite(LargestJumpCost(x, penalty_s / step_s))) return;
+  ThrowInvalid("RidgeOptions.penalty_s",
+               "a penalty whose jump cost penalty_s / step_s x (2 max |ln f|)^2 is finite (step " +
+                   ToText(step_s) + " s, frequencies up to " +
+                   ToText(x.size() > 0 ? std::exp(x.maxCoeff()) : 0.0) + " Hz)",
+               ToText(penalty_s) + " s");
+}
+
 RidgeProgramme::RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool maximum)
     : x_(x), lambda_(lambda), maximum_(maximum), width_(Width(x.size())) {
+  PODID_CHECK(lambda >= 0.0 && std::isfinite(LargestJumpCost(x, lambda)));  // CheckRidgePenalty
   none_ = (std::int64_t{1} << (8 * width_)) - 1;
   // lambda x^2 as the envelope's intersections use it (same rounding at every column).
   x2_.resize(x_.size());

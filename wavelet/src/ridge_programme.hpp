@@ -10,6 +10,12 @@
 
 namespace podid::wavelet::internal {
 
+/// Throws std::invalid_argument (naming RidgeOptions.penalty_s) unless the
+/// programme's largest jump cost lambda (2 max |ln f|)^2, lambda = penalty_s /
+/// step_s, is finite: a penalty of 1e308 s gave lambda = inf and lambda x^2 =
+/// inf or NaN (x = 0 at 1 Hz) in every envelope test.
+void CheckRidgePenalty(double penalty_s, double step_s, const Eigen::VectorXd& x);
+
 class RidgeProgramme {
  public:
   /// x: (dim n_freq) ln f of each frequency; lambda = penalty_s / step_s

@@ -98,6 +98,10 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
   // cost and W (kept W for one block, the IF's caches for several), the
   // back-pointers and the track.
   if (b.IsLaidOut(n, step_s, options.block_cells)) return;
+  // At the input step: the programme's (decimated) step is longer, its jump
+  // costs smaller.
+  internal::CheckRidgePenalty(options.ridge.penalty_s, step_s,
+                              b.frequencies_Hz().array().log().matrix());
   Eigen::Index times = 0, block_times = 0;
   const double planned = b.PlannedBytes(n, step_s, options.block_cells, &times, &block_times);
   const double block_cells = static_cast<double>(block_times) * static_cast<double>(freqs);
