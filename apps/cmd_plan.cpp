@@ -43,7 +43,7 @@ void Run(const PlanArguments& a) {
   // (samples, step) of every record to plan for.
   std::vector<std::pair<long, double>> records;
   const bool fs_given = a.fs_option->count() > 0;
-  if (fs_given && !(a.fs_Hz > 0.0 && std::isfinite(a.fs_Hz) && IsSamplingStep(1.0 / a.fs_Hz))) {
+  if (fs_given && !IsSamplingRate(a.fs_Hz)) {
     ThrowInvalid("plan --fs", "a finite sampling frequency > 0 Hz with a finite step 1 / fs",
                  ToText(a.fs_Hz));
   }

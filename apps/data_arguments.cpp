@@ -120,8 +120,7 @@ DataReadOptions DataArguments::Options() const {
   options.step_s = step_s;
   options.channels = ChannelList();
   // A subnormal value (1e-320) has an infinite reciprocal (IsSamplingStep).
-  if (rate_option_ != nullptr && rate_option_->count() > 0 &&
-      !(rate_Hz > 0.0 && std::isfinite(rate_Hz) && IsSamplingStep(1.0 / rate_Hz))) {
+  if (rate_option_ != nullptr && rate_option_->count() > 0 && !IsSamplingRate(rate_Hz)) {
     ThrowInvalid(rate_option_->get_name(),
                  "a finite sampling rate > 0 Hz with a finite step 1 / rate", ToText(rate_Hz));
   }

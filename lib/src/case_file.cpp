@@ -362,7 +362,7 @@ DataSpec ReadData(const CaseDocument::Impl& doc) {
   if (data.step_s > 0.0 && !IsSamplingStep(data.step_s)) {
     s.Fail("step", "a step whose rate 1 / step is finite (s)", FormatReal(data.step_s));
   }
-  if (data.rate_Hz > 0.0 && !IsSamplingStep(1.0 / data.rate_Hz)) {
+  if (data.rate_Hz > 0.0 && !IsSamplingRate(data.rate_Hz)) {
     s.Fail("rate", "a rate whose step 1 / rate is finite (Hz)", FormatReal(data.rate_Hz));
   }
   ConditioningOptions& c = data.conditioning;

@@ -227,8 +227,7 @@ void DataReadOptions::Check() const {
   if (rate_Hz != 0.0 && step_s != 0.0) {
     ThrowInvalid("data options", "a sampling rate or a step", "both");
   }
-  if (rate_Hz != 0.0 &&
-      !(rate_Hz > 0.0 && std::isfinite(rate_Hz) && std::isfinite(1.0 / rate_Hz))) {
+  if (rate_Hz != 0.0 && !IsSamplingRate(rate_Hz)) {
     ThrowInvalid("sampling rate", "a finite rate > 0 Hz", ToText(rate_Hz));
   }
   if (step_s != 0.0 && !IsSamplingStep(step_s)) {

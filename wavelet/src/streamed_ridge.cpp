@@ -100,8 +100,8 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
   if (b.IsLaidOut(n, step_s, options.block_cells)) return;
   // At the input step: the programme's (decimated) step is longer, its jump
   // costs smaller.
-  internal::CheckRidgePenalty(options.ridge.penalty_s, step_s,
-                              b.frequencies_Hz().array().log().matrix());
+  const Eigen::VectorXd x = b.frequencies_Hz().array().log();  // the programme's and the screen's
+  internal::CheckRidgePenalty(options.ridge.penalty_s, step_s, x);
   Eigen::Index times = 0, block_times = 0;
   const double planned = b.PlannedBytes(n, step_s, options.block_cells, &times, &block_times);
   const double block_cells = static_cast<double>(block_times) * static_cast<double>(freqs);
@@ -140,8 +140,8 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
         edge_s > 0.0 ? options.cwt.coi_factor * b.kappa() * 2.0 * b.time_spread() / (2.0 * kPi * edge_s)
                      : std::numeric_limits<double>::infinity();
   }
-  programme = std::make_unique<internal::RidgeProgramme>(
-      b.frequencies_Hz().array().log().matrix(), options.ridge.penalty_s / sg.step_s, maximum);
+  programme =
+      std::make_unique<internal::RidgeProgramme>(x, options.ridge.penalty_s / sg.step_s, maximum);
   const Eigen::Index block = b.max_block_times();
   cost.resize(block, freqs);
   if (Pipelined()) {
@@ -160,8 +160,7 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
     kept.resize(0, 0);
   }
   if (b.blocks() == 1 && options.screen_scales && !maximum) {
-    screen = std::make_unique<internal::ScaleScreen>(b.frequencies_Hz().array().log().matrix(),
-                                                     options.ridge.penalty_s / sg.step_s);
+    screen = std::make_unique<internal::ScaleScreen>(x, options.ridge.penalty_s / sg.step_s);
   } else {
     screen.reset();
   }

@@ -16,6 +16,10 @@ namespace podid {
 inline bool IsSamplingStep(double step_s) {
   return step_s > 0.0 && std::isfinite(step_s) && std::isfinite(1.0 / step_s);
 }
+/// The same for a sampling rate: finite, > 0, and its step 1 / rate_Hz a sampling step.
+inline bool IsSamplingRate(double rate_Hz) {
+  return rate_Hz > 0.0 && std::isfinite(rate_Hz) && IsSamplingStep(1.0 / rate_Hz);
+}
 
 struct TimeSeries {
   Eigen::VectorXd time_s;                  ///< (dim n_samples) uniform, increasing
