@@ -383,6 +383,17 @@ TEST(Cwt, BadInputNamesWhatWasExpected) {
   o.frequencies.min_frequency_Hz = 0.0;
   PODID_EXPECT_THROW_WITH(Cwt(x, 1e-3, o), std::invalid_argument,
                           "min_frequency_Hz: expected a finite value > 0, got 0");
+  o.frequencies.min_frequency_Hz = 1e-320;  // subnormal: 120 / f_min overflows
+  PODID_EXPECT_THROW_WITH(Cwt(x, 1e-3, o), std::invalid_argument,
+                          "expected a finite ratio max_frequency_Hz / min_frequency_Hz, got 120 / "
+                          "9.999888672e-321");
+  o.frequencies.min_frequency_Hz = 1e-3;  // 16.9 octaves x 32 voices: 542 frequencies
+  EXPECT_NO_THROW(o.frequencies.Frequencies_Hz());
+  o.frequencies.voices_per_octave = 1024;  // 17,300 frequencies
+  EXPECT_NO_THROW(o.frequencies.Frequencies_Hz());
+  o.frequencies.min_frequency_Hz = 1e-300;  // 1003 octaves x 1024 voices
+  PODID_EXPECT_THROW_WITH(o.frequencies.Frequencies_Hz(), std::invalid_argument,
+                          "expected at most 100000 frequencies");
   o = CwtOptions{};
   o.frequencies.max_frequency_Hz = -5.0;
   PODID_EXPECT_THROW_WITH(CwtTransform{o}, std::invalid_argument, "max_frequency_Hz: expected");

@@ -272,11 +272,18 @@ bool FrequencyGrid::IsValid(std::string* why) const {
   if (spacing == FrequencySpacing::kLinear && (bins < 2 || bins > 100000)) {
     return Fail(why, "FrequencyGrid.bins: expected 2..100000, got " + ToText(bins));
   }
-  if (spacing == FrequencySpacing::kLog &&
-      voices_per_octave * std::log2(max_frequency_Hz / min_frequency_Hz) > 100000) {
-    return Fail(why,
-                "FrequencyGrid: expected at most 100000 frequencies, got " +
-                    ToText(voices_per_octave * std::log2(max_frequency_Hz / min_frequency_Hz)));
+  if (spacing == FrequencySpacing::kLog) {
+    // A subnormal minimum overflows the ratio: the count would read "inf".
+    const double ratio = max_frequency_Hz / min_frequency_Hz;
+    if (!std::isfinite(ratio)) {
+      return Fail(
+          why, "FrequencyGrid: expected a finite ratio max_frequency_Hz / min_frequency_Hz, got " +
+                   ToText(max_frequency_Hz) + " / " + ToText(min_frequency_Hz));
+    }
+    if (voices_per_octave * std::log2(ratio) > 100000) {
+      return Fail(why, "FrequencyGrid: expected at most 100000 frequencies, got " +
+                           ToText(voices_per_octave * std::log2(ratio)));
+    }
   }
   return true;
 }
