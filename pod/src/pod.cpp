@@ -11,6 +11,7 @@
 
 #include "kernels.hpp"
 #include "podid/core/error.hpp"
+#include "range_eigen.hpp"
 
 namespace podid {
 namespace {
@@ -155,6 +156,7 @@ struct PodSolver::Workspace {
   Eigen::MatrixXd coefficients;  // kSnapshot: the kept A_k (N x k)
   Eigen::MatrixXd gram;          // Y Y^T (M x M) or Y^T Y (N x N)
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen;
+  internal::RangeEigenSolver range;  // the Gram's range only (range_eigen.hpp)
   Eigen::VectorXd sigma_all;  // all min(M, N) singular values, descending
   Eigen::BDCSVD<Eigen::MatrixXd> bdc;
 };
@@ -298,13 +300,24 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
     }
     energy = w.gram.trace();
     check_energy();
-    w.eigen.compute(w.gram, Eigen::ComputeEigenvectors);
-    PODID_CHECK_MSG(w.eigen.info() == Eigen::Success, "Gram eigensolver did not converge");
-    const Eigen::VectorXd& values = w.eigen.eigenvalues();  // ascending, = sigma^2
-    const double largest = std::max(values(gram_size - 1), 0.0);
+    // The Gram's rank is at most `available`: when that is far below its
+    // side (snapshot with N >> M, direct with M >> N), only the range is
+    // solved (range_eigen.hpp), else every eigenpair.
+    const bool by_range = internal::UseRangeEigen(gram_size, available);
+    if (by_range) {
+      w.range.Compute(w.gram, available);
+    } else {
+      w.eigen.compute(w.gram, Eigen::ComputeEigenvectors);
+      PODID_CHECK_MSG(w.eigen.info() == Eigen::Success, "Gram eigensolver did not converge");
+    }
+    // The j-th largest eigenpair (= sigma_j^2): descending from the range,
+    // ascending from the dense solver.
+    const Eigen::VectorXd& values = by_range ? w.range.values() : w.eigen.eigenvalues();
+    const auto at = [&](Index j) { return by_range ? j : gram_size - 1 - j; };
+    const double largest = std::max(values(at(0)), 0.0);
     w.sigma_all.resize(available);
     for (Index j = 0; j < available; ++j) {
-      const double value = values(gram_size - 1 - j);
+      const double value = values(at(j));
       const bool nonzero = largest > 0.0 && value > size_eps * largest;
       w.sigma_all(j) = nonzero ? std::sqrt(value) : 0.0;
       rank += nonzero ? 1 : 0;
@@ -318,12 +331,12 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
       if (value > 0.0 && value < kAutoGramRatio * largest) accurate = false;
     }
     if (accurate || options_.method != PodMethod::kAuto) {
-      const auto& vectors = w.eigen.eigenvectors();
+      const Eigen::MatrixXd& vectors = by_range ? w.range.vectors() : w.eigen.eigenvectors();
       r.poms.resize(m, k);
       r.time_modes.resize(options_.compute_time_modes ? n : 0, options_.compute_time_modes ? k : 0);
       if (direct) {
         for (Index j = 0; j < k; ++j) {
-          r.poms.col(j) = vectors.col(m - 1 - j);
+          r.poms.col(j) = vectors.col(at(j));
           // Signs now when U = Psi, so that V is formed with them (one pass fewer).
           if (!w.weighted && ConventionSign(r.poms.col(j)) < 0.0) r.poms.col(j) *= -1.0;
         }
@@ -333,7 +346,7 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
       } else {
         // eq. 10: phi_k = sum_j a_kj v_j; V = A.
         w.coefficients.resize(n, k);
-        for (Index j = 0; j < k; ++j) w.coefficients.col(j) = vectors.col(n - 1 - j);
+        for (Index j = 0; j < k; ++j) w.coefficients.col(j) = vectors.col(at(j));
         r.poms.noalias() = w.yt.transpose() * w.coefficients;
         if (options_.compute_time_modes) r.time_modes = w.coefficients;
       }

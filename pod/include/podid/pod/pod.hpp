@@ -131,7 +131,9 @@ struct PodResult {
 /// A reusable POD: validates the options and factors the weighting once, keeps
 /// every buffer between calls. For a fixed shape, repeated Compute() calls with
 /// kDirect or kSnapshot allocate nothing after the first (kSvd allocates inside
-/// Eigen). This is the object to keep across an optimiser's evaluations.
+/// Eigen, and so does a Gram method whose matrix is solved on its range: from
+/// 256 on a side, with min(M, N) + 10 below a quarter of it, as snapshot on a
+/// long record). This is the object to keep across an optimiser's evaluations.
 class PodSolver {
  public:
   /// Throws std::invalid_argument for invalid options or a weighting that is
