@@ -17,14 +17,16 @@ void RangeEigenSolver::Compute(const Eigen::MatrixXd& gram, Eigen::Index r) {
   const Eigen::Index n = gram.rows();
   const Eigen::Index c = r + kRangeOversampling;
   PODID_CHECK(gram.cols() == n && r >= 1 && c <= n);
-  // +-1 entries from a 64-bit LCG (Knuth's MMIX constants): fixed, portable
-  // bits (std::normal_distribution differs between standard libraries).
+  // Uniform entries in [-1, 1) from a 64-bit LCG (Knuth's MMIX constants,
+  // its top 53 bits): fixed, portable bits (std::uniform_real_distribution
+  // differs between standard libraries). Not +-1: a sparse eigenvector such
+  // as (e_i + e_j) / sqrt(2) is orthogonal to a +-1 column half the time.
   omega_.resize(n, c);
   std::uint64_t state = 0x9E3779B97F4A7C15ull;
   for (Eigen::Index j = 0; j < c; ++j) {
     for (Eigen::Index i = 0; i < n; ++i) {
       state = state * 6364136223846793005ull + 1442695040888963407ull;
-      omega_(i, j) = (state >> 63) != 0 ? 1.0 : -1.0;
+      omega_(i, j) = static_cast<double>(state >> 11) * 0x1.0p-52 - 1.0;
     }
   }
   sketch_.resize(n, c);

@@ -430,6 +430,27 @@ TEST(Pod, NoiseThresholdKeepsTheStructureOfMeasuredData) {
 
 // -------------------------------------------------------------- rank, zeros
 
+TEST(Pod, GramOnItsRangeFindsASparseTimeMode) {
+  // One channel, two unit impulses, no mean removed: Y = e_17^T + e_400^T,
+  // sigma = sqrt 2, V = (e_17 + e_400) / sqrt 2 exactly. The snapshot Gram
+  // (600 x 600, rank 1) is solved on its range (range_eigen.hpp), whose
+  // random sketch must not miss this sparse direction (a +-1 sketch column
+  // is orthogonal to it half the time). kTolerance: a few roundings of O(1).
+  constexpr double kTolerance = 1e-14;
+  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(1, 600);
+  x(0, 17) = x(0, 400) = 1.0;
+  PodOptions options = WithMethod(PodMethod::kSnapshot);
+  options.remove_mean = false;
+  const PodResult r = ComputePod(x, options);
+  ASSERT_EQ(r.modes(), 1);
+  EXPECT_EQ(r.numerical_rank, 1);
+  EXPECT_NEAR(r.singular_values(0), std::sqrt(2.0), kTolerance);
+  EXPECT_NEAR(r.poms(0, 0), 1.0, kTolerance);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(600);
+  v(17) = v(400) = std::sqrt(0.5);
+  EXPECT_TRUE(ExpectMatricesNear(r.time_modes.col(0), v, kTolerance));
+}
+
 TEST(Pod, RankDeficientMoreSnapshotsThanSensorsGivesZeroModes) {
   // S > M (section 2.2): 200 snapshots of 6 sensors spanning 2 directions.
   Eigen::VectorXd sigma(2);
