@@ -8,8 +8,9 @@
 namespace podid::internal {
 
 bool UseRangeEigen(Eigen::Index n, Eigen::Index r) {
-  // From 256 on a side the dense solver takes > 10 ms (66.6 ms at 501,
-  // bench/README.md "POD"); a basis a quarter of n or wider saves little.
+  // From 256 on a side the dense solver takes ~9 ms (66.6 ms at 501,
+  // bench/README.md "POD", scaled as n^3); a basis a quarter of n or wider
+  // saves little.
   return n >= 256 && 4 * (r + kRangeOversampling) <= n;
 }
 

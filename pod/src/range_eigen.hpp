@@ -15,7 +15,7 @@ namespace podid::internal {
 /// 2011, sec. 4.2: p = 5-10 suffices for a generic Omega).
 inline constexpr Eigen::Index kRangeOversampling = 10;
 
-/// True when RangeEigen pays: an n x n Gram of rank <= r with the basis far
+/// True when RangeEigenSolver pays: an n x n Gram of rank <= r with the basis far
 /// narrower than the matrix (and n large enough that ~n^3 matters; below,
 /// the dense solver keeps its results bit for bit).
 bool UseRangeEigen(Eigen::Index n, Eigen::Index r);
