@@ -4,8 +4,14 @@
 #include <cstdint>
 
 #include "podid/core/error.hpp"
+#include "podid/core/noise.hpp"
 
 namespace podid::internal {
+namespace {
+
+constexpr std::uint64_t kSketchSeed = 1;  // any fixed seed: the results may not depend on it
+
+}  // namespace
 
 bool UseRangeEigen(Eigen::Index n, Eigen::Index r) {
   // From 256 on a side the dense solver takes ~9 ms (66.6 ms at 501,
@@ -18,16 +24,16 @@ void RangeEigenSolver::Compute(const Eigen::MatrixXd& gram, Eigen::Index r) {
   const Eigen::Index n = gram.rows();
   const Eigen::Index c = r + kRangeOversampling;
   PODID_CHECK(gram.cols() == n && r >= 1 && c <= n);
-  // Uniform entries in [-1, 1) from a 64-bit LCG (Knuth's MMIX constants,
-  // its top 53 bits): fixed, portable bits (std::uniform_real_distribution
-  // differs between standard libraries). Not +-1: a sparse eigenvector such
-  // as (e_i + e_j) / sqrt(2) is orthogonal to a +-1 column half the time.
-  omega_.resize(n, c);
-  std::uint64_t state = 0x9E3779B97F4A7C15ull;
-  for (Eigen::Index j = 0; j < c; ++j) {
-    for (Eigen::Index i = 0; i < n; ++i) {
-      state = state * 6364136223846793005ull + 1442695040888963407ull;
-      omega_(i, j) = static_cast<double>(state >> 11) * 0x1.0p-52 - 1.0;
+  // Standard normal entries (Halko et al.'s Gaussian test matrix) from
+  // core's NormalGenerator, a fixed seed: the same bits every run. Drawn
+  // once per shape: a reused solver keeps them. Not +-1: a
+  // sparse eigenvector such as (e_i + e_j) / sqrt(2) is orthogonal to a +-1
+  // column half the time.
+  if (omega_.rows() != n || omega_.cols() != c) {
+    omega_.resize(n, c);
+    NormalGenerator normal(kSketchSeed);
+    for (Eigen::Index j = 0; j < c; ++j) {
+      for (Eigen::Index i = 0; i < n; ++i) omega_(i, j) = normal.Normal();
     }
   }
   sketch_.resize(n, c);

@@ -22,8 +22,8 @@ bool UseRangeEigen(Eigen::Index n, Eigen::Index r);
 
 /// The r largest eigenpairs of the symmetric n x n `gram` (lower triangle
 /// read) of rank <= r: values (dim r, descending) and orthonormal vectors
-/// (n x r). Q = the Householder basis of G Omega (Omega n x (r + p), fixed
-/// pseudo-random entries in [-1, 1): the same bits every run), then the eigenpairs
+/// (n x r). Q = the Householder basis of G Omega (Omega n x (r + p), fixed-seed
+/// standard normal entries: the same bits every run), then the eigenpairs
 /// (L, W) of B = Q^T G Q give (L, Q W). Exact in exact arithmetic, as
 /// range(G) lies in span(Q); in rounding, G Omega carries eigenvector k with
 /// weight lambda_k against noise eps lambda_1, so values and vectors have
