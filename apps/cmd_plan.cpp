@@ -114,6 +114,10 @@ void Run(const PlanArguments& a) {
   std::printf("measured %d plan(s) (FFTW_%s) in %.3g s, %d already measured\n", summary.measured,
               effort == wavelet::PlanEffort::kPatient ? "PATIENT" : "MEASURE", summary.seconds,
               summary.known);
+  if (!summary.ignored.empty()) {
+    std::printf("wisdom cache ignored: %s%s\n", summary.ignored.c_str(),
+                summary.saved ? " (replaced)" : "");
+  }
   if (summary.saved) {
     std::printf("wisdom -> %s\n", summary.wisdom_path.c_str());
   } else if (!summary.message.empty()) {

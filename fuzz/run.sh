@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets in build/fuzz (clang++-14) and runs each for the
 # given number of seconds, one after the other.
-# Usage: bash fuzz/run.sh [seconds=60] [csv|case|mat|uff|model ...]
+# Usage: bash fuzz/run.sh [seconds=60] [csv|case|mat|uff|model|wisdom ...]
 #   The growing corpus is build/fuzz/corpus/<target> (the committed seeds in
 #   fuzz/corpus/<target> are read, never written); crashes land in
 #   build/fuzz/artifacts/<target>/. Exits non-zero when a target finds one.
@@ -14,7 +14,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-if ((${#targets[@]} == 0)); then targets=(csv case mat uff model); fi
+if ((${#targets[@]} == 0)); then targets=(csv case mat uff model wisdom); fi
 build="${PODID_FUZZ_BUILD:-build/fuzz}"
 
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \

@@ -65,6 +65,15 @@ grep -q "measured 0 plan(s) (FFTW_PATIENT)" "$out/plan6" || fail "patient again:
 XDG_CACHE_HOME=/proc/podid-no-such-dir "$podid" plan --samples 999 --fs 1000 --fmin 20 --fmax 400 \
   >"$out/plan3" || fail "plan with an unwritable cache exited $?"
 grep -q "wisdom not saved" "$out/plan3" || fail "unwritable cache not reported"
+# A cache file FFTW's own reader would hang on (a FIFO) is ignored, named, replaced.
+mkdir -p "$out/fifo/podid" && mkfifo "$out/fifo/podid/fftw3-wisdom"
+XDG_CACHE_HOME="$out/fifo" timeout 60 "$podid" cwt "$data" --channel w6 >/dev/null ||
+  fail "cwt with a FIFO as the cache exited $?"
+XDG_CACHE_HOME="$out/fifo" timeout 60 "$podid" plan --samples 999 --fs 1000 >"$out/plan8" ||
+  fail "plan with a FIFO as the cache exited $?"
+grep -q "wisdom cache ignored: $out/fifo/podid/fftw3-wisdom: not a regular file (replaced)" \
+  "$out/plan8" || fail "FIFO cache: $(cat "$out/plan8")"
+[ -f "$out/fifo/podid/fftw3-wisdom" ] || fail "FIFO cache not replaced by a file"
 
 # cwt: any finite amplitude gives the tone's IF (1e300 aborted, 1e200 crashed).
 for amplitude in 1e300 1e200 1e-150; do

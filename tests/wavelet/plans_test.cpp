@@ -6,6 +6,7 @@
 
 #include <fftw3.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -16,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "../../wavelet/src/wisdom_file.hpp"  // internal: the cache file's reader
 #include "test_support.hpp"
 
 namespace podid::wavelet {
@@ -179,6 +181,105 @@ TEST(FftWisdom, AnUnwritableCacheIsReportedNotFatal) {
   std::ofstream(garbage.folder + "/podid/fftw3-wisdom") << "(fftw-3.3.10 fftw_wisdom\n(garbage";
   const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(901, 0.0, 1.0).array().cos();
   EXPECT_NO_THROW(Cwt(x, 1e-3));
+}
+
+// The first line FFTW exports for this build: "(fftw-3.3.10 fftw_wisdom" and
+// the four words of its configuration's signature.
+std::string WisdomHeader() {
+  char* text = fftw_export_wisdom_to_string();
+  const std::string all(text);
+  fftw_free(text);
+  return all.substr(0, all.find('\n'));
+}
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST(FftWisdom, CheckAcceptsWhatFftwExportsAndNamesWhatIsWrong) {
+  ScopedCache cache("shape");
+  const PlanSummary s = MeasureFftPlans({{1134}, {}, {}, {}});  // no other test plans 1134
+  ASSERT_TRUE(s.saved) << s.message;
+  EXPECT_EQ(internal::CheckWisdomText(ReadAll(s.wisdom_path)), "");
+  char* text = fftw_export_wisdom_to_string();
+  EXPECT_EQ(internal::CheckWisdomText(text), "");
+  fftw_free(text);
+  const std::string h = WisdomHeader() + "\n";
+  const std::string sig = " #x9bc27a57 #x27daf66a #x4b7172f2 #xbbaff3a8)\n";
+  const std::string entry = "  (fftw_dft_nop_register 0 #x11bdd #x11bdd #x0" + sig;
+  struct Case {
+    std::string text, why;
+  };
+  const std::vector<Case> cases = {
+      {h + entry + ")\n", ""},
+      {h + ")", ""},
+      {"", "line 1: expected '('"},
+      {"(fftw-3.3.10 fftw_wisdom #x1 #x2 #x3\n)\n", "line 2: expected \"#x\""},
+      // The fields FFTW's importer CK()s (abort) when they overflow flags_t.
+      {h + "  (fftw_dft_nop_register 0 #xffffffff #x11bdd #x0" + sig + ")\n",
+       "line 2: expected flags l below #x100000"},
+      {h + "  (fftw_dft_nop_register 0 #x11bdd #x100000 #x0" + sig + ")\n",
+       "line 2: expected flags u below #x100000"},
+      {h + "  (TIMEOUT 0 #x0 #x0 #x200" + sig + ")\n", "line 2: expected timelimit below #x200"},
+      {h + "  (" + std::string(64, 'a') + " 0 #x0 #x0 #x0" + sig + ")\n",
+       "line 2: expected a name of 1-63 letters, digits or '_'"},
+      {h + "  (fftw_dft_nop_register 1234567890 #x0 #x0 #x0" + sig + ")\n",
+       "line 2: expected 1-9 digits"},
+      {h + "  (fftw_dft_nop_register 0 #x0 #x0 #x0 #x123456789 #x0 #x0 #x0)\n)\n",
+       "line 2: expected 1-8 hex digits"},
+      {h + "  (fftw_dft_nop_register 0 #x0 #x0 #x0" + sig,
+       "line 3: expected '(' (an entry) or ')' (the end)"},
+      {h + entry + ")\n(fftw", "line 4: expected the end after the closing ')'"},
+      {h + std::string("  (fftw_dft\0nop 0 #x0 #x0 #x0", 29) + sig + ")\n",
+       "line 2: expected a blank"},
+  };
+  for (const Case& c : cases) {
+    EXPECT_EQ(internal::CheckWisdomText(c.text), c.why) << c.text;
+  }
+}
+
+// A cache file podid cannot trust is ignored (estimated plans), said so in
+// the plan summary, and replaced by the next measurement; never a hang or an
+// abort. Before podid read the file itself, FFTW's reader blocked for ever on
+// the FIFO and on /dev/zero and aborted the process on the overflowing entry.
+TEST(FftWisdom, HostileCacheFilesAreIgnoredAndReplaced) {
+  struct Case {
+    std::string name, why;
+    int length;  // a real forward length no other test measures
+  };
+  const std::vector<Case> cases = {
+      {"fifo", "not a regular file", 1152},
+      {"zero", "not a regular file", 1200},
+      {"overflow", "line 2: expected flags l below #x100000", 1215},
+      {"huge", "expected at most 16777216 bytes, got 16777217", 1225},
+  };
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(901, 0.0, 1.0).array().cos();
+  const std::string header = WisdomHeader();
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    ScopedCache cache("hostile-" + c.name);
+    fs::create_directories(cache.folder + "/podid");
+    const std::string path = cache.folder + "/podid/fftw3-wisdom";
+    if (c.name == "fifo") {
+      ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
+    } else if (c.name == "zero") {
+      fs::create_symlink("/dev/zero", path);
+    } else if (c.name == "overflow") {
+      std::ofstream(path) << header << "\n  (fftw_dft_nop_register 0 #xffffffff #x11bdd #x0 "
+                          << "#x9bc27a57 #x27daf66a #x4b7172f2 #xbbaff3a8)\n)\n";
+    } else {
+      std::ofstream(path) << header << "\n)\n";
+      fs::resize_file(path, internal::kMaxWisdomBytes + 1);  // sparse: no 16 MiB written
+    }
+    EXPECT_NO_THROW(Cwt(x, 1e-3));
+    const PlanSummary s = MeasureFftPlans({{c.length}, {}, {}, {}});
+    EXPECT_EQ(s.ignored, path + ": " + c.why);
+    EXPECT_EQ(s.measured, 1);
+    ASSERT_TRUE(s.saved) << s.message;
+    ASSERT_TRUE(fs::is_regular_file(fs::symlink_status(path)));
+    EXPECT_EQ(internal::CheckWisdomText(ReadAll(path)), "");
+  }
 }
 
 TEST(FftWisdom, BadLengthsAreRejectedBeforeMeasuring) {

@@ -24,6 +24,7 @@
 #include "podid/core/error.hpp"
 #include "podid/core/fftw_lock.hpp"
 #include "podid/wavelet/plans.hpp"
+#include "wisdom_file.hpp"
 
 namespace podid::wavelet {
 namespace internal {
@@ -50,6 +51,7 @@ struct State {
   std::map<std::tuple<Kind, int, int>, Entry> plans;  // (kind, length, howmany)
   std::vector<fftw_plan> retired;
   std::set<std::string> loaded;  // cache files already imported
+  std::string ignored;           // why the cache file was last ignored ("" if read or missing)
   ~State() {
     for (auto& entry : plans) fftw_destroy_plan(entry.second.plan);
     for (fftw_plan p : retired) fftw_destroy_plan(p);
@@ -61,17 +63,18 @@ State& GlobalState() {
   return state;
 }
 
-// Imports the cache file once per path (callers hold the mutex). A missing or
-// foreign file is ignored: the plans are then estimated.
+// Imports the cache file once per path (callers hold the mutex). A missing,
+// foreign or malformed file is ignored (wisdom_file.hpp): the plans are then estimated.
 void LoadWisdomLocked(State& state) {
   const std::string path = FftWisdomPath();
   if (path.empty() || !state.loaded.insert(path).second) return;
-  if (::access(path.c_str(), R_OK) == 0) fftw_import_wisdom_from_filename(path.c_str());
+  state.ignored = ImportWisdomFile(path);
 }
 
 // Writes all wisdom (this process's merged with the file's) to the cache:
 // unique temporary file in the same folder, then rename. Returns "" or why not.
-std::string SaveWisdomLocked() {
+// A file that cannot be merged is replaced (state.ignored says why).
+std::string SaveWisdomLocked(State& state) {
   const std::string path = FftWisdomPath();
   if (path.empty()) return "no cache folder (neither XDG_CACHE_HOME nor HOME is set)";
   const std::filesystem::path file(path);
@@ -81,7 +84,7 @@ std::string SaveWisdomLocked() {
   if (::mkdir(folder.c_str(), 0700) != 0 && errno != EEXIST) {
     return "cannot create " + folder.string();
   }
-  if (::access(path.c_str(), R_OK) == 0) fftw_import_wisdom_from_filename(path.c_str());
+  if (std::string why = ImportWisdomFile(path); !why.empty()) state.ignored = std::move(why);
   std::string temp = path + ".tmp-" + std::to_string(::getpid()) + "-XXXXXX";
   const int fd = ::mkstemp(temp.data());
   if (fd < 0) return "cannot write in " + folder.string();
@@ -161,7 +164,7 @@ fftw_plan GetPlan(Kind kind, int n, int howmany, bool measure) {
   std::lock_guard<std::mutex> lock(state.mutex);
   bool measured_now = false;
   fftw_plan plan = GetPlanLocked(state, kind, n, howmany, measure ? 1 : 0, &measured_now);
-  if (measured_now) SaveWisdomLocked();  // best effort: an unwritable cache only costs time
+  if (measured_now) SaveWisdomLocked(state);  // best effort: an unwritable cache only costs time
   return plan;
 }
 
@@ -294,9 +297,10 @@ PlanSummary MeasureFftPlans(const FftLengths& lengths, PlanEffort effort) {
   }
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (summary.measured > 0) {
-    summary.message = internal::SaveWisdomLocked();
+    summary.message = internal::SaveWisdomLocked(state);
     summary.saved = summary.message.empty();
   }
+  summary.ignored = state.ignored;
   return summary;
 }
 

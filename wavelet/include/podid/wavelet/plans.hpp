@@ -9,8 +9,11 @@
 //
 //   cache file   $XDG_CACHE_HOME/podid/fftw3-wisdom (an absolute XDG_CACHE_HOME),
 //                else $HOME/.cache/podid/fftw3-wisdom; no cache if neither is set.
-//   reading      once per process and cache path, before the first plan; a missing,
-//                unreadable or foreign (other FFTW version) file is ignored.
+//   reading      once per process and cache path, before the first plan, by podid
+//                itself (FFTW's reader hangs on a FIFO and aborts on some malformed
+//                entries): a missing file, one that is not a regular file, unreadable,
+//                over 16 MiB, not in the shape FFTW exports, or foreign (another FFTW
+//                version or build) is ignored, and replaced at the next writing.
 //   effort       FFTW_MEASURE by default; MeasureFftPlans (`podid plan --effort patient`)
 //                can search harder (FFTW_PATIENT). A transform uses the most rigorous
 //                plan the wisdom holds for its length.
@@ -44,6 +47,8 @@ struct PlanSummary {
   std::string wisdom_path;
   bool saved = false;   ///< the cache file was written
   std::string message;  ///< why the cache was not written ("" when saved or nothing new)
+  std::string
+      ignored;  ///< why the cache file was ignored ("path: reason"; "" when read or missing)
 };
 
 /// How hard MeasureFftPlans searches: FFTW's planner flags. Transforms take
