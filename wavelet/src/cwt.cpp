@@ -8,6 +8,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -358,9 +359,12 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
                         magnitude ? out->magnitude.data() : nullptr);
     return;
   }
+  // Scales handed out one at a time: a thread that could not be started
+  // leaves its share to the others (not a std::terminate from a joinable pool).
+  std::atomic<Eigen::Index> next_scale{0};
   const auto run = [&](int thread) {
     Complex* w = s.work[static_cast<std::size_t>(thread)].get();
-    for (Eigen::Index k = thread; k < scales; k += s.options.threads) {
+    for (Eigen::Index k = next_scale++; k < scales; k = next_scale++) {
       s.Synthesise(k, false, w);
       if (magnitude) {
         // |W| of the scaled transform (no overflow), rounded once to float.
@@ -377,7 +381,13 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
   };
   const int workers = static_cast<int>(std::min<Eigen::Index>(s.options.threads, scales));
   std::vector<std::thread> pool;
-  for (int t = 1; t < workers; ++t) pool.emplace_back(run, t);
+  for (int t = 1; t < workers; ++t) {
+    try {
+      pool.emplace_back(run, t);
+    } catch (const std::system_error&) {
+      break;  // no more threads: the running ones take the remaining scales
+    }
+  }
   run(0);
   for (auto& thread : pool) thread.join();
 }
