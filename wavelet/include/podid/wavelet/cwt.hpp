@@ -229,8 +229,10 @@ struct CwtOptions {
   double band_tolerance = 1e-12;
   /// Threads over scales in Compute(), 1..256 (each with its own work buffers;
   /// at full rate the threads take contiguous chunks of scales of about equal
-  /// cost, 8 per thread, in turn). RidgeFrequencyEstimator's streamed ridge
-  /// uses two when this is >= 2 (podid/wavelet/ridge.hpp).
+  /// cost, 8 per thread, in turn; band-limited, single scales in turn).
+  /// RidgeFrequencyEstimator's streamed ridge uses two when this is >= 2
+  /// (podid/wavelet/ridge.hpp). Threads the system refuses are done without:
+  /// the result is the same.
   int threads = 1;
   FftPlanning planning = FftPlanning::kEstimate;
   CwtOutput output = CwtOutput::kComplex;
