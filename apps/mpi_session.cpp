@@ -1,11 +1,15 @@
 #include "mpi_session.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <limits>
+#include <string>
 #include <vector>
 
-#include <omp.h>
+#include "podid/core/error.hpp"
+#include "podid/ident/landscape.hpp"
 
 #ifdef PODID_HAVE_MPI
 #include <mpi.h>
@@ -65,7 +69,19 @@ bool Active() { return g_active; }
 int Rank() { return g_rank; }
 int Size() { return g_size; }
 int LocalSize() { return g_local_size; }
-int DefaultThreads() { return std::max(1, omp_get_max_threads() / g_local_size); }
+int DefaultThreads() {
+  // OpenMP's count comes from OMP_NUM_THREADS (else the cores): it gets
+  // --threads' bound, named as what the user set.
+  const int available = omp_get_max_threads();
+  if (available > ident::kMaxThreads) {
+    const char* env = std::getenv("OMP_NUM_THREADS");
+    ThrowInvalid("--threads 0",
+                 "OpenMP's thread count (OMP_NUM_THREADS, else the cores) of at most " +
+                     ToText(ident::kMaxThreads),
+                 env != nullptr ? "OMP_NUM_THREADS=" + std::string(env) : ToText(available));
+  }
+  return std::max(1, available / g_local_size);
+}
 
 std::string CheckAll(const std::string& local_error) {
   if (!g_active) return local_error;

@@ -37,6 +37,7 @@ int Size();  ///< 1 without MPI
 int LocalSize();
 /// Threads for a rank when the user gave 0: the cores OpenMP sees shared by
 /// the ranks on this machine (at least 1), so N ranks do not run N x cores threads.
+/// Throws std::invalid_argument if OpenMP's count exceeds ident::kMaxThreads.
 int DefaultThreads();
 
 /// Collective. `local_error` is empty when this rank succeeded. Returns ""

@@ -74,6 +74,16 @@ grep -q "cannot write $w/sim.csv: File too large" "$out/stderr" \
 [ "$(cat "$w/sim.csv")" = precious ] || fail "file size limit: earlier output changed"
 [ "$(ls -A "$w")" = sim.csv ] || fail "file size limit: temporary left: $(ls -A "$w")"
 
+# --threads 0 takes OpenMP's count, with --threads' bound: OMP_NUM_THREADS=5000
+# is named (it was reported as "threads: expected 0 to 1024, got 5000").
+OMP_NUM_THREADS=5000 "$podid" landscape "$case_file" -m tests/data/measured_knl50_T1.0.csv \
+  --param knl --range 40:60:3 --objective time-free -o "$w/omp.csv" >"$out/stdout" 2>"$out/stderr"
+rc=$?
+[ $rc -eq 1 ] || fail "OMP_NUM_THREADS=5000: exit $rc, expected 1"
+grep -q "\-\-threads 0: expected OpenMP's thread count (OMP_NUM_THREADS, else the cores) of at most 1024, got OMP_NUM_THREADS=5000" \
+  "$out/stderr" || fail "OMP_NUM_THREADS=5000 message: $(cat "$out/stderr")"
+[ ! -e "$w/omp.csv" ] || fail "OMP_NUM_THREADS=5000: an output appeared"
+
 # SIGINT during a long landscape: exit 130 and no output, or (had it finished)
 # exit 0 and a complete output. The handler is installed once the measured
 # data are decomposed, so SIGINT is repeated until the process ends.
