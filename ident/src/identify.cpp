@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "podid/core/error.hpp"
+#include "podid/ident/landscape.hpp"  // kMaxThreads
 #include "podid/ident/objective_uncertainty.hpp"
 
 namespace podid::ident {
@@ -405,7 +406,11 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
   // This process's share of the starts.
   std::vector<std::size_t> mine;
   for (std::size_t s = options.share_index; s < starts.size(); s += options.share_count) mine.push_back(s);
-  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  // 0: OpenMP's count, bounded as the option is; never more threads than starts.
+  const int threads = static_cast<int>(std::clamp<std::size_t>(
+      static_cast<std::size_t>(options.threads > 0 ? options.threads
+                                                   : std::min(omp_get_max_threads(), kMaxThreads)),
+      1, std::max<std::size_t>(mine.size(), 1)));
   // Starts run in parallel, each with its own workspace and NLopt object.
 #pragma omp parallel for schedule(dynamic) num_threads(threads) if (local && mine.size() > 1)
   for (std::size_t q = 0; q < mine.size(); ++q) {

@@ -156,7 +156,11 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
   // this covers the buffers, e.g. std::bad_alloc, and the progress callback.)
   std::exception_ptr error, progress_error;
   std::atomic<bool> stop{false};
-  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  // 0: OpenMP's count (OMP_NUM_THREADS, else the cores), bounded as the
+  // option is; never more threads than points (each holds a workspace).
+  const int threads = static_cast<int>(std::clamp<long long>(
+      options.threads > 0 ? options.threads : std::min(omp_get_max_threads(), kMaxThreads), 1,
+      std::max(mine, 1LL)));
 
 #pragma omp parallel num_threads(threads)
   {

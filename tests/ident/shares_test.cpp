@@ -2,6 +2,7 @@
 // (the CLI's MPI ranks), merging them and summarising again gives exactly the
 // one-process result; threads and the progress callback.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <atomic>
@@ -70,6 +71,36 @@ TEST(SharesTest, LandscapeSharesMergeToTheWholeGrid) {
     EXPECT_EQ(merged.metrics[k].local_minima, whole.metrics[k].local_minima);
     EXPECT_EQ(merged.metrics[k].global_minimiser, whole.metrics[k].global_minimiser);
   }
+}
+
+// Threads beyond the work only hold workspaces: a landscape of 3 points asked
+// for 64 threads (or for OpenMP's count) runs on at most 3, an
+// identification of 2 starts on at most 2 (the team sizes seen inside).
+TEST(SharesTest, NoMoreThreadsThanPointsOrStarts) {
+  const ObjectiveFunction objective = TimeFreeAndFull();
+  for (int threads : {64, 0}) {
+    LandscapeOptions options;
+    options.x = {0, 40.0, 60.0, 3};
+    options.threads = threads;
+    int team = 0;
+    options.progress = [&](const Progress&) { team = std::max(team, omp_get_num_threads()); };
+    ASSERT_EQ(ComputeLandscape(objective, options).termination, LandscapeTermination::kCompleted);
+    EXPECT_GE(team, 1);
+    EXPECT_LE(team, 3) << "threads " << threads;
+  }
+  IdentifyOptions options;
+  options.multistart = 2;
+  options.threads = 64;
+  std::atomic<int> team{0};
+  options.progress = [&](const Progress&) {  // from the starts' threads at once
+    const int now = omp_get_num_threads();
+    int seen = team.load();
+    while (now > seen && !team.compare_exchange_weak(seen, now)) {
+    }
+  };
+  ASSERT_TRUE(Identify(objective, options).IsSolutionUsable());
+  EXPECT_GE(team.load(), 1);
+  EXPECT_LE(team.load(), 2);
 }
 
 TEST(SharesTest, MultistartSharesMergeToTheSameBestPoint) {
