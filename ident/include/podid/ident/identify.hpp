@@ -63,7 +63,8 @@ struct IdentifyOptions {
   /// an upper bound); empty = none.
   ProgressCallback progress;
   /// Starts run in parallel on this many threads, in [0, 1024]; 0 = OpenMP's
-  /// default (OMP_NUM_THREADS, else one per core).
+  /// default (OMP_NUM_THREADS, else one per core; at most 1024). Never more
+  /// threads than this process's starts.
   int threads = 0;
   /// This process runs the starts s with s % share_count == share_index (the
   /// CLI's MPI ranks); merge the shares' start_results and histories, then

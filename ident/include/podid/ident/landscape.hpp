@@ -42,7 +42,8 @@ struct LandscapeOptions {
   /// summary says kInterrupted (values not computed are NaN).
   const std::atomic<bool>* cancel = nullptr;
   /// Worker threads, in [0, kMaxThreads]; 0 = OpenMP's default (OMP_NUM_THREADS,
-  /// else one per core). Each thread has its own workspace (a simulation's buffers).
+  /// else one per core; at most kMaxThreads). Each thread has its own workspace
+  /// (a simulation's buffers), so there are never more threads than this share's points.
   int threads = 0;
   /// This process computes the points p (row-major, p = i ny + j) with
   /// p % share_count == share_index; the others are left not computed, for
