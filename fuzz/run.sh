@@ -36,8 +36,10 @@ run_one() {
     what="$PODID_FUZZ_RUNS runs from seed ${PODID_FUZZ_SEED:-1}"
   fi
   echo "fuzz: $target for $what"
+  local dict=()
+  if [[ -f "fuzz/$target.dict" ]]; then dict=(-dict="fuzz/$target.dict"); fi
   "$build/fuzz/podid_fuzz_$target" "$build/corpus/$target" "fuzz/corpus/$target" \
-    "${budget[@]}" -timeout=10 -rss_limit_mb=4096 -malloc_limit_mb=2048 -max_len=16384 \
+    "${budget[@]}" "${dict[@]}" -timeout=10 -rss_limit_mb=4096 -malloc_limit_mb=2048 -max_len=16384 \
     -print_final_stats=1 -artifact_prefix="$build/artifacts/$target/" \
     >"$build/$target.log" 2>&1 || rc=$?
   grep -E '^stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb)|^Done|ERROR' \
