@@ -1,12 +1,9 @@
 #include "case_limits.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cstring>
+#include <utility>
 
+#include "podid/core/bounded_read.hpp"
 #include "podid/core/error.hpp"
 
 namespace podid::case_detail {
@@ -15,48 +12,32 @@ namespace {
 const std::string kSizeExpected =
     "a case file of at most " + std::to_string(kMaxCaseFileBytes) + " bytes (1 MiB)";
 
-struct FileDescriptor {
-  int fd = -1;
-  ~FileDescriptor() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
 }  // namespace
 
 std::string ReadCaseText(const std::string& path) {
-  FileDescriptor file;
-  // O_NONBLOCK: opening a FIFO with no writer must not hang; cleared below so
-  // that reads wait for data as usual.
-  file.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (file.fd < 0) {
-    ThrowInvalid(path, "a readable case file",
-                 std::string("a file that cannot be opened (") + std::strerror(errno) + ")");
+  using Status = internal::BoundedRead::Status;
+  // FIFOs and devices are read too (a case piped in by process substitution),
+  // up to the bound.
+  internal::BoundedRead file = internal::ReadFileBounded(path, kMaxCaseFileBytes, false);
+  const std::string readable = "a readable case file";
+  switch (file.status) {
+    case Status::kOk:
+      break;
+    case Status::kCannotOpen:
+      ThrowInvalid(path, readable,
+                   std::string("a file that cannot be opened (") + std::strerror(file.error) + ")");
+    case Status::kFolder:
+      ThrowInvalid(path, readable, "a folder");
+    case Status::kTooLarge:
+      ThrowInvalid(path, kSizeExpected, std::to_string(file.size) + " bytes");
+    case Status::kMoreThanMax:
+      ThrowInvalid(path, kSizeExpected, "more (a device or a pipe?)");
+    case Status::kCannotStat:
+    case Status::kReadError:
+    case Status::kNotRegular:  // not asked for
+      ThrowInvalid(path, readable, std::string("a read error (") + std::strerror(file.error) + ")");
   }
-  struct stat info {};
-  if (::fstat(file.fd, &info) != 0 || S_ISDIR(info.st_mode)) {
-    ThrowInvalid(path, "a readable case file", "a folder");
-  }
-  if (S_ISREG(info.st_mode) && static_cast<unsigned long long>(info.st_size) > kMaxCaseFileBytes) {
-    ThrowInvalid(path, kSizeExpected, std::to_string(info.st_size) + " bytes");
-  }
-  const int flags = ::fcntl(file.fd, F_GETFL);
-  if (flags >= 0) ::fcntl(file.fd, F_SETFL, flags & ~O_NONBLOCK);
-  std::string text(kMaxCaseFileBytes + 1, '\0');
-  std::size_t size = 0;
-  while (size < text.size()) {
-    const ssize_t got = ::read(file.fd, text.data() + size, text.size() - size);
-    if (got == 0) break;
-    if (got < 0) {
-      if (errno == EINTR) continue;
-      ThrowInvalid(path, "a readable case file",
-                   std::string("a read error (") + std::strerror(errno) + ")");
-    }
-    size += static_cast<std::size_t>(got);
-  }
-  if (size > kMaxCaseFileBytes) ThrowInvalid(path, kSizeExpected, "more (a device or a pipe?)");
-  text.resize(size);
-  return text;
+  return std::move(file.text);
 }
 
 void CheckCaseText(std::string_view text, std::string_view source) {

@@ -1,16 +1,14 @@
 // The wisdom cache read defensively (wisdom_file.hpp).
 #include "wisdom_file.hpp"
 
-#include <fcntl.h>
 #include <fftw3.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+
+#include "podid/core/bounded_read.hpp"
 
 namespace podid::wavelet::internal {
 namespace {
@@ -116,51 +114,6 @@ class Reader {
   std::string why_;
 };
 
-// Reads a regular file of at most kMaxWisdomBytes into *text. Returns "" or
-// why not; *missing when there is no such file. O_NONBLOCK: opening a FIFO
-// does not wait for a writer (the file is then refused as not regular).
-std::string ReadSmallRegularFile(const std::string& path, std::string* text, bool* missing) {
-  *missing = false;
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-  if (fd < 0) {
-    *missing = errno == ENOENT || errno == ENOTDIR;
-    return "cannot open it (" + std::string(std::strerror(errno)) + ")";
-  }
-  struct ::stat st {};
-  std::string why;
-  if (::fstat(fd, &st) != 0) {
-    why = "cannot stat it (" + std::string(std::strerror(errno)) + ")";
-  } else if (!S_ISREG(st.st_mode)) {
-    why = "not a regular file";
-  } else if (static_cast<std::uint64_t>(st.st_size) > kMaxWisdomBytes) {
-    why = "expected at most " + std::to_string(kMaxWisdomBytes) + " bytes, got " +
-          std::to_string(static_cast<std::uint64_t>(st.st_size));
-  } else {
-    // Up to one byte more than the bound: the file may grow meanwhile.
-    text->resize(static_cast<std::size_t>(st.st_size) + 1);
-    std::size_t got = 0;
-    while (got < text->size()) {
-      const ::ssize_t n = ::read(fd, text->data() + got, text->size() - got);
-      if (n < 0 && errno == EINTR) continue;
-      if (n < 0) {
-        why = "cannot read it (" + std::string(std::strerror(errno)) + ")";
-        break;
-      }
-      if (n == 0) break;
-      got += static_cast<std::size_t>(n);
-      if (got == text->size() && text->size() <= kMaxWisdomBytes) {
-        text->resize(std::min(kMaxWisdomBytes + 1, 2 * text->size() + 4096));
-      }
-    }
-    text->resize(got);
-    if (why.empty() && got > kMaxWisdomBytes) {
-      why = "expected at most " + std::to_string(kMaxWisdomBytes) + " bytes, got more";
-    }
-  }
-  ::close(fd);
-  return why;
-}
-
 }  // namespace
 
 std::string CheckWisdomText(std::string_view text) {
@@ -191,12 +144,38 @@ std::string CheckWisdomText(std::string_view text) {
 }
 
 std::string ImportWisdomFile(const std::string& path) {
-  std::string text;
-  bool missing = false;
-  std::string why = ReadSmallRegularFile(path, &text, &missing);
-  if (missing) return "";
-  if (why.empty()) why = CheckWisdomText(text);
-  if (why.empty() && fftw_import_wisdom_from_string(text.c_str()) == 0) {
+  using Status = podid::internal::BoundedRead::Status;
+  // Regular files only: a FIFO or a device is refused before any read.
+  podid::internal::BoundedRead file = podid::internal::ReadFileBounded(path, kMaxWisdomBytes, true);
+  const std::string at_most =
+      "expected at most " + std::to_string(kMaxWisdomBytes) + " bytes, got ";
+  std::string why;
+  switch (file.status) {
+    case Status::kOk:
+      why = CheckWisdomText(file.text);
+      break;
+    case Status::kCannotOpen:
+      if (file.error == ENOENT || file.error == ENOTDIR) return "";  // no cache yet
+      why = "cannot open it (" + std::string(std::strerror(file.error)) + ")";
+      break;
+    case Status::kCannotStat:
+      why = "cannot stat it (" + std::string(std::strerror(file.error)) + ")";
+      break;
+    case Status::kFolder:
+    case Status::kNotRegular:
+      why = "not a regular file";
+      break;
+    case Status::kTooLarge:
+      why = at_most + std::to_string(file.size);
+      break;
+    case Status::kReadError:
+      why = "cannot read it (" + std::string(std::strerror(file.error)) + ")";
+      break;
+    case Status::kMoreThanMax:
+      why = at_most + "more";
+      break;
+  }
+  if (why.empty() && fftw_import_wisdom_from_string(file.text.c_str()) == 0) {
     why = "FFTW refused it (wisdom of another FFTW version or build)";
   }
   return why.empty() ? why : path + ": " + why;
