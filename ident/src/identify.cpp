@@ -15,6 +15,7 @@
 #include "podid/core/error.hpp"
 #include "podid/ident/landscape.hpp"  // kMaxThreads
 #include "podid/ident/objective_uncertainty.hpp"
+#include "worker_threads.hpp"
 
 namespace podid::ident {
 namespace {
@@ -261,8 +262,8 @@ bool IdentifyOptions::IsValid(int parameter_count, std::string* why) const {
   std::string uncertainty_why;
   if (uncertainty && !uncertainty_options.IsValid(&uncertainty_why))
     return fail("uncertainty: " + uncertainty_why);
-  if (threads < 0 || threads > 1024)
-    return fail("threads: expected 0 to 1024, got " + ToText(threads));
+  if (threads < 0 || threads > kMaxThreads)
+    return fail("threads: expected 0 to " + ToText(kMaxThreads) + ", got " + ToText(threads));
   if (share_count < 1 || share_count > 65536 || share_index < 0 || share_index >= share_count)
     return fail("share: expected 0 <= index < count <= 65536, got " + ToText(share_index) + " of " +
                 ToText(share_count));
@@ -406,11 +407,7 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
   // This process's share of the starts.
   std::vector<std::size_t> mine;
   for (std::size_t s = options.share_index; s < starts.size(); s += options.share_count) mine.push_back(s);
-  // 0: OpenMP's count, bounded as the option is; never more threads than starts.
-  const int threads = static_cast<int>(std::clamp<std::size_t>(
-      static_cast<std::size_t>(options.threads > 0 ? options.threads
-                                                   : std::min(omp_get_max_threads(), kMaxThreads)),
-      1, std::max<std::size_t>(mine.size(), 1)));
+  const int threads = internal::WorkerThreads(options.threads, mine.size());
   // Starts run in parallel, each with its own workspace and NLopt object.
 #pragma omp parallel for schedule(dynamic) num_threads(threads) if (local && mine.size() > 1)
   for (std::size_t q = 0; q < mine.size(); ++q) {

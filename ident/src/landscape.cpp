@@ -5,13 +5,14 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <exception>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <limits>
 #include <sstream>
 
 #include "podid/core/error.hpp"
+#include "worker_threads.hpp"
 
 namespace podid::ident {
 
@@ -156,11 +157,7 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
   // this covers the buffers, e.g. std::bad_alloc, and the progress callback.)
   std::exception_ptr error, progress_error;
   std::atomic<bool> stop{false};
-  // 0: OpenMP's count (OMP_NUM_THREADS, else the cores), bounded as the
-  // option is; never more threads than points (each holds a workspace).
-  const int threads = static_cast<int>(std::clamp<long long>(
-      options.threads > 0 ? options.threads : std::min(omp_get_max_threads(), kMaxThreads), 1,
-      std::max(mine, 1LL)));
+  const int threads = internal::WorkerThreads(options.threads, static_cast<std::size_t>(mine));
 
 #pragma omp parallel num_threads(threads)
   {
