@@ -95,6 +95,12 @@ std::vector<std::pair<std::string, Eigen::VectorXd>> SelectSignals(const CwtArgu
     return {{a.channel, series.values.col(index)}};
   }
   // --pom k: the k-th right-singular vector (time mode) of the POD of all channels.
+  // The data have at most min(channels, samples) modes; checked here so the
+  // message names --pom, not the POD's option.
+  const Eigen::Index available = std::min(series.values.rows(), series.values.cols());
+  if (available < a.pom) {
+    ThrowInvalid("cwt --pom", "1.." + ToText(available) + " (the data's POD modes)", ToText(a.pom));
+  }
   PodOptions options;
   options.max_modes = a.pom;
   const PodResult pod = ComputePod(series, options);
@@ -290,13 +296,21 @@ void Run(const CwtArguments& a) {
       // |W| there is the padding's step, and a penalised ridge drawn to it
       // can stay at those frequencies well into the record.
       const double useful_Hz = sg.coi_frequency_Hz.size() > 0 ? sg.coi_frequency_Hz.minCoeff() : 0.0;
-      if (a.coi_factor > 0.0 && sg.frequencies_Hz(0) < useful_Hz) {
+      const double record_s = static_cast<double>(signal.size() - 1) * step_s;
+      if (a.coi_factor > 0.0 && sg.frequencies_Hz(sg.frequencies() - 1) < useful_Hz) {
         std::fprintf(stderr,
-                     "podid: note: below %.4g Hz no coefficient of this %.4g s record is inside the "
-                     "cone of influence (coi_factor %.4g): the ridge may follow the record's edges "
-                     "there; --fmin %.4g or a longer record avoids it\n",
-                     useful_Hz, static_cast<double>(signal.size() - 1) * step_s, a.coi_factor,
-                     useful_Hz);
+                     "podid: note: no coefficient of this %.4g s record is inside the cone of "
+                     "influence (coi_factor %.4g) at any frequency of the grid (up to %.4g Hz; "
+                     "the cone holds some from %.4g Hz): a longer record or a smaller "
+                     "--coi-factor avoids it\n",
+                     record_s, a.coi_factor, sg.frequencies_Hz(sg.frequencies() - 1), useful_Hz);
+      } else if (a.coi_factor > 0.0 && sg.frequencies_Hz(0) < useful_Hz) {
+        std::fprintf(
+            stderr,
+            "podid: note: below %.4g Hz no coefficient of this %.4g s record is inside the "
+            "cone of influence (coi_factor %.4g): the ridge may follow the record's edges "
+            "there; --fmin %.4g or a longer record avoids it\n",
+            useful_Hz, record_s, a.coi_factor, useful_Hz);
       }
     }
     for (std::size_t r = 0; r < tracks.back().size(); ++r) {
@@ -451,9 +465,10 @@ void AddCwtCommand(CLI::App& app) {
                    "only with --normalisation energy (1.36 % for Morlet omega0 6)")
       ->capture_default_str();
   command
-      ->add_option("--coi-factor", a->coi_factor,
-                   "Widen the cone of influence (1 = Torrence & Compo; 2 keeps the worst\n"
-                   "border IF error over end phases below 0.3 %, docs/wavelet.md)")
+      ->add_option(
+          "--coi-factor", a->coi_factor,
+          "Widen the cone of influence (1 = Torrence & Compo; 2 keeps the worst\n"
+          "border IF error over end phases below 0.3 %, docs/wavelet.md), 0..10 (0: no cone)")
       ->capture_default_str();
   command->add_option("--threads", a->threads,
                       "Threads over the scales (1..256); a streamed ridge uses two (the same result)")

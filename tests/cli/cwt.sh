@@ -191,6 +191,13 @@ grep -q "gnuplot not found" "$out/stderr" || fail "no gnuplot message"
 "$podid" cwt "$data" --channel w6 --fmin 1 >/dev/null 2>"$out/low" || fail "cwt --fmin 1 exited $?"
 grep -q "note: below 5.40[0-9] Hz no coefficient of this 1 s record is inside the cone" "$out/low" \
   || fail "no low-frequency note: $(cat "$out/low")"
+# A cone wider than the record at every frequency of the grid (27 Hz at
+# coi_factor 10, above --fmax 20): the note says so instead of suggesting an
+# --fmin above --fmax.
+"$podid" cwt "$data" --channel w6 --fmin 10 --fmax 20 --coi-factor 10 >/dev/null 2>"$out/wide" \
+  || fail "cwt --coi-factor 10 exited $?"
+grep -q "note: no coefficient of this 1 s record is inside the cone of influence (coi_factor 10) at any frequency of the grid (up to 20 Hz; the cone holds some from 27.0[0-9] Hz)" "$out/wide" \
+  || fail "no whole-grid note: $(cat "$out/wide")"
 "$podid" cwt "$data" --channel w6 >/dev/null 2>"$out/default" || fail "cwt exited $?"
 [ ! -s "$out/default" ] || fail "unexpected stderr at the default band: $(cat "$out/default")"
 # --channel all skips a constant (dead) channel with a note naming it; a

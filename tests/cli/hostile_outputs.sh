@@ -131,6 +131,11 @@ expect_argument_error "missing case" "case is required" simulate
 expect_argument_error "unknown option" "not expected: --bogus" simulate case.toml --bogus
 expect_argument_error "--pom 0" '--pom: expected an integer in \[1, 1000000\], got "0"' \
   cwt data.csv --pom 0
+expect_argument_error "--pom beyond the data's modes" \
+  "cwt --pom: expected 1..6 (the data's POD modes), got 1000" \
+  cwt data.csv --pom 1000
+expect_argument_error "--coi-factor 11" "CwtOptions.coi_factor: expected a value in \[0, 10\], got 11" \
+  cwt data.csv --channel w1 --coi-factor 11
 expect_argument_error "--modes -1" "--modes: expected an integer in \[0, 1000000\]" \
   pod data.csv --modes -1
 expect_argument_error "--count x" "--count: expected an integer" modes case.toml --count x

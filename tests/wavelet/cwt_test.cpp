@@ -7,6 +7,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdlib>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <thread>
@@ -403,6 +404,17 @@ TEST(Cwt, BadInputNamesWhatWasExpected) {
   o = CwtOptions{};
   o.band_tolerance = 0.5;
   PODID_EXPECT_THROW_WITH(CwtTransform{o}, std::invalid_argument, "band_tolerance");
+  // The cone: 0 (none) to kMaxCoiFactor; 1e308 made its frequencies inf.
+  o = CwtOptions{};
+  for (const double c : {0.0, kMaxCoiFactor}) {
+    o.coi_factor = c;
+    EXPECT_TRUE(o.IsValid(nullptr)) << c;
+  }
+  for (const double c : {-1.0, 10.5, 1e308, std::numeric_limits<double>::quiet_NaN()}) {
+    o.coi_factor = c;
+    PODID_EXPECT_THROW_WITH(CwtTransform{o}, std::invalid_argument,
+                            "CwtOptions.coi_factor: expected a value in [0, 10], got");
+  }
   PODID_EXPECT_THROW_WITH(ParsePadding("mirror"), std::invalid_argument,
                           "expected one of reflect, zero, periodic");
 }

@@ -62,9 +62,11 @@ struct Sizes {
 
 bool CwtOptions::IsValid(std::string* why) const {
   if (!wavelet.IsValid(why) || !frequencies.IsValid(why)) return false;
-  if (!std::isfinite(coi_factor) || coi_factor < 0.0) {
-    return Fail(why,
-                "CwtOptions.coi_factor: expected a finite value >= 0, got " + ToText(coi_factor));
+  // Above ~6 an edge's influence, exp(-c^2), is below double precision
+  // already; 10 leaves room and keeps the cone's frequencies finite.
+  if (!(coi_factor >= 0.0 && coi_factor <= kMaxCoiFactor)) {
+    return Fail(why, "CwtOptions.coi_factor: expected a value in [0, " + ToText(kMaxCoiFactor) +
+                         "], got " + ToText(coi_factor));
   }
   if (!(band_tolerance > 0.0 && band_tolerance <= 1e-3)) {
     return Fail(why, "CwtOptions.band_tolerance: expected a value in (0, 1e-3], got " +

@@ -207,6 +207,10 @@ struct FrequencyGrid {
   Eigen::VectorXd Frequencies_Hz() const;
 };
 
+/// The widest cone accepted: at c = 6 an edge's influence exp(-c^2) is 2e-16,
+/// below double precision; 10 leaves room (0 = no cone).
+inline constexpr double kMaxCoiFactor = 10.0;
+
 struct CwtOptions {
   MorletWavelet wavelet;
   FrequencyGrid frequencies;
@@ -215,12 +219,11 @@ struct CwtOptions {
   /// 0.61 % (tone / chirp / decay) against reflect's 4.0 % / 7.5 % / 4.5 %.
   Padding padding = Padding::kZero;
   bool remove_mean = true;  ///< subtract the signal's mean before padding
-  /// The cone's half-width is coi_factor * 2 sigma_t s (sqrt(2) s for Morlet), >= 0. 1 is Torrence &
-  /// Compo's e-folding time, where an edge's influence on |W| has fallen only
-  /// to exp(-1); with coi_factor = c it is exp(-c^2) (c = 4: 1e-7). Default 2:
-  /// with zero padding the worst IF error inside the cone over end phases is
-  /// 0.028 % / 0.27 % / 0.11 % (tone / chirp / decay) against 0.69 % / 4.0 % /
-  /// 0.61 % at 1 (scripts/wavelet_border_errors.py).
+  /// The cone's half-width is coi_factor * 2 sigma_t s (sqrt(2) s for Morlet), >= 0. 1 is Torrence
+  /// & Compo's e-folding time, where an edge's influence on |W| has fallen only to exp(-1); with
+  /// coi_factor = c it is exp(-c^2) (c = 4: 1e-7). Default 2: with zero padding the worst IF error
+  /// inside the cone over end phases is 0.028 % / 0.27 % / 0.11 % (tone / chirp / decay) against
+  /// 0.69 % / 4.0 % / 0.61 % at 1 (scripts/wavelet_border_errors.py). At most kMaxCoiFactor.
   double coi_factor = 2.0;
   /// Output only every D-th sample, D = P / M (see the top of this file).
   bool band_limited = false;
