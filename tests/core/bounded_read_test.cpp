@@ -23,7 +23,7 @@ using testing::TempDir;
 
 TEST(ReadFileBounded, ReadsRegularFilesUpToTheBoundAndRefusesLargerOnesFromTheirSize) {
   const TempDir dir;
-  constexpr std::size_t kMax = 10'000;  // above the 4 KiB first read of a stream
+  constexpr std::size_t kMax = 10'000;  // a regular file is read into size + 1 bytes at once
   const std::string exact(kMax, 'x');
   for (const bool regular_only : {false, true}) {
     BoundedRead read = ReadFileBounded(dir.Write("exact", exact), kMax, regular_only);
