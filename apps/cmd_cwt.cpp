@@ -450,7 +450,7 @@ void AddCwtCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--wavelet", a->wavelet, "morlet or morse (generalised Morse, MATLAB's default)")
       ->capture_default_str();
-  command->add_option("--omega0", a->omega0, "Morlet centre frequency (>= 5)")
+  command->add_option("--omega0", a->omega0, "Morlet centre frequency, 5..100")
       ->capture_default_str();
   command->add_option("--gamma", a->gamma, "Morse symmetry gamma (1..20)")->capture_default_str();
   command->add_option("--beta", a->beta, "Morse decay beta (1..500, beta/gamma <= 100)")
@@ -462,7 +462,7 @@ void AddCwtCommand(CLI::App& app) {
       ->add_option("--scale-convention", a->scale_convention,
                    "Frequency of a scale: ridge (Torrence & Compo: where a tone peaks) or\n"
                    "peak (MATLAB, PyWavelets: the wavelet's centre frequency); they differ\n"
-                   "only with --normalisation energy (1.36 % for Morlet omega0 6)")
+                   "only with --normalisation energy (1.35 % for Morlet omega0 6)")
       ->capture_default_str();
   command
       ->add_option(

@@ -313,10 +313,11 @@ TimeSeries MatStructSeries(matvar_t& var,
       }
     }
     if (!(step_s > 0.0) || !std::isfinite(step_s)) {
-      ThrowInvalid(where,
-                   "a time field ('t', 'time', 'time_s'), a scalar field 'fs' (Hz) or 'dt' (s), "
-                   "or a sampling step (--rate, --step)",
-                   "none of them");
+      ThrowInvalid(
+          where,
+          "a time field ('t', 'time', 'time_s', 't_s'), a scalar field 'fs' (Hz) or 'dt' (s), "
+          "or a sampling step (--rate, --step)",
+          "none of them");
     }
     series.time_s = UniformTimes(0.0, step_s, samples, where + " (sampling step)");
     if (has_time) *has_time = false;

@@ -133,12 +133,12 @@ grep -q "expected at least 2 MB for 6 channels x 16 ridges x 313 output times, g
 grep -q "expected a single --channel or --pom" "$out/stderr" || fail "all + plot message"
 
 # Scale conventions: with energy normalisation, MATLAB's / PyWavelets' peak
-# labels (omega0 / (2 pi s)) sit 6 / 6.0828 below Torrence & Compo's ridge labels.
+# labels (omega0 / (2 pi s)) sit 6 / 6.0822 below Torrence & Compo's ridge labels.
 "$podid" cwt "$data" --channel w6 --normalisation energy --scalogram "$out/ridge_labels.csv" >/dev/null \
   || fail "ridge convention exited $?"
 "$podid" cwt "$data" --channel w6 --normalisation energy --scale-convention peak \
   --scalogram "$out/peak_labels.csv" >/dev/null || fail "peak convention exited $?"
-# The label of the largest |W| at t = 0.5 s: 1.36 % lower under peak (within a 2.2 % bin).
+# The label of the largest |W| at t = 0.5 s: 1.35 % lower under peak (within a 2.2 % bin).
 argmax() { awk -F, 'NR == 1 { for (i = 2; i <= NF; i++) h[i] = $i + 0 }
   NR == 2502 { b = 2; for (i = 2; i <= NF; i++) if ($i > $b) b = i; print h[b] }' "$1"; }
 fr=$(argmax "$out/ridge_labels.csv"); fp=$(argmax "$out/peak_labels.csv")

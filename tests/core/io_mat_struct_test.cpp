@@ -92,10 +92,11 @@ TEST(ReadMatStruct, PlainStructWithTimeAndChannelFields) {
 }
 
 TEST(ReadMatStruct, PlainStructWithoutTimeNeedsARate) {
-  PODID_EXPECT_THROW_WITH(Read(Reader("plain_struct.mat"), "notime"), std::invalid_argument,
-                          "plain_struct.mat: notime: expected a time field ('t', 'time', "
-                          "'time_s'), a scalar field 'fs' (Hz) or 'dt' (s), or a sampling step "
-                          "(--rate, --step), got none of them");
+  PODID_EXPECT_THROW_WITH(
+      Read(Reader("plain_struct.mat"), "notime"), std::invalid_argument,
+      "plain_struct.mat: notime: expected a time field ('t', 'time', "
+      "'time_s', 't_s'), a scalar field 'fs' (Hz) or 'dt' (s), or a sampling step "
+      "(--rate, --step), got none of them");
   const TimeSeries s = Read(Reader("plain_struct.mat"), "notime", 512.0);
   EXPECT_EQ(s.channel_names, (std::vector<std::string>{"a", "b"}));
   ASSERT_EQ(s.samples(), kSamples);

@@ -574,8 +574,8 @@ TEST(ScaleConvention, PeakIsMatlabAndPyWaveletsCentreFrequency) {
   // MATLAB (cwt: f = omega_peak / (2 pi s)) and PyWavelets (scale2frequency
   // of cmor2.0-C: C / s, C = omega0 / (2 pi)) label a scale by the peak of
   // psi^; Torrence & Compo by the ridge of n(s) psi^(s w). For kEnergy Morlet
-  // omega0 = 6 the ridge is (6 + sqrt(38)) / 2 = 6.0828: 1.38 % apart in s,
-  // 1.36 % of the ridge frequency. For kAmplitude they coincide.
+  // omega0 = 6 the ridge is (6 + sqrt(38)) / 2 = 6.0822: 1.37 % apart in s,
+  // 1.35 % of the ridge frequency. For kAmplitude they coincide.
   constexpr double kTolerance = 1e-14;
   MorletWavelet w;
   w.normalisation = Normalisation::kEnergy;
@@ -594,8 +594,8 @@ TEST(ScaleConvention, PeakIsMatlabAndPyWaveletsCentreFrequency) {
   EXPECT_NEAR(morse.ScaleFrequencyConstant(), std::pow(20.0 / 3.0, 1.0 / 3.0), kTolerance);
 
   // The transform's scales follow the convention, and a tone's ridge (at
-  // s = 6.0828 / (2 pi 33) whatever the labels) carries the label
-  // 6 / 6.0828 times its frequency under kPeak with kEnergy: the grid's
+  // s = 6.0822 / (2 pi 33) whatever the labels) carries the label
+  // 6 / 6.0822 times its frequency under kPeak with kEnergy: the grid's
   // largest |W| is within half a bin (1.1 %) of it.
   CwtOptions o;
   o.wavelet = w;

@@ -159,7 +159,7 @@ struct MorletWavelet {
   Normalisation normalisation = Normalisation::kAmplitude;
   /// How scales map to frequencies. The two agree for kAmplitude (without the
   /// Morlet correction); for kEnergy Morlet omega0 = 6 the ridge is at
-  /// s omega = 6.0828, so under kPeak a tone's ridge carries a label 1.36 % below its frequency.
+  /// s omega = 6.0822, so under kPeak a tone's ridge carries a label 1.35 % below its frequency.
   ScaleConvention convention = ScaleConvention::kRidge;
 
   bool IsValid(std::string* why) const;
@@ -207,8 +207,8 @@ struct FrequencyGrid {
   Eigen::VectorXd Frequencies_Hz() const;
 };
 
-/// The widest cone accepted: at c = 6 an edge's influence exp(-c^2) is 2e-16,
-/// below double precision; 10 leaves room (0 = no cone).
+/// The widest cone accepted: at c = 6 an edge's influence exp(-c^2) is 2.3e-16,
+/// double precision's epsilon; 10 leaves room (0 = no cone).
 inline constexpr double kMaxCoiFactor = 10.0;
 
 struct CwtOptions {

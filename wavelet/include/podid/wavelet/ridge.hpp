@@ -126,12 +126,13 @@ struct RidgeFrequencyOptions {
   bool keep_scalogram = false;
   /// Streamed: output cells (times x frequencies) per block, 2^10..2^26. A
   /// record with at most this many cells is one block (default 2^20, 8 MB of
-  /// ridge cost). A longer one is cut into blocks of at most this many cells
-  /// whose inverse FFTs are at least 8 times the overlap (twice the wavelet's
-  /// support at the lowest frequency) and at least 1024 points, up to 2048
-  /// points the length of least FFT cost per kept time: short enough for a
-  /// block's costs to stay near the cache (the Silverbox record: 41 blocks
-  /// of 1612 times x 115 frequencies, 1.5 MB).
+  /// ridge cost). A longer one is cut into blocks of about this many cells
+  /// (more only when the frequencies are so many that a block's FFT length,
+  /// rounded up to a fast one, keeps more times) whose inverse FFTs are at least 8 times the
+  /// overlap (twice the wavelet's support at the lowest frequency) and at least 1024 points, up to
+  /// 2048 points the length of least FFT cost per kept time: short enough for a block's costs to
+  /// stay near the cache (the whole Silverbox record: 41 blocks of 1612 times x 115
+  /// frequencies, 1.5 MB).
   double block_cells = 1048576.0;
   /// Streamed, one block, kPenalised: transform the scales in order of a
   /// bound on their |W| (sum over the band of |X| |psi^|) and stop once the
