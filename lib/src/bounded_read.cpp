@@ -22,6 +22,8 @@ struct FileDescriptor {
 BoundedRead ReadFileBounded(const std::string& path, std::size_t max_bytes, bool regular_only) {
   using Status = BoundedRead::Status;
   BoundedRead out;
+  // max_bytes + 1 below must not wrap (SIZE_MAX would read nothing and say kOk).
+  max_bytes = std::min(max_bytes, out.text.max_size() - 1);
   FileDescriptor file;
   file.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
   if (file.fd < 0) {

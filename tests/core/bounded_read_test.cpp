@@ -10,6 +10,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cstdint>
 #include <string>
 #include <thread>
 
@@ -37,6 +38,10 @@ TEST(ReadFileBounded, ReadsRegularFilesUpToTheBoundAndRefusesLargerOnesFromTheir
     EXPECT_EQ(read.size, kMax + 1);
     EXPECT_EQ(read.text, "");
   }
+  // No bound at all: the bound plus the byte past it must not wrap to 0.
+  const BoundedRead unbounded = ReadFileBounded(dir.Write("any", exact), SIZE_MAX, true);
+  EXPECT_EQ(unbounded.status, Status::kOk);
+  EXPECT_EQ(unbounded.text, exact);
 }
 
 TEST(ReadFileBounded, NamesWhatIsNotAFileItCanRead) {

@@ -34,7 +34,8 @@ struct BoundedRead {
 /// as usual) and O_NOCTTY. A regular file larger than `max_bytes` is refused
 /// from its size before any read. With `regular_only`, FIFOs, sockets and
 /// devices are refused before any read; else they are read until their end
-/// or max_bytes + 1 bytes. Never throws for the file's sake (std::bad_alloc
+/// or max_bytes + 1 bytes. A `max_bytes` beyond std::string's max_size() - 1
+/// (SIZE_MAX: no bound) is taken as that. Never throws for the file's sake (std::bad_alloc
 /// aside); each caller words its own messages from the status.
 BoundedRead ReadFileBounded(const std::string& path, std::size_t max_bytes, bool regular_only);
 
