@@ -301,10 +301,13 @@ void AddIdentifyCommand(CLI::App& app) {
   command->add_option("--plot-dir", args->plot_dir,
                       "Write signals.csv and plots (fig2a_start.png, fig2b_optimum.png, convergence.png, "
                       "ridge.png) to this folder");
-  command->add_option("--threads", args->threads,
-                      "Threads running the starts (0: OMP_NUM_THREADS or the cores, shared by the MPI ranks on a machine); "
-                      "with one start, a long record's ridge takes two of them")
-      ->capture_default_str()->check(IntegerIn(0, 1024));
+  command
+      ->add_option("--threads", args->threads,
+                   "Threads running the starts (0: OMP_NUM_THREADS or the cores, shared by the MPI "
+                   "ranks on a machine); "
+                   "with one start, a long record's ridge takes two of them")
+      ->capture_default_str()
+      ->check(IntegerIn(0, ident::kMaxThreads));
   command->add_flag("--report", args->report, "Print the full report");
   command->callback([args] {
     args->objective.PrepareData();  // -m and the data options become [data] keys

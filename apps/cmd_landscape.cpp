@@ -128,9 +128,11 @@ void AddLandscapeCommand(CLI::App& app) {
   command->add_option("--range2", args->range2, "LOWER:UPPER:POINTS of the second axis (1000000 points in all)");
   command->add_option("--objective", args->objectives, "Comma-separated presets: full, time-free, wavelet")
       ->capture_default_str();
-  command->add_option("--threads", args->threads,
-                      "Worker threads (0: OMP_NUM_THREADS or the cores, shared by the MPI ranks on a machine)")
-      ->check(CLI::Range(0, ident::kMaxThreads))
+  command
+      ->add_option(
+          "--threads", args->threads,
+          "Worker threads (0: OMP_NUM_THREADS or the cores, shared by the MPI ranks on a machine)")
+      ->check(IntegerIn(0, ident::kMaxThreads))
       ->capture_default_str();
   command->add_option("-o,--output", args->output, "CSV with a column per objective");
   command->add_option("--json", args->json, "Metrics as JSON");

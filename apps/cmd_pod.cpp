@@ -123,7 +123,7 @@ void AddPodCommand(CLI::App& app) {
       "--energy", a->energy, "Keep the fewest modes holding this energy fraction, in (0, 1]");
   modes->excludes(energy);
   command->add_option("--sigma-threshold", a->sigma_threshold,
-                      "Drop modes with sigma <= this (noise filtering, section 2.3)");
+                      "Drop modes with sigma <= this, >= 0 (0: off; noise filtering, section 2.3)");
   command->add_flag("--no-mean", a->no_mean, "Do not subtract each channel's time mean (eq. 1)");
   command->add_option("--json", a->json,
                       "Write the decomposition (U, sigma, lambda, energy) as JSON");

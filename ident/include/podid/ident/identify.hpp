@@ -62,8 +62,8 @@ struct IdentifyOptions {
   /// After each evaluation (see progress.hpp; total = starts * max_evaluations,
   /// an upper bound); empty = none.
   ProgressCallback progress;
-  /// Starts run in parallel on this many threads, in [0, 1024]; 0 = OpenMP's
-  /// default (OMP_NUM_THREADS, else one per core; at most 1024). Never more
+  /// Starts run in parallel on this many threads, in [0, kMaxThreads]; 0 = OpenMP's
+  /// default (OMP_NUM_THREADS, else one per core; at most kMaxThreads). Never more
   /// threads than this process's starts.
   int threads = 0;
   /// This process runs the starts s with s % share_count == share_index (the

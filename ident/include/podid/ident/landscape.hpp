@@ -54,9 +54,6 @@ struct LandscapeOptions {
   bool IsValid(int parameter_count, std::string* why) const;
 };
 
-/// The most worker threads an option may ask for.
-inline constexpr int kMaxThreads = 1024;
-
 /// Metrics of a 1-D landscape f(x) on its grid, for comparing objectives.
 /// Failed points (NaN, or any non-finite value) are left out: the metrics are
 /// those of the curve through the points that succeeded. Throws

@@ -19,4 +19,8 @@ struct Progress {
 /// the computation and is rethrown to the caller once the workers have stopped.
 using ProgressCallback = std::function<void(const Progress&)>;
 
+/// The most worker threads a long computation (Identify's starts,
+/// ComputeLandscape's points) may be asked for.
+inline constexpr int kMaxThreads = 1024;
+
 }  // namespace podid::ident
