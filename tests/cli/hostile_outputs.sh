@@ -141,6 +141,10 @@ expect_argument_error "--modes -1" "--modes: expected an integer in \[0, 1000000
 expect_argument_error "--count x" "--count: expected an integer" modes case.toml --count x
 expect_argument_error "identify --modes 0" "--modes: expected an integer in \[1, 1000\]" \
   identify "${ident[@]}" --modes 0
+expect_argument_error "identify --threads 1025" '--threads: expected an integer in \[0, 1024\], got "1025"' \
+  identify "${ident[@]}" --threads 1025
+expect_argument_error "landscape --threads 1025" '--threads: expected an integer in \[0, 1024\], got "1025"' \
+  landscape case.toml -m data.csv --param knl --range 0:1:2 --threads 1025
 expect_argument_error "a control character" 'not expected: \\x1b\[2J' \
   simulate case.toml $'\e[2J'
 "$podid" --help >/dev/null || fail "--help: exit $?"
