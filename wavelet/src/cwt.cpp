@@ -27,10 +27,6 @@ namespace {
 
 using Complex = std::complex<double>;
 constexpr double kPi = std::numbers::pi;
-// Scaled coefficients are returned in signal units when the scale 2^e has
-// |e| <= this: |W| <= 4 sqrt(s) peak|x| then stays far from overflow, and
-// the band's 1e-12 tails far from the subnormal range.
-constexpr int kMaxUnscaledExponent = 960;
 
 bool Fail(std::string* why, std::string message) {
   if (why != nullptr) *why = std::move(message);
@@ -321,7 +317,7 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
   Complex* spectrum = s.spectrum.get();
   for (Eigen::Index i = 0; i < s.p; ++i) spectrum[i] = Complex(x[i], 0.0);
   fftw_execute_dft(s.forward, internal::AsFftw(spectrum), internal::AsFftw(spectrum));
-  const bool unscaled = std::abs(exponent) <= kMaxUnscaledExponent;
+  const bool unscaled = std::abs(exponent) <= internal::kMaxUnscaledExponent;
   s.output_scale = unscaled ? std::ldexp(1.0, exponent) : 1.0;
 
   // Process-wide: no two Compute() calls, of any transform, share a number.

@@ -10,6 +10,12 @@
 
 namespace podid::wavelet::internal {
 
+/// Every transform scales its input by 2^-e to a peak in [1, 2); the
+/// coefficients are returned in signal units when |e| <= this: |W| <= 4
+/// sqrt(s) peak|x| then stays far from overflow, and the band's 1e-12 tails
+/// far from the subnormal range (CwtTransform, the streamed ridge).
+inline constexpr int kMaxUnscaledExponent = 960;
+
 /// Throws std::invalid_argument for fewer than 4 samples.
 inline void CheckSamples(Eigen::Index n) {
   if (n < 4) ThrowInvalid("Cwt: signal", "at least 4 samples", ToText(n) + " samples");

@@ -27,8 +27,6 @@ namespace {
 using Complex = std::complex<double>;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kPi = std::numbers::pi;
-// As CwtTransform: coefficients in signal units while the scale 2^e has |e| <= this.
-constexpr int kMaxUnscaledExponent = 960;
 // Bytes of a RidgeTrack per output time (time, index, 4 doubles, 2 flags) and
 // the streamed IF's per-time state (refined sample, |W|).
 constexpr double kTrackBytesPerTime = 80.0;
@@ -179,7 +177,7 @@ bool RidgeFrequencyEstimator::Impl::Pipelined() const { return Threaded() && ban
 void RidgeFrequencyEstimator::Impl::Streamed(const Eigen::Ref<const Eigen::VectorXd>& signal) {
   internal::BandTransform& b = *band;
   b.SetSignal(signal);
-  const bool unscaled = std::abs(b.exponent()) <= kMaxUnscaledExponent;
+  const bool unscaled = std::abs(b.exponent()) <= internal::kMaxUnscaledExponent;
   output_scale = unscaled ? std::ldexp(1.0, b.exponent()) : 1.0;
   scalogram.coefficient_scale = unscaled ? 1.0 : std::ldexp(1.0, b.exponent());
   programme->Reset(b.times());

@@ -22,7 +22,8 @@
 //   kAuto     the fastest for the shape (see docs/pod.md, "The auto rule"):
 //             kDirect when M <= N, kSnapshot when M > N, and kSvd when a kept
 //             mode is too small for the Gram methods' accuracy
-//             (lambda_k < kAutoGramRatio * lambda_1, lambda_k above the rank floor).
+//             (lambda_k < kAutoGramRatio * lambda_1, lambda_k above the rank floor)
+//             or the Gram matrix would exceed kMaxGramDimension on a side.
 //
 // Rank and zero modes (section 2.2): modes beyond the numerical rank have
 // sigma = lambda = 0 and zero U and V columns (the "additional eigenmodes will
@@ -64,8 +65,8 @@ PodMethod ParsePodMethod(std::string_view name);
 /// exceed 1e-8.
 inline constexpr double kAutoGramRatio = 1e-8;
 
-/// The Gram methods refuse a Gram matrix larger than this on a side
-/// (kSnapshot: N, kDirect: M): 16384^2 doubles are 2 GiB.
+/// The Gram methods, when chosen, refuse a Gram matrix larger than this on a
+/// side (kSnapshot: N, kDirect: M; kAuto then takes kSvd): 16384^2 doubles are 2 GiB.
 inline constexpr Eigen::Index kMaxGramDimension = 16384;
 
 struct PodOptions {
@@ -82,8 +83,9 @@ struct PodOptions {
   /// The fewest modes whose cumulative energy reaches this fraction, in (0, 1];
   /// 1 keeps all. Ignored when the data hold no energy.
   double energy_fraction = 1.0;
-  /// Drop modes with sigma_k <= sigma_threshold (section 2.3, noise filtering),
-  /// in sigma's units (data units * sqrt(samples)); see NoiseSigmaThreshold().
+  /// > 0: drop modes with sigma_k <= sigma_threshold (section 2.3, noise
+  /// filtering); 0 drops none (zero modes are kept); finite, >= 0. In sigma's
+  /// units (data units * sqrt(samples)); see NoiseSigmaThreshold().
   double sigma_threshold = 0.0;
   /// Compute V (N x k). Without it V is empty and Reconstruct() is unavailable;
   /// the Gram methods then skip an (N x M x k) product.
@@ -132,7 +134,7 @@ struct PodResult {
 /// every buffer between calls. For a fixed shape, repeated Compute() calls with
 /// kDirect or kSnapshot allocate nothing after the first (kSvd allocates inside
 /// Eigen, and so does a Gram method whose matrix is solved on its range: from
-/// 256 on a side, with min(M, N) + 10 below a quarter of it, as snapshot on a
+/// 256 on a side, with min(M, N) + 10 at most a quarter of it, as snapshot on a
 /// long record). This is the object to keep across an optimiser's evaluations.
 class PodSolver {
  public:
@@ -209,7 +211,8 @@ struct PodAlignment {
 PodAlignment AlignToReference(const PodResult& reference, PodResult* result);
 /// The same into `alignment`, whose buffers are reused: no allocation once
 /// they have the sizes (an objective's evaluations). Modes already in the
-/// reference's order are only flipped in place; a permutation copies.
+/// reference's order are only flipped in place; a permutation swaps columns in
+/// place, cycle by cycle.
 void AlignToReference(const PodResult& reference, PodResult* result, PodAlignment* alignment);
 
 /// mean 1^T + U_k Sigma_k V_k^T (M x N) from the first `modes` modes (the

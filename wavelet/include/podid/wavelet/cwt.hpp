@@ -1,8 +1,8 @@
 #pragma once
 // Continuous wavelet transform with the complex Morlet wavelet (or a
-// generalised Morse wavelet, see MorletWavelet below), computed with FFTW. Units are SI: times and scales in s, frequencies in Hz unless a name
-// says _rad_per_s. The module knows nothing of beams or POD: it transforms any
-// uniformly sampled real signal.
+// generalised Morse wavelet, see MorletWavelet below), computed with FFTW. Units are SI: times and
+// scales in s, frequencies in Hz unless a name says _rad_per_s. The module knows nothing of beams
+// or POD: it transforms any uniformly sampled real signal.
 //
 // The wavelet (omega0 = options.omega0, c = 1 with the admissibility
 // correction, else 0):
@@ -45,7 +45,7 @@
 // (coi_factor = 4: exp(-16), which the 1e-6 tone test needs).
 //
 // Algorithm: the signal is scaled by a power of 2 to a peak magnitude in
-// [0.5, 1) (exact, so any finite input works: 1e-300 and 1e300 alike),
+// [1, 2) (exact, so any finite input works: 1e-300 and 1e300 alike),
 // optionally has its mean removed, is padded to length P, one real forward FFT
 // gives X_k, and each scale costs one inverse FFT of X_k n(s) psi^(s w_k) over
 // the bins where psi^ exceeds band_tolerance times its peak. In time that band
@@ -70,7 +70,8 @@
 // Band-limited mode: each scale's product is nonzero only in a band of B_k
 // bins, so its inverse FFT can have length M >= max_k B_k with M dividing P;
 // that gives W exactly (to band_tolerance) at every D-th sample, D = P / M.
-// Identification uses it for ridges: 5001 samples at 10-120 Hz need M >= 594.
+// Identification uses it for ridges: 5001 samples at 10-120 Hz (reflect padding, P = 10240)
+// have bands of up to 609 bins, so M = 640.
 //
 // FFTW plans are made once per length and cached process-wide, with measured
 // plans kept on disk (podid/wavelet/plans.hpp); making them is serialised by a
@@ -152,7 +153,8 @@ WaveletFamily ParseWaveletFamily(std::string_view name);
 /// 1/sqrt(2) for Morlet: Torrence & Compo's sqrt(2) s).
 struct MorletWavelet {
   WaveletFamily family = WaveletFamily::kMorlet;
-  double omega0 = 6.0;  ///< kMorlet: centre angular frequency (dimensionless), >= 5 unless corrected
+  double omega0 = 6.0;  ///< kMorlet: centre angular frequency (dimensionless), in (0, 100], >= 5
+                        ///< unless corrected
   bool admissibility_correction = false;  ///< kMorlet: subtract exp(-omega0^2/2): psi^(0) = 0
   double gamma = 3.0;                     ///< kMorse: symmetry, in [1, 20]
   double beta = 20.0;                     ///< kMorse: decay, in [1, 500], beta / gamma <= 100
@@ -197,9 +199,9 @@ struct FrequencyGrid {
   double max_frequency_Hz = 120.0;  ///< > min, <= Nyquist of the signal
   FrequencySpacing spacing = FrequencySpacing::kLog;
   /// kLog: f_j = min 2^(j / voices) for j = 0 .. floor(voices log2(max / min) + 1e-9);
-  /// the top frequency is <= max_frequency_Hz.
+  /// the top frequency is <= max_frequency_Hz. voices in 1..1024, at most 100000 frequencies.
   int voices_per_octave = 32;
-  /// kLinear: f_j = min + j (max - min) / (bins - 1), j = 0 .. bins - 1 (bins >= 2).
+  /// kLinear: f_j = min + j (max - min) / (bins - 1), j = 0 .. bins - 1 (bins in 2..100000).
   int bins = 200;
 
   bool IsValid(std::string* why) const;
@@ -260,7 +262,7 @@ struct Scalogram {
   Eigen::Index input_samples = 0;  ///< N of the transformed signal
   /// (n_times x n_freq) W / coefficient_scale, units: see the normalisation.
   Eigen::MatrixXcd coefficients;
-  /// A power of 2: 1 unless the signal's peak magnitude is above 2^960 (1e289)
+  /// A power of 2: 1 unless the signal's peak magnitude is at least 2^961 (1.9e289)
   /// or below 2^-960, where W itself could overflow or lose precision; then the
   /// coefficients are W in units of coefficient_scale (peak magnitude about 1).
   double coefficient_scale = 1.0;
@@ -339,7 +341,8 @@ class CwtTransform {
   bool Produced(const Scalogram& scalogram) const;
 
   /// The FFT lengths Compute() would use for `samples` (>= 4) at step_s
-  /// (> 0); throws std::invalid_argument otherwise. Nothing is planned.
+  /// (> 0); throws std::invalid_argument otherwise, or when the padded length
+  /// would exceed 2^27 points. Nothing is planned.
   FftLengths Lengths(Eigen::Index samples, double step_s) const;
 
   /// The rms |W| that unit-variance white noise gives at each frequency for

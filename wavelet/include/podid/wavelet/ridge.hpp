@@ -83,7 +83,7 @@ struct RidgeTrack {
   /// (dim n_times) whether (j, k_j) is inside the cone of influence and not
   /// screened: where the IF is usable.
   Eigen::Array<bool, Eigen::Dynamic, 1> inside_coi;
-  /// (dim n_times) whether |W(j, k_j)| fell below RidgeOptions::min_relative_magnitude
+  /// (dim n_times) whether |W(j, k_j)| was at most RidgeOptions::min_relative_magnitude
   /// of the ridge's peak (then frequency_Hz is NaN).
   Eigen::Array<bool, Eigen::Dynamic, 1> screened;
 
@@ -118,7 +118,7 @@ struct RidgeFrequencyOptions {
     o.coi_factor = 1.0;
     return o;
   }();
-  RidgeOptions ridge;  ///< ridges is ignored (one ridge)
+  RidgeOptions ridge;  ///< ridges must be valid (1..16) but is ignored (one ridge)
   /// Keep the whole scalogram (RidgeFrequencyEstimator::scalogram()'s
   /// coefficients, 16 bytes per output cell; the transform, FindRidges and
   /// TrackRidge as written). Otherwise (default) the ridge is streamed:
@@ -129,10 +129,10 @@ struct RidgeFrequencyOptions {
   /// ridge cost). A longer one is cut into blocks of about this many cells
   /// (more only when the frequencies are so many that a block's FFT length,
   /// rounded up to a fast one, keeps more times) whose inverse FFTs are at least 8 times the
-  /// overlap (twice the wavelet's support at the lowest frequency) and at least 1024 points, up to
-  /// 2048 points the length of least FFT cost per kept time: short enough for a block's costs to
-  /// stay near the cache (the whole Silverbox record: 41 blocks of 1612 times x 115
-  /// frequencies, 1.5 MB).
+  /// overlap (the wavelet's support at the lowest frequency, on each side) and at least 1024
+  /// points, up to 2048 points the length of least FFT cost per kept time: short enough for a
+  /// block's costs to stay near the cache (the whole Silverbox record: 41 blocks of 1612 times x
+  /// 115 frequencies, 1.5 MB).
   double block_cells = 1048576.0;
   /// Streamed, one block, kPenalised: transform the scales in order of a
   /// bound on their |W| (sum over the band of |X| |psi^|) and stop once the

@@ -44,8 +44,8 @@ double ReconstructionConstant(const MorletWavelet& wavelet);
 Eigen::VectorXd InverseCwt(const Scalogram& scalogram);
 
 struct SynchrosqueezeOptions {
-  /// Coefficients with |W| <= threshold * max |W| are not moved (their IF is
-  /// noise), in [0, 1).
+  /// Coefficients with |W| <= threshold * max |W| are dropped from T (their
+  /// IF is noise), in [0, 1).
   double relative_threshold = 1e-6;
   bool IsValid(std::string* why) const;
 };
@@ -57,7 +57,8 @@ struct SynchrosqueezedTransform {
   /// else copied from the scalogram it came from.
   Scalogram sst;
   /// (n_times x n_freq) the IF f(s_k, t_j) of each CWT coefficient (the
-  /// frequency it was moved to), Hz; NaN where |W| <= threshold.
+  /// frequency it was moved to), Hz; NaN where |W| <= threshold or the IF is
+  /// not positive.
   Eigen::MatrixXd reassigned_frequency_Hz;
 };
 
