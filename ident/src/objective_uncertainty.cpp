@@ -18,12 +18,12 @@ class FeatureMap {
       : objective_(objective), weights_(objective.options().weightings.at(weighting).weights),
         pod_(std::make_unique<PodSolver>(objective.ResponsePodOptions())) {}
 
-  // `response`: simulated sensors; conditioned here as Evaluate does.
-  bool Compute(const TimeSeries& simulated, Eigen::VectorXd* out, std::string* why) {
+  // `response`: simulated sensors as SimulateAt returns them, already
+  // conditioned as Evaluate conditions them (a second pass filtered twice).
+  bool Compute(const TimeSeries& response, Eigen::VectorXd* out, std::string* why) {
     const ObjectiveOptions& o = objective_.options();
     const PodResult& m = objective_.measured_pod();
     const int k = objective_.compared_modes();
-    const TimeSeries response = objective_.Conditioned(simulated);
     PodResult pod = pod_->Compute(response);
     if (pod.IsDegenerate()) {
       *why = "a degenerate response: " + pod.message;

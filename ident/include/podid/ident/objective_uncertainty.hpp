@@ -6,10 +6,12 @@
 //                sqrt(w_V) vec(V_K), sqrt(w_IF D) f_sim,k(t_j) / f_meas,k(t_j) ]
 // of the simulated response aligned to the measured POD, so that the chosen
 // weighting is F = ||f(theta) - f_meas||^2 (the IF samples: those inside the
-// measured ridge's cone). The noise: white, per channel, with the variance of
-// the residual measured - simulated at the optimum (model error included,
-// so the intervals are conservative when the model is wrong); each draw is
-// that noise on the fitted response, through the same features.
+// measured ridge's cone), the simulated response conditioned once by [data]
+// as Evaluate conditions it. The noise: white, per channel, with the variance
+// of the residual measured - simulated at the optimum (model error included,
+// so the intervals are conservative when the model is wrong; with a [data]
+// filter, the in-band residual's variance spread over every frequency); each
+// draw is that noise on the fitted response, through the same features.
 
 #include <Eigen/Core>
 #include <cstdint>
