@@ -97,6 +97,9 @@ struct RunState {
   std::vector<IterationRecord> history;
   nlopt_result result = NLOPT_FAILURE;
   std::exception_ptr error;  ///< what stopped this start (rethrown after the parallel region)
+  /// Shared by the starts: set with an `error`, so that the other starts stop
+  /// at their next evaluation and the progress callback is not called again.
+  std::atomic<bool>* stopped = nullptr;
   const ProgressCallback* progress = nullptr;
   std::atomic<long long>* progress_done = nullptr;  ///< shared by the starts
   std::atomic<long long>* progress_failed = nullptr;
@@ -111,11 +114,21 @@ struct RunState {
   TermValues first_terms;
 };
 
+bool Stopping(const RunState& s) {
+  return (s.cancel && s.cancel->load()) || (s.stopped && s.stopped->load());
+}
+
+// Records what stopped start `s` and tells the other starts to stop.
+void Fail(RunState& s, std::exception_ptr error) {
+  s.error = std::move(error);
+  if (s.stopped) s.stopped->store(true);
+}
+
 double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
   s.x = Eigen::Map<const Eigen::VectorXd>(x, n);
   if (s.first_pending && s.x == s.first_x) {
     s.first_pending = false;
-    if (s.cancel && s.cancel->load() && s.opt) nlopt_force_stop(s.opt);
+    if (Stopping(s) && s.opt) nlopt_force_stop(s.opt);
     return s.first_value;
   }
   s.first_pending = false;
@@ -150,33 +163,37 @@ double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
     progress.failed = failed;
     progress.elapsed_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - s.start_time).count();
-    // No exception may leave the critical region: it stops this start and is
-    // rethrown by Identify() after the parallel region.
+    // No exception may leave the critical region: it stops every start and
+    // is rethrown by Identify() after the parallel region. Once it has, the
+    // callback is not called again.
     std::exception_ptr progress_error;
 #pragma omp critical(podid_identify_progress)
     {
-      try {
-        (*s.progress)(progress);
-      } catch (...) {
-        progress_error = std::current_exception();
+      if (!(s.stopped && s.stopped->load())) {
+        try {
+          (*s.progress)(progress);
+        } catch (...) {
+          progress_error = std::current_exception();
+          if (s.stopped) s.stopped->store(true);
+        }
       }
     }
     if (progress_error) std::rethrow_exception(progress_error);
   }
-  if (s.cancel && s.cancel->load() && s.opt) nlopt_force_stop(s.opt);
+  if (Stopping(s) && s.opt) nlopt_force_stop(s.opt);
   return value;
 }
 
 // NLopt's C callback: no exception may cross it. Evaluate() never throws; what
-// remains (e.g. no memory for the history) stops this start and is rethrown
-// by Identify() after the parallel region.
+// remains (e.g. no memory for the history, a progress callback's exception)
+// stops every start and is rethrown by Identify() after the parallel region.
 double Evaluate(unsigned n, const double* x, double* gradient, void* data) noexcept {
   RunState& s = *static_cast<RunState*>(data);
   PODID_CHECK(gradient == nullptr);  // derivative-free algorithms only
   try {
     return EvaluateOrThrow(n, x, s);
   } catch (...) {
-    s.error = std::current_exception();
+    Fail(s, std::current_exception());
     nlopt_force_stop(s.opt);
     return s.objective->options().failure_value;
   }
@@ -404,6 +421,7 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
 
   std::vector<RunState> runs(starts.size());
   std::atomic<long long> progress_done{0}, progress_failed{0};
+  std::atomic<bool> stopped{false};
   // This process's share of the starts.
   std::vector<std::size_t> mine;
   for (std::size_t s = options.share_index; s < starts.size(); s += options.share_count) mine.push_back(s);
@@ -413,6 +431,8 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
   for (std::size_t q = 0; q < mine.size(); ++q) {
     const std::size_t s = mine[q];
     RunState& run = runs[s];
+    run.stopped = &stopped;
+    if (stopped.load()) continue;  // another start failed: its error is rethrown below
     run.progress = &options.progress;
     run.progress_done = &progress_done;
     run.progress_failed = &progress_failed;
@@ -462,7 +482,7 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
       nlopt_destroy(run.opt);
       run.opt = nullptr;
     } catch (...) {
-      run.error = std::current_exception();
+      Fail(run, std::current_exception());
     }
   }
 

@@ -187,12 +187,15 @@ LandscapeResult ComputeLandscape(const ObjectiveFunction& objective, const Lands
               progress.failed = failed;
               progress.elapsed_s =
                   std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
-              // No exception may leave a critical region either.
-              try {
-                options.progress(progress);
-              } catch (...) {
-                if (!progress_error) progress_error = std::current_exception();
-                stop.store(true);
+              // No exception may leave a critical region either; once one
+              // has stopped the run, the callback is not called again.
+              if (!stop.load()) {
+                try {
+                  options.progress(progress);
+                } catch (...) {
+                  progress_error = std::current_exception();
+                  stop.store(true);
+                }
               }
             }
           }

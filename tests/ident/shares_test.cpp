@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <stdexcept>
 
 #include "podid/core/case_file.hpp"
 #include "podid/core/io.hpp"
@@ -101,6 +102,31 @@ TEST(SharesTest, NoMoreThreadsThanPointsOrStarts) {
   ASSERT_TRUE(Identify(objective, options).IsSolutionUsable());
   EXPECT_GE(team.load(), 1);
   EXPECT_LE(team.load(), 2);
+}
+
+// An exception from the progress callback (Python's Ctrl-C) stops every
+// start, not only the one whose evaluation called it, and the callback is not
+// called again: before, the other starts ran to their end.
+TEST(SharesTest, AProgressCallbackThatThrowsStopsEveryStart) {
+  const ObjectiveFunction objective = TimeFreeAndFull();
+  for (int threads : {1, 2}) {
+    IdentifyOptions options;
+    options.multistart = 4;
+    options.threads = threads;
+    std::atomic<int> calls{0};
+    options.progress = [&](const Progress&) {
+      if (++calls == 3) throw std::runtime_error("stop");
+    };
+    EXPECT_THROW(Identify(objective, options), std::runtime_error);
+    EXPECT_EQ(calls.load(), 3) << threads << " threads";
+    LandscapeOptions landscape;
+    landscape.x = {0, 0.0, 200.0, 40};
+    landscape.threads = threads;
+    calls = 0;
+    landscape.progress = options.progress;
+    EXPECT_THROW(ComputeLandscape(objective, landscape), std::runtime_error);
+    EXPECT_EQ(calls.load(), 3) << threads << " threads, landscape";
+  }
 }
 
 TEST(SharesTest, MultistartSharesMergeToTheSameBestPoint) {

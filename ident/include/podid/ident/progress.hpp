@@ -16,7 +16,9 @@ struct Progress {
 
 /// Called serially (never two calls at once), from whichever worker thread
 /// finished a unit. It should return quickly. An exception thrown by it stops
-/// the computation and is rethrown to the caller once the workers have stopped.
+/// the computation (every start of an identification, every point of a
+/// landscape), it is not called again, and the exception is rethrown to the
+/// caller once the workers have stopped.
 using ProgressCallback = std::function<void(const Progress&)>;
 
 /// The most worker threads a long computation (Identify's starts,
