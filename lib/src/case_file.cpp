@@ -454,7 +454,7 @@ IntegratorSpec ReadIntegrator(const CaseDocument::Impl& doc) {
                         : IntegratorType::kNewmark;
   integrator.gamma = s.Real("gamma", {0.5, false, 1.0, false, ""}, integrator.gamma);
   integrator.beta = s.Real("beta", {0.0, true, 0.5, false, ""}, integrator.beta);
-  integrator.tolerance = s.Real("tolerance", Positive(""), integrator.tolerance);
+  integrator.tolerance = s.Real("tolerance", {0.0, true, 1.0, true, ""}, integrator.tolerance);
   integrator.max_iterations = static_cast<int>(
       s.OptionalInteger("max_iterations", {1, kMaxIterations}).value_or(integrator.max_iterations));
   integrator.substeps =

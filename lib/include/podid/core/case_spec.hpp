@@ -135,7 +135,7 @@ enum class InitialType {
 struct InitialSpec {
   InitialType type = InitialType::kRest;
   double static_force_N = 0.0;  ///< kStaticForce: transverse force
-  int static_force_node = 0;    ///< kStaticForce: node, defaults to the free end
+  int static_force_node = 0;    ///< kStaticForce: node, defaults to the right end (node `elements`)
   int static_force_dof = 0;     ///< kStaticForce: 1-based model dof; 0: from the node
   Eigen::VectorXd displacement;  ///< kExplicit: (dim n_dofs), m and rad
   Eigen::VectorXd velocity;      ///< kExplicit: (dim n_dofs), m/s and rad/s
@@ -219,7 +219,7 @@ enum class SensorReference { kRelative, kAbsolute };
 
 struct SensorSpec {
   SensorDof dof = SensorDof::kW;
-  std::vector<int> nodes;  ///< beam nodes; default the free nodes 1..elements
+  std::vector<int> nodes;  ///< beam nodes; default every node whose `dof` is free
   std::vector<int> dofs;   ///< 1-based model dofs; when non-empty, replaces `nodes`
   std::vector<std::string> names;  ///< channel names; empty: the defaults below
   SensorQuantity quantity = SensorQuantity::kDisplacement;
@@ -243,8 +243,8 @@ struct IntegratorSpec {
   IntegratorType type = IntegratorType::kModifiedNewmark;
   double gamma = 0.5;   ///< Newmark gamma, in [0.5, 1]
   double beta = 0.25;   ///< Newmark beta, in (0, 0.5]; unconditionally stable for beta >= gamma / 2
-  double tolerance = 1e-10;   ///< Newton: relative residual tolerance, > 0
-  int max_iterations = 50;    ///< Newton iterations per step, >= 1
+  double tolerance = 1e-10;  ///< Newton: relative residual tolerance, in (0, 1)
+  int max_iterations = 50;   ///< Newton iterations per step, in [1, 10^6]
   /// Newmark steps per sample: the integrator runs at time.step / substeps
   /// and the output keeps every substeps-th state. In [1, kMaxSubsteps].
   int substeps = 1;
