@@ -21,14 +21,14 @@
 namespace podid::ident {
 
 enum class Algorithm {
-  kLnBobyqa,     ///< LN_BOBYQA (default): quadratic trust-region models
-  kLnNelderMead, ///< LN_NELDERMEAD
-  kLnSbplx,      ///< LN_SBPLX (subplex)
-  kLnCobyla,     ///< LN_COBYLA
-  kGnDirectL,    ///< GN_DIRECT_L (global, deterministic)
-  kGnCrs2Lm,     ///< GN_CRS2_LM (global, random, seeded)
-  kGnIsres,      ///< GN_ISRES (global, random, seeded)
-  kGnMlslLds,    ///< GN_MLSL_LDS with a local optimiser (local_algorithm)
+  kLnBobyqa,      ///< LN_BOBYQA (default): quadratic trust-region models
+  kLnNelderMead,  ///< LN_NELDERMEAD
+  kLnSbplx,       ///< LN_SBPLX (subplex)
+  kLnCobyla,      ///< LN_COBYLA
+  kGnDirectL,     ///< GN_DIRECT_L (global, deterministic)
+  kGnCrs2Lm,      ///< GN_CRS2_LM (global, random, seeded)
+  kGnIsres,       ///< GN_ISRES (global, random, seeded)
+  kGnMlslLds,     ///< GN_MLSL_LDS (NLopt's G_MLSL_LDS) with a local optimiser (local_algorithm)
 };
 
 /// NLopt's names: "LN_BOBYQA", ... (case-insensitive).
@@ -72,7 +72,7 @@ struct IdentifyOptions {
   int share_index = 0;
   int share_count = 1;  ///< in [1, 65536]
   /// Standard errors, intervals and correlations at the best point
-  /// (objective_uncertainty.hpp; 2 p + 1 simulations and noise_draws PODs).
+  /// (objective_uncertainty.hpp; 2 p + 2 simulations and noise_draws PODs).
   /// Not with share_count > 1: the caller computes them on the merged result.
   bool uncertainty = true;
   UncertaintyOptions uncertainty_options;
@@ -158,8 +158,9 @@ IdentifySummary Identify(const ObjectiveFunction& objective, const IdentifyOptio
 
 /// Sets the totals, the best point, the termination and the message of
 /// `summary` from its start_results and history (Identify ends with it; call
-/// it again after merging the shares of several processes). A start not
-/// computed counts as interrupted.
+/// it again after merging the shares of several processes). Without a usable
+/// point the termination is kInterrupted when some start was not computed
+/// (else kAllEvaluationsFailed); otherwise it is the best start's NLopt result.
 void SummariseStarts(IdentifySummary* summary);
 
 }  // namespace podid::ident

@@ -47,7 +47,7 @@ struct ObjectiveWeights {
   static ObjectiveWeights Preset(std::string_view name);
   /// `terms` like "U,S,IF" and optional `weights` like "1,1,0.5" (default all 1).
   static ObjectiveWeights Parse(std::string_view terms, std::string_view weights = {});
-  /// "U+S+IF" style description with weights when not 1.
+  /// "dU + dS + 0.5 dIF": the weighted terms, each weight shown when not 1.
   std::string ToString() const;
 };
 
@@ -228,7 +228,8 @@ class ObjectiveFunction {
   /// The case at `values` (for reports and plots). Throws
   /// std::invalid_argument for a value the case rejects.
   CaseSpec SpecAt(const Eigen::VectorXd& values) const;
-  /// The noise-free simulation at `values`, built afresh.
+  /// The noise-free simulation at `values`, built afresh, its sensors with the
+  /// [data] conditioning applied (as Conditioned(): what Evaluate compares).
   SimulationResult SimulateAt(const Eigen::VectorXd& values) const;
   /// The same from the workspace's cached simulator (as Evaluate: a typed
   /// parameter rebuilds only what it invalidates; a file force is not

@@ -80,7 +80,8 @@ class CaseDocument {
 };
 
 /// Splits each `key=value` argument at its first '='. Throws
-/// std::invalid_argument("--set <arg>: expected key=value, got ...") when the
+/// std::invalid_argument("--set <arg>: expected key=value (e.g. time.duration=1.0),
+/// got ...") when the
 /// '=' is missing or the key is empty.
 std::vector<std::pair<std::string, std::string>> ParseSetArguments(
     const std::vector<std::string>& arguments);

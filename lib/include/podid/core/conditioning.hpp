@@ -5,8 +5,9 @@
 // and to the simulated sensors, so that both go through the same chain:
 //
 //   1. channels: keep and order channels by name;
-//   2. window:   keep the samples with window_start_s <= t <= window_end_s
-//                (absolute record time; the time stamps are kept);
+//   2. window:   keep the samples with window_start_s <= t <= window_end_s,
+//                half a step of rounding either side (absolute record time;
+//                the time stamps are kept);
 //   3. detrend:  subtract each channel's mean (constant) or least-squares line
 //                (linear), as scipy.signal.detrend;
 //   4. filter:   zero-phase Butterworth low-, high- or band-pass: the digital

@@ -1,5 +1,5 @@
 #pragma once
-// Two kinds of error (see docs/method.md, "Errors"):
+// Two kinds of error (what the CLI makes of them: docs/cli.md, "Exit status"):
 //  * invalid user input throws std::invalid_argument whose message says where
 //    (file:line, key, argument) and "expected X, got Y";
 //  * a broken internal invariant is a bug: PODID_CHECK aborts with file:line,

@@ -39,9 +39,9 @@ inline constexpr std::size_t kMaxReadValues = std::size_t{1} << 27;
 /// missing header, a non-numeric cell, a ragged row, NaN/Inf, fewer than 2
 /// samples, or a time column that is not increasing and uniform (see
 /// kTimeStepRelativeTolerance).
-/// The file is streamed in 1 MiB blocks and parsed with std::from_chars: memory
-/// is the result plus one block of 16384 rows. Cells may be surrounded by spaces;
-/// CRLF line ends and empty lines are accepted. The first column is the time
+/// The file is read through a 64 KiB buffer (grown for a long line) and parsed
+/// with std::from_chars: memory is the result plus one block of 2^17 values. Cells may be
+/// surrounded by spaces; CRLF line ends and empty lines are accepted. The first column is the time
 /// (named "t" or "time"); the others become channels.
 TimeSeries ReadCsv(const std::string& path);
 
@@ -67,7 +67,7 @@ struct MatReadOptions {
 ///    a string or a cell of strings), y_values.quantity (label: the unit; when
 ///    its unit_transformation is not the identity, the values are in SI and the
 ///    unit is derived from quantity_terms, e.g. "m/s^2" although the label says g);
-///  * a plain struct: a time field ("t", "time", case-insensitive) and one
+///  * a plain struct: a time field ("t", "time", "t_s", "time_s", case-insensitive) and one
 ///    numeric field per channel (vectors, or matrices as above).
 /// Orientation: a matrix is samples x channels or channels x samples, decided by
 /// the time vector's length (or number_of_values), else the longer dimension is
@@ -140,7 +140,7 @@ OutputTarget ResolveOutput(const std::string& path);
 /// Writes a file: `write` fills a stream; the target is ResolveOutput(path).
 ///  * kFile: atomically. The stream goes to a temporary in the target's own
 ///    folder ("<folder>/.<name>.tmp-<pid>-<n>", O_EXCL, registered for removal
-///    on SIGINT/SIGTERM/SIGHUP, see temp_files.hpp), which is flushed, fsync'ed
+///    on the fatal signals of temp_files.hpp), which is flushed, fsync'ed
 ///    and renamed onto the target; the folder is fsync'ed (best effort). A new
 ///    file gets mode 0666 minus the umask; an existing one keeps its mode (and,
 ///    for root, its owner). Writing through a symlink replaces the file it

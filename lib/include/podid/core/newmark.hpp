@@ -96,7 +96,7 @@ struct NewmarkOptions {
   bool IsValid(std::string* why) const;
   /// From the case's [time] and [integrator] tables: step_s = time.step /
   /// substeps, steps = (samples - 1) substeps, record_stride = substeps.
-  /// Throws std::invalid_argument when the fine steps exceed an int.
+  /// Throws std::invalid_argument when substeps < 1 or the fine steps exceed an int.
   static NewmarkOptions FromCase(const CaseSpec& spec);
 };
 
@@ -246,7 +246,8 @@ class NewmarkIntegrator {
 
   /// Integrates from `initial` (dim n_dofs each) over options().steps steps.
   /// On failure the recording keeps the samples up to the last good step
-  /// (summary.steps_completed + 1 rows are valid). No allocation in the loop.
+  /// (summary.rows_recorded = steps_completed / record_stride + 1 rows are valid). No allocation in
+  /// the loop.
   SimulationSummary Run(const State& initial, const ExternalLoad& load, Recording* recording,
                         NewmarkWorkspace* workspace) const;
   /// Same, with a workspace of its own.

@@ -40,8 +40,9 @@ inline constexpr int kQuantityCheckMinPeaks = 2;
 /// removed) of `measured` and `simulated` (same channels; their first
 /// min(samples) samples, at measured's step) at the peaks of the simulated
 /// one (its modes; a bin that is the largest within +-max(3, k / 20) bins,
-/// both spectra above 1e-8 of their largest bin). `declared` is the case's
-/// quantity.
+/// both spectra above 1e-8 of their largest bin, the measured one more than
+/// 10 times its median bin, the white-noise floor, which is subtracted
+/// before the ratio). `declared` is the case's quantity.
 QuantityCheck CheckMeasuredQuantity(const TimeSeries& measured,
                                     const TimeSeries& simulated,
                                     SensorQuantity declared);

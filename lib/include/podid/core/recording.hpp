@@ -15,8 +15,8 @@ namespace podid {
 /// conditioning (channels, window, detrend, filter, decimate) applied, and,
 /// when [data] channels are given, the channels renamed to the case's sensor
 /// names in order (a note per renamed channel goes to `notes`). Throws
-/// std::invalid_argument naming `where` (the file) when the channels do not
-/// number the sensors.
+/// std::invalid_argument naming the case file's data.channels when they do
+/// not number the sensors (`where`, the data file, names conditioning errors).
 TimeSeries ConditionMeasured(const CaseSpec& spec,
                              const TimeSeries& raw,
                              const std::string& where,

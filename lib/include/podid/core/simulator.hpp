@@ -52,7 +52,7 @@ class Simulator {
   /// Run() without copying the record out (an objective's evaluations): the
   /// summary, and the sensors' samples in sensor_values() until the next run.
   const SimulationSummary& RunInPlace();
-  /// The sensors' samples of the last RunInPlace() (summary().rows_recorded x
+  /// The sensors' samples of the last RunInPlace() (its summary's rows_recorded x
   /// sensors, the layout of TimeSeries::values, the case's sensor quantity).
   Eigen::Block<const Eigen::MatrixXd> sensor_values() const;
   /// The interpolated file and channel forces kept between runs.
