@@ -26,7 +26,7 @@ start=$(date +%s)
 build=build/fuzz-smoke
 rm -rf "$build/corpus" "$build/artifacts"
 status=0
-# Runs per target: about 20-30 s each at the rates measured here (csv ~2000/s,
+# Runs per target: about 20-40 s each at the rates measured here (csv ~2000/s,
 # case ~3400/s, mat ~2400/s, uff ~4700/s, model ~4000/s, wisdom ~10000/s under ASan + UBSan).
 for spec in csv:60000 case:100000 mat:60000 uff:100000 model:100000 wisdom:200000; do
   PODID_FUZZ_BUILD="$build" PODID_FUZZ_RUNS="${spec#*:}" PODID_FUZZ_SEED=1 \

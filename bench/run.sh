@@ -4,7 +4,8 @@
 #
 # Usage (from anywhere): bench/run.sh [MACHINE [NAME...]]
 #   MACHINE default: hostname; NAMEs (simulate ident pod wavelet ...) default:
-#   every bench/*_benchmark.cpp. The Python comparisons run with ident/simulate.
+#   every bench/*_benchmark.cpp. The Python comparisons run with simulate, ident
+#   and wavelet (compare_pywt.py).
 # Environment: BUILD_DIR (default build/bench), JOBS (default 2),
 #   RESULTS (default bench/results),
 #   PIN (default "taskset -c 0": the one-core figures; set PIN= to not pin).

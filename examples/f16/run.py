@@ -10,7 +10,7 @@ CLI (docs/real-data.md):
 3. podid cwt (Morlet, penalised ridge) of the live channels and of the shaker
    force (Signal_1): the instantaneous frequency follows the sine sweep.
 Results in OUTDIR (pod_all.json, pod_live.json, ridges_live.csv,
-ridge_force.csv, summary.json). Needs NumPy; matplotlib for --figure.
+ridge_force.csv, summary.json). Needs NumPy; matplotlib and SciPy for --figure.
 """
 import argparse
 import json
