@@ -97,8 +97,9 @@ struct RunState {
   std::vector<IterationRecord> history;
   nlopt_result result = NLOPT_FAILURE;
   std::exception_ptr error;  ///< what stopped this start (rethrown after the parallel region)
-  /// Shared by the starts: set with an `error`, so that the other starts stop
-  /// at their next evaluation and the progress callback is not called again.
+  /// Shared by the starts (Identify sets it before a start runs): set with an
+  /// `error`, so that the other starts stop at their next evaluation and the
+  /// progress callback is not called again.
   std::atomic<bool>* stopped = nullptr;
   const ProgressCallback* progress = nullptr;
   std::atomic<long long>* progress_done = nullptr;  ///< shared by the starts
@@ -114,14 +115,12 @@ struct RunState {
   TermValues first_terms;
 };
 
-bool Stopping(const RunState& s) {
-  return (s.cancel && s.cancel->load()) || (s.stopped && s.stopped->load());
-}
+bool Stopping(const RunState& s) { return (s.cancel && s.cancel->load()) || s.stopped->load(); }
 
 // Records what stopped start `s` and tells the other starts to stop.
 void Fail(RunState& s, std::exception_ptr error) {
   s.error = std::move(error);
-  if (s.stopped) s.stopped->store(true);
+  s.stopped->store(true);
 }
 
 double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
@@ -169,12 +168,12 @@ double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
     std::exception_ptr progress_error;
 #pragma omp critical(podid_identify_progress)
     {
-      if (!(s.stopped && s.stopped->load())) {
+      if (!s.stopped->load()) {
         try {
           (*s.progress)(progress);
         } catch (...) {
           progress_error = std::current_exception();
-          if (s.stopped) s.stopped->store(true);
+          s.stopped->store(true);  // before the next thread enters, not after Fail()
         }
       }
     }
