@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -147,6 +148,40 @@ CLI::Validator IntegerIn(long long lower, long long upper) {
         return {};
       },
       "INT in " + range);
+}
+
+CLI::Validator NumberIn(NumberEnd lower, NumberEnd upper) {
+  const bool has_lower = std::isfinite(lower.value), has_upper = std::isfinite(upper.value);
+  std::string range;
+  if (has_lower && has_upper) {
+    range = std::string("in ") + (lower.open ? "(" : "[") + ToText(lower.value) + ", " +
+            ToText(upper.value) + (upper.open ? ")" : "]");
+  } else if (has_lower) {
+    range = std::string(lower.open ? "> " : ">= ") + ToText(lower.value);
+  } else if (has_upper) {
+    range = std::string(upper.open ? "< " : "<= ") + ToText(upper.value);
+  }
+  const std::string expected = has_lower && has_upper ? "a number " + range
+                               : range.empty()        ? std::string("a finite number")
+                                                      : "a finite number " + range;
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        // from_chars, as IntegerIn: no locale, and all of the text or nothing.
+        const char* begin = text.data();
+        const char* end = text.data() + text.size();
+        if (begin != end && *begin == '+') ++begin;  // as CLI11's own conversion takes it
+        double value = 0.0;
+        const auto [stop, error] = std::from_chars(begin, end, value);
+        const bool in = error == std::errc() && stop == end && std::isfinite(value) &&
+                        (!has_lower || (lower.open ? value > lower.value : value >= lower.value)) &&
+                        (!has_upper || (upper.open ? value < upper.value : value <= upper.value));
+        if (!in) {
+          const std::string shown = text.size() > 40 ? text.substr(0, 40) + "..." : text;
+          return "expected " + expected + ", got \"" + shown + "\"";
+        }
+        return {};
+      },
+      range.empty() ? "FLOAT" : "FLOAT " + range);
 }
 
 }  // namespace podid::cli

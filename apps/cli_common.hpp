@@ -2,6 +2,7 @@
 // Helpers shared by the podid subcommands.
 
 #include <CLI/CLI.hpp>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -59,5 +60,20 @@ void CheckOutputFolder(const NamedFile& folder);
 /// A CLI11 check for an integer option in [lower, upper]; its message reads
 /// "expected an integer in [lower, upper], got <text>".
 CLI::Validator IntegerIn(long long lower, long long upper);
+
+/// One end of NumberIn's interval: closed unless `open`; an infinite value is
+/// no bound.
+struct NumberEnd {
+  double value;
+  bool open = false;
+};
+
+/// A CLI11 check for a real option: a finite number in the interval. Its
+/// message names the option as IntegerIn's does: "--ridge-snr: expected a
+/// number in [0, 1000], got "2000"", "--fmin: expected a finite number > 0,
+/// got "nan"" (the library's own check would name its field, e.g.
+/// FrequencyGrid.min_frequency_Hz, not the option the user typed).
+CLI::Validator NumberIn(NumberEnd lower,
+                        NumberEnd upper = {std::numeric_limits<double>::infinity()});
 
 }  // namespace podid::cli

@@ -430,9 +430,11 @@ void AddCwtCommand(CLI::App& app) {
   channel->excludes(pom);
   pom->excludes(channel);
   command->add_option("--fmin", a->fmin_Hz, "Lowest analysis frequency (Hz)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(NumberIn({0.0, true}));
   command->add_option("--fmax", a->fmax_Hz, "Highest analysis frequency (Hz), <= Nyquist")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(NumberIn({0.0, true}));
   auto* voices = command->add_option("--voices", a->voices, "Log grid: frequencies per octave")
                      ->capture_default_str();
   auto* bins = command->add_option("--bins", a->bins, "Linear grid of this many frequencies");
@@ -447,14 +449,19 @@ void AddCwtCommand(CLI::App& app) {
   command
       ->add_option("--penalty", a->penalty_s,
                    "Penalised ridge: cost (s) of a jump of one e-fold in frequency")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(NumberIn({0.0}));
   command->add_option("--wavelet", a->wavelet, "morlet or morse (generalised Morse, MATLAB's default)")
       ->capture_default_str();
-  command->add_option("--omega0", a->omega0, "Morlet centre frequency, 5..100")
-      ->capture_default_str();
-  command->add_option("--gamma", a->gamma, "Morse symmetry gamma (1..20)")->capture_default_str();
-  command->add_option("--beta", a->beta, "Morse decay beta (1..500, beta/gamma <= 100)")
-      ->capture_default_str();
+  command->add_option("--omega0", a->omega0, "Morlet centre frequency")
+      ->capture_default_str()
+      ->check(NumberIn({5.0}, {100.0}));
+  command->add_option("--gamma", a->gamma, "Morse symmetry gamma")
+      ->capture_default_str()
+      ->check(NumberIn({1.0}, {20.0}));
+  command->add_option("--beta", a->beta, "Morse decay beta (beta/gamma <= 100)")
+      ->capture_default_str()
+      ->check(NumberIn({1.0}, {500.0}));
   command->add_option("--padding", a->padding, "reflect, zero or periodic")->capture_default_str();
   command->add_option("--normalisation", a->normalisation, "amplitude (L1) or energy (L2)")
       ->capture_default_str();
@@ -465,11 +472,11 @@ void AddCwtCommand(CLI::App& app) {
                    "only with --normalisation energy (1.35 % for Morlet omega0 6)")
       ->capture_default_str();
   command
-      ->add_option(
-          "--coi-factor", a->coi_factor,
-          "Widen the cone of influence (1 = Torrence & Compo; 2 keeps the worst\n"
-          "border IF error over end phases below 0.3 %, docs/wavelet.md), 0..10 (0: no cone)")
-      ->capture_default_str();
+      ->add_option("--coi-factor", a->coi_factor,
+                   "Widen the cone of influence (1 = Torrence & Compo; 2 keeps the worst\n"
+                   "border IF error over end phases below 0.3 %, docs/wavelet.md); 0: no cone")
+      ->capture_default_str()
+      ->check(NumberIn({0.0}, {wavelet::kMaxCoiFactor}));
   command->add_option("--threads", a->threads,
                       "Threads over the scales (1..256); a streamed ridge uses two (the same result)")
       ->capture_default_str();

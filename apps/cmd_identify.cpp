@@ -294,7 +294,9 @@ void AddIdentifyCommand(CLI::App& app) {
       ->capture_default_str()->check(IntegerIn(1, ident::kMaxMultistart));
   command->add_option("--max-evaluations", args->max_evaluations, "Evaluation budget per start, at most 1000000 (and 1000000 times --multistart in all)")
       ->capture_default_str()->check(IntegerIn(1, ident::kMaxEvaluations));
-  command->add_option("--xtol", args->xtol_rel, "Relative parameter tolerance")->capture_default_str();
+  command->add_option("--xtol", args->xtol_rel, "Relative parameter tolerance")
+      ->capture_default_str()
+      ->check(NumberIn({0.0, true}));
   command->add_option("--seed", args->seed, "Seed of the Latin hypercube and random algorithms")
       ->capture_default_str();
   command->add_option("--json", args->json, "Write the result and history as JSON");

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "cli_common.hpp"
 #include "commands.hpp"
 #include "data_arguments.hpp"
 #include "podid/core/error.hpp"
@@ -143,13 +144,16 @@ void AddPlanCommand(CLI::App& app) {
       ->delimiter(',');
   a->fs_option = command->add_option("--fs", a->fs_Hz, "Sampling frequency (Hz) of --samples");
   command->add_option("--fmin", a->fmin_Hz, "Lowest analysis frequency (Hz), as for cwt")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(NumberIn({0.0, true}));
   command->add_option("--fmax", a->fmax_Hz, "Highest analysis frequency (Hz), capped at Nyquist")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(NumberIn({0.0, true}));
   command->add_option("--voices", a->voices, "Frequencies per octave, as for cwt")
       ->capture_default_str();
   command->add_option("--omega0", a->omega0, "Morlet centre frequency, as for cwt")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(NumberIn({5.0}, {100.0}));
   command->add_option("--padding", a->padding,
                       "reflect, zero or periodic (default: both cwt's zero and\n"
                       "identification's reflect)");

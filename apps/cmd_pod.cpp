@@ -119,11 +119,15 @@ void AddPodCommand(CLI::App& app) {
       ->capture_default_str();
   auto* modes = command->add_option("--modes", a->modes, "Keep at most K modes (0: all)")
                     ->check(IntegerIn(0, kMaxPodModesOption));
-  auto* energy = command->add_option(
-      "--energy", a->energy, "Keep the fewest modes holding this energy fraction, in (0, 1]");
+  auto* energy =
+      command
+          ->add_option("--energy", a->energy, "Keep the fewest modes holding this energy fraction")
+          ->check(NumberIn({0.0, true}, {1.0}));
   modes->excludes(energy);
-  command->add_option("--sigma-threshold", a->sigma_threshold,
-                      "Drop modes with sigma <= this, >= 0 (0: off; noise filtering, section 2.3)");
+  command
+      ->add_option("--sigma-threshold", a->sigma_threshold,
+                   "Drop modes with sigma <= this (0: off; noise filtering, section 2.3)")
+      ->check(NumberIn({0.0}));
   command->add_flag("--no-mean", a->no_mean, "Do not subtract each channel's time mean (eq. 1)");
   command->add_option("--json", a->json,
                       "Write the decomposition (U, sigma, lambda, energy) as JSON");

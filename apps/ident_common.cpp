@@ -28,22 +28,34 @@ void ObjectiveArguments::AddTo(CLI::App& command) {
                      "Ridge band of mode K >= 2 (repeatable; default: the --fmin..--fmax width in octaves "
                      "centred on the mode's spectral peak)")
       ->type_name("K=LOW:HIGH");
-  command.add_option("--ridge-snr", ridge_snr,
-                     "Measured ridge samples below this multiple of the noise's rms |W| are not compared "
-                     "(0: compare all)")
-      ->capture_default_str()->check(CLI::Range(0.0, 1000.0));
-  command.add_option("--min-signal", min_signal,
-                     "Modes 2..K whose measured energy is less than this fraction signal (the rest white noise) "
-                     "are not compared, nor the modes after them (0: compare all K)")
-      ->capture_default_str()->check(CLI::Range(0.0, 0.999));
+  command
+      .add_option(
+          "--ridge-snr", ridge_snr,
+          "Measured ridge samples below this multiple of the noise's rms |W| are not compared "
+          "(0: compare all)")
+      ->capture_default_str()
+      ->check(NumberIn({0.0}, {1000.0}));
+  command
+      .add_option("--min-signal", min_signal,
+                  "Modes 2..K whose measured energy is less than this fraction signal (the rest "
+                  "white noise) "
+                  "are not compared, nor the modes after them (0: compare all K)")
+      ->capture_default_str()
+      ->check(NumberIn({0.0}, {0.999}));
   command.add_flag("--raw-sigma", raw_sigma,
                    "Compare raw singular values (eq. 19) instead of relative ones");
   command.add_flag("--keep-mean", keep_mean,
                    "Do not subtract the channels' means before the POD (an offset is compared; "
                    "one channel: dS + dV is then the output error)");
-  command.add_option("--fmin", fmin_Hz, "Lowest ridge frequency of the wavelet term (Hz)")->capture_default_str();
-  command.add_option("--fmax", fmax_Hz, "Highest ridge frequency of the wavelet term (Hz)")->capture_default_str();
-  command.add_option("--penalty", penalty_s, "Ridge penalty of the wavelet term (s)")->capture_default_str();
+  command.add_option("--fmin", fmin_Hz, "Lowest ridge frequency of the wavelet term (Hz)")
+      ->capture_default_str()
+      ->check(NumberIn({0.0, true}));
+  command.add_option("--fmax", fmax_Hz, "Highest ridge frequency of the wavelet term (Hz)")
+      ->capture_default_str()
+      ->check(NumberIn({0.0, true}));
+  command.add_option("--penalty", penalty_s, "Ridge penalty of the wavelet term (s)")
+      ->capture_default_str()
+      ->check(NumberIn({0.0}));
   command.add_option("--start", starts, "Start value of a parameter, e.g. --start knl=40 (repeatable)")
       ->type_name("NAME=VALUE");
 }

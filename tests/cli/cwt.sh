@@ -155,7 +155,7 @@ mean=$(sed -n 's/.*mean \([0-9.]*\) Hz.*/\1/p' "$out/stdout")
 awk -v m="$mean" 'BEGIN { exit !(m > 33 && m < 40) }' || fail "Morse mean IF $mean not in 33-40 Hz"
 "$podid" cwt "$data" --channel w6 --wavelet morse --gamma 0.5 2>"$out/stderr"
 [ $? -eq 1 ] || fail "gamma 0.5 not exit 1"
-grep -q "gamma: expected a value in \[1, 20\], got 0.5" "$out/stderr" || fail "gamma message"
+grep -q -- '--gamma: expected a number in \[1, 20\], got "0.5"' "$out/stderr" || fail "gamma message"
 "$podid" cwt "$data" --channel w6 --wavelet mexh 2>"$out/stderr"
 [ $? -eq 1 ] || fail "unknown wavelet not exit 1"
 grep -q "expected one of morlet, morse" "$out/stderr" || fail "wavelet message"

@@ -134,8 +134,20 @@ expect_argument_error "--pom 0" '--pom: expected an integer in \[1, 1000000\], g
 expect_argument_error "--pom beyond the data's modes" \
   "cwt --pom: expected 1..6 (the data's POD modes), got 1000" \
   cwt data.csv --pom 1000
-expect_argument_error "--coi-factor 11" "CwtOptions.coi_factor: expected a value in \[0, 10\], got 11" \
+expect_argument_error "--coi-factor 11" '--coi-factor: expected a number in \[0, 10\], got "11"' \
   cwt data.csv --channel w1 --coi-factor 11
+# Real options name themselves, as the integer ones do (the library's own
+# checks would name FrequencyGrid.min_frequency_Hz, not --fmin).
+expect_argument_error "cwt --fmin nan" '--fmin: expected a finite number > 0, got "nan"' \
+  cwt data.csv --channel w1 --fmin nan
+expect_argument_error "cwt --omega0 4" '--omega0: expected a number in \[5, 100\], got "4"' \
+  cwt data.csv --channel w1 --omega0 4
+expect_argument_error "cwt --penalty -1" '--penalty: expected a finite number >= 0, got "-1"' \
+  cwt data.csv --channel w1 --penalty -1
+expect_argument_error "pod --energy 0" '--energy: expected a number in (0, 1\], got "0"' \
+  pod data.csv --energy 0
+expect_argument_error "plan --omega0 1e400" '--omega0: expected a number in \[5, 100\], got "1e400"' \
+  plan --samples 1000 --fs 100 --omega0 1e400
 expect_argument_error "--modes -1" "--modes: expected an integer in \[0, 1000000\]" \
   pod data.csv --modes -1
 expect_argument_error "--count x" "--count: expected an integer" modes case.toml --count x
@@ -143,6 +155,12 @@ expect_argument_error "identify --modes 0" "--modes: expected an integer in \[1,
   identify "${ident[@]}" --modes 0
 expect_argument_error "identify --threads 1025" '--threads: expected an integer in \[0, 1024\], got "1025"' \
   identify "${ident[@]}" --threads 1025
+expect_argument_error "identify --ridge-snr 2000" '--ridge-snr: expected a number in \[0, 1000\], got "2000"' \
+  identify "${ident[@]}" --ridge-snr 2000
+expect_argument_error "identify --min-signal nan" '--min-signal: expected a number in \[0, 0.999\], got "nan"' \
+  identify "${ident[@]}" --min-signal nan
+expect_argument_error "identify --xtol abc" '--xtol: expected a finite number > 0, got "abc"' \
+  identify "${ident[@]}" --xtol abc
 expect_argument_error "landscape --threads 1025" '--threads: expected an integer in \[0, 1024\], got "1025"' \
   landscape case.toml -m data.csv --param knl --range 0:1:2 --threads 1025
 expect_argument_error "a control character" 'not expected: \\x1b\[2J' \

@@ -42,7 +42,7 @@ grep -q "expected <= min(channels, samples) = 6" "$out/stderr" || fail "--modes 
 grep -q "expected one of auto, svd, direct, snapshot" "$out/stderr" || fail "method message"
 "$podid" pod "$data" --energy 1.5 2>"$out/stderr"
 [ $? -eq 1 ] || fail "bad energy exit code"
-grep -q "expected a fraction in (0, 1], got 1.5" "$out/stderr" || fail "energy message"
+grep -q -- '--energy: expected a number in (0, 1], got "1.5"' "$out/stderr" || fail "energy message"
 "$podid" pod "$out/missing.csv" 2>"$out/stderr"
 [ $? -eq 1 ] || fail "missing file exit code"
 echo "pod CLI: ok"
