@@ -219,7 +219,7 @@ class ObjectiveFunction {
   /// parameter_count()). Thread-safe with one workspace per thread. Never
   /// throws: a wrong number of values, a value the case rejects, a numerical
   /// failure or any exception of the simulation, POD or wavelet stages (e.g.
-  /// the CWT of an all-zero response, std::bad_alloc) marks the result failed
+  /// the POD of an all-zero response, std::bad_alloc) marks the result failed
   /// with the reason, so that it may be called from NLopt's C callback and
   /// from OpenMP regions. A null workspace uses a temporary one.
   Evaluation Evaluate(const Eigen::VectorXd& values, EvaluationWorkspace* workspace) const noexcept;
