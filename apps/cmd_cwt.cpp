@@ -455,13 +455,13 @@ void AddCwtCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--omega0", a->omega0, "Morlet centre frequency")
       ->capture_default_str()
-      ->check(NumberIn({5.0}, {100.0}));
+      ->check(NumberIn({wavelet::kMinOmega0}, {wavelet::kMaxOmega0}));
   command->add_option("--gamma", a->gamma, "Morse symmetry gamma")
       ->capture_default_str()
-      ->check(NumberIn({1.0}, {20.0}));
+      ->check(NumberIn({wavelet::kMinMorseGamma}, {wavelet::kMaxMorseGamma}));
   command->add_option("--beta", a->beta, "Morse decay beta (beta/gamma <= 100)")
       ->capture_default_str()
-      ->check(NumberIn({1.0}, {500.0}));
+      ->check(NumberIn({wavelet::kMinMorseBeta}, {wavelet::kMaxMorseBeta}));
   command->add_option("--padding", a->padding, "reflect, zero or periodic")->capture_default_str();
   command->add_option("--normalisation", a->normalisation, "amplitude (L1) or energy (L2)")
       ->capture_default_str();

@@ -153,7 +153,7 @@ void AddPlanCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--omega0", a->omega0, "Morlet centre frequency, as for cwt")
       ->capture_default_str()
-      ->check(NumberIn({5.0}, {100.0}));
+      ->check(NumberIn({wavelet::kMinOmega0}, {wavelet::kMaxOmega0}));
   command->add_option("--padding", a->padding,
                       "reflect, zero or periodic (default: both cwt's zero and\n"
                       "identification's reflect)");

@@ -78,27 +78,30 @@ Padding ParsePadding(std::string_view name) {
 
 bool MorletWavelet::IsValid(std::string* why) const {
   if (family == WaveletFamily::kMorse) {
-    if (!std::isfinite(gamma) || gamma < 1.0 || gamma > 20.0) {
-      return Fail(why, "MorletWavelet.gamma: expected a value in [1, 20], got " + ToText(gamma));
+    if (!std::isfinite(gamma) || gamma < kMinMorseGamma || gamma > kMaxMorseGamma) {
+      return Fail(why, "MorletWavelet.gamma: expected a value in [" + ToText(kMinMorseGamma) +
+                           ", " + ToText(kMaxMorseGamma) + "], got " + ToText(gamma));
     }
-    if (!std::isfinite(beta) || beta < 1.0 || beta > 500.0) {
-      return Fail(why, "MorletWavelet.beta: expected a value in [1, 500], got " + ToText(beta));
+    if (!std::isfinite(beta) || beta < kMinMorseBeta || beta > kMaxMorseBeta) {
+      return Fail(why, "MorletWavelet.beta: expected a value in [" + ToText(kMinMorseBeta) + ", " +
+                           ToText(kMaxMorseBeta) + "], got " + ToText(beta));
     }
-    if (beta / gamma > 100.0) {
-      return Fail(why, "MorletWavelet.beta / gamma: expected <= 100, got " + ToText(beta / gamma));
+    if (beta / gamma > kMaxMorseBetaOverGamma) {
+      return Fail(why, "MorletWavelet.beta / gamma: expected <= " + ToText(kMaxMorseBetaOverGamma) +
+                           ", got " + ToText(beta / gamma));
     }
     return true;
   }
   if (!std::isfinite(omega0) || omega0 <= 0.0) {
     return Fail(why, "MorletWavelet.omega0: expected a finite value > 0, got " + ToText(omega0));
   }
-  if (omega0 < 5.0 && !admissibility_correction) {
-    return Fail(why,
-                "MorletWavelet.omega0: expected >= 5 (or admissibility_correction = true), got " +
-                    ToText(omega0));
+  if (omega0 < kMinOmega0 && !admissibility_correction) {
+    return Fail(why, "MorletWavelet.omega0: expected >= " + ToText(kMinOmega0) +
+                         " (or admissibility_correction = true), got " + ToText(omega0));
   }
-  if (omega0 > 100.0) {
-    return Fail(why, "MorletWavelet.omega0: expected <= 100, got " + ToText(omega0));
+  if (omega0 > kMaxOmega0) {
+    return Fail(
+        why, "MorletWavelet.omega0: expected <= " + ToText(kMaxOmega0) + ", got " + ToText(omega0));
   }
   return true;
 }

@@ -151,6 +151,14 @@ WaveletFamily ParseWaveletFamily(std::string_view name);
 /// either family is coi_factor * 2 sigma_t s, sigma_t^2 = integral psi^'(u)^2
 /// du / integral psi^(u)^2 du the wavelet's time variance (sigma_t =
 /// 1/sqrt(2) for Morlet: Torrence & Compo's sqrt(2) s).
+/// MorletWavelet's accepted parameters (IsValid; podid cwt checks its options
+/// against the same numbers).
+inline constexpr double kMinOmega0 = 5.0;  ///< without the admissibility correction
+inline constexpr double kMaxOmega0 = 100.0;
+inline constexpr double kMinMorseGamma = 1.0, kMaxMorseGamma = 20.0;
+inline constexpr double kMinMorseBeta = 1.0, kMaxMorseBeta = 500.0;
+inline constexpr double kMaxMorseBetaOverGamma = 100.0;
+
 struct MorletWavelet {
   WaveletFamily family = WaveletFamily::kMorlet;
   double omega0 = 6.0;  ///< kMorlet: centre angular frequency (dimensionless), in (0, 100], >= 5
