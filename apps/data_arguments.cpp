@@ -25,24 +25,6 @@ std::pair<double, double> ParsePair(const std::string& option,
   return {a, b};
 }
 
-// A TOML basic string holding `text` (for --set values).
-std::string TomlString(const std::string& text) {
-  std::string out = "\"";
-  for (const unsigned char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += static_cast<char>(c);
-    } else if (c < 0x20 || c == 0x7f) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
-      out += buffer;
-    } else {
-      out += static_cast<char>(c);
-    }
-  }
-  return out + "\"";
-}
-
 std::string Number(double x) {
   std::ostringstream os;
   os.precision(17);

@@ -7,7 +7,7 @@
 #include "mpi_session.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
-#include "podid/core/recording.hpp"
+#include "podid/ident/measured_record.hpp"
 
 namespace podid::cli {
 
@@ -64,51 +64,16 @@ void ObjectiveArguments::PrepareData() {
   for (std::string& set : measured_reading.CaseSets(measured)) input.sets.push_back(std::move(set));
 }
 
-// ident::ObjectiveFunction conditions every simulated record with
-// ConditionSimulated() (podid/core/recording.hpp) as the measured one is
-// here, so a detrend or a filter reaches both sides. Decimation stays refused:
-// the objective simulates on the measured record's grid, which decimation
-// coarsens.
-constexpr bool kObjectiveConditionsSimulated = true;
-
 std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
     std::vector<ident::NamedObjective> weightings) const {
   CaseDocument document = input.Load();
-  const CaseSpec spec = document.ToSpec();
-  const DataSpec& data_spec = spec.data;
-  if (data_spec.file.empty()) {
+  if (document.ToSpec().data.file.empty()) {
     ThrowInvalid("-m", "a measured file (-m FILE, or [data] file in " + input.path + ")", "none");
   }
-  const ConditioningOptions& conditioning = data_spec.conditioning;
-  if (conditioning.decimate != 1) {
-    ThrowInvalid("data.decimate (--decimate)",
-                 "1 for identify and landscape (the simulation runs on the measured grid; "
-                 "decimate the file beforehand, or use podid pod)",
-                 ToText(conditioning.decimate));
-  }
-  if (!kObjectiveConditionsSimulated &&
-      (conditioning.detrend != Detrend::kNone || conditioning.filter.type != FilterType::kNone)) {
-    ThrowInvalid("data.detrend / data.filter (--detrend, --lowpass, --highpass, --bandpass)",
-                 "none for identify and landscape yet (the objective does not condition the "
-                 "simulated sensors; podid pod takes them)",
-                 conditioning.Describe());
-  }
-  DataReadOptions read;
-  read.variable = data_spec.variable;
-  read.rate_Hz = data_spec.rate_Hz;
-  read.step_s = data_spec.step_s;
+  // Conditioned, with time.start on the record's first stamp, as the Python
+  // module prepares it (ident/measured_record.hpp).
   std::vector<std::string> notes;
-  const TimeSeries raw = ReadTimeSeries(data_spec.file, read, &notes);
-  const TimeSeries data = ConditionMeasured(spec, raw, data_spec.file, &notes);
-  // The simulation starts at the record's first sample, with the force read
-  // on the record's time axis (time.start, docs/case-file.md).
-  const double t0 = data.time_s[0];
-  if (t0 != spec.time.start_s) {
-    notes.push_back(data_spec.file + ": the record starts at t = " + ToText(t0) +
-                    " s: the simulation starts there (time.start = " + ToText(t0) +
-                    " s), force files and channels are read at the record's time");
-    document.SetNumber("time.start", t0);
-  }
+  const TimeSeries data = ident::ReadMeasured(document, &notes);
   for (const std::string& note : notes) std::fprintf(stderr, "podid: note: %s\n", note.c_str());
   ident::ObjectiveOptions options;
   options.weightings = std::move(weightings);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -816,6 +817,23 @@ std::vector<std::pair<std::string, std::string>> ParseSetArguments(
 
 void ApplySetArguments(CaseDocument& document, const std::vector<std::string>& arguments) {
   for (const auto& [key, value] : ParseSetArguments(arguments)) document.Set(key, value);
+}
+
+std::string TomlString(std::string_view text) {
+  std::string out = "\"";
+  for (const unsigned char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += static_cast<char>(c);
+    } else if (c < 0x20 || c == 0x7f) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
+      out += buffer;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out + "\"";
 }
 
 }  // namespace podid

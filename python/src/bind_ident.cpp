@@ -6,6 +6,7 @@
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
@@ -18,6 +19,7 @@
 #include "podid/core/io.hpp"
 #include "podid/ident/identify.hpp"
 #include "podid/ident/landscape.hpp"
+#include "podid/ident/measured_record.hpp"
 #include "podid/ident/objective.hpp"
 
 namespace py = pybind11;
@@ -27,9 +29,23 @@ namespace {
 
 using Measured = std::variant<std::string, TimeSeries>;
 
-TimeSeries ReadMeasured(const Measured& measured) {
-  if (const auto* path = std::get_if<std::string>(&measured)) return ReadTimeSeries(*path);
-  return std::get<TimeSeries>(measured);
+// The measured record as podid identify prepares it (ident/measured_record.hpp):
+// a path becomes the case's data.file, read with [data]'s options; either is
+// conditioned by [data], and time.start moves to its first stamp. Notes go
+// to Python's warnings, as podid prints them on stderr.
+TimeSeries PrepareMeasured(CaseDocument& document, const Measured& measured) {
+  std::vector<std::string> notes;
+  TimeSeries data;
+  if (const auto* path = std::get_if<std::string>(&measured)) {
+    document.Set("data.file", TomlString(std::filesystem::absolute(*path).string()));
+    data = ident::ReadMeasured(document, &notes);
+  } else {
+    data = ident::PrepareMeasured(document, std::get<TimeSeries>(measured), "measured", &notes);
+  }
+  for (const std::string& note : notes) {
+    if (PyErr_WarnEx(PyExc_UserWarning, note.c_str(), 2) != 0) throw py::error_already_set();
+  }
+  return data;
 }
 
 // "wavelet" (a preset) or "U,S,IF" or "U,S,IF:1,1,0.5" (terms and weights).
@@ -59,8 +75,8 @@ std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax;
   options.ridge.cwt.threads = ridge_threads;  // checked by the objective (1..256)
-  const CaseDocument document = LoadCase(case_, set);
-  const TimeSeries data = ReadMeasured(measured);
+  CaseDocument document = LoadCase(case_, set);
+  const TimeSeries data = PrepareMeasured(document, measured);
   py::gil_scoped_release release;
   return std::make_shared<ident::ObjectiveFunction>(document, data, options);
 }
@@ -164,7 +180,7 @@ void BindIdent(py::module_& m) {
         options.xtol_rel = xtol;
         options.seed = seed;
         options.threads = threads;
-        if (!progress.is_none()) options.progress = WrapProgress(progress);
+        options.progress = WrapProgress(progress);  // Ctrl-C stops it also without a callback
         ident::IdentifySummary summary;
         {
           py::gil_scoped_release release;
@@ -229,7 +245,7 @@ void BindIdent(py::module_& m) {
         options.x.points = points;
         options.base = ValuesFrom(*f, base);
         options.threads = threads;
-        if (!progress.is_none()) options.progress = WrapProgress(progress);
+        options.progress = WrapProgress(progress);  // Ctrl-C stops it also without a callback
         ident::LandscapeResult result;
         {
           py::gil_scoped_release release;

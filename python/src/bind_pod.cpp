@@ -32,8 +32,8 @@ void BindPod(py::module_& m) {
 
   m.def(
       "pod",
-      [](const Eigen::Ref<const Eigen::MatrixXd>& x, const std::string& method,
-         int modes, bool remove_mean, bool time_modes) {
+      [](const Eigen::Ref<const Eigen::MatrixXd>& x, const std::string& method, int modes,
+         bool remove_mean, bool time_modes) {
         PodOptions options;
         options.method = ParsePodMethod(method);
         options.max_modes = modes;
@@ -46,7 +46,9 @@ void BindPod(py::module_& m) {
       py::arg("X"), py::arg("method") = "auto", py::arg("modes") = 0, py::arg("remove_mean") = true,
       py::arg("time_modes") = true,
       "POD of X (sensors x samples; a Fortran-ordered float64 array is used without a copy).\n"
-      "method: auto, svd, direct or snapshot; modes: at most this many (0 = all).");
+      "method: auto, svd, direct or snapshot; modes: keep at most this many, <= min(sensors, "
+      "samples)\n"
+      "(0 = all).");
 }
 
 }  // namespace podid::python

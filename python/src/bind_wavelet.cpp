@@ -103,10 +103,11 @@ void BindWavelet(py::module_& m) {
                                                 "T(t, f) and the reassignment it was built from.")
       .def_readonly("sst", &wavelet::SynchrosqueezedTransform::sst,
                     "a Scalogram whose coefficients are T (times x frequencies, complex)")
-      .def_readonly("reassigned_frequency_Hz",
-                    &wavelet::SynchrosqueezedTransform::reassigned_frequency_Hz,
-                    "(times x frequencies) the IF each CWT coefficient was moved to; NaN where "
-                    "|W| is below the threshold or the IF is not positive")
+      .def_readonly(
+          "reassigned_frequency_Hz", &wavelet::SynchrosqueezedTransform::reassigned_frequency_Hz,
+          "(times x frequencies) each CWT coefficient's IF; NaN where |W| is at most the "
+          "threshold or the IF is not positive. A coefficient whose IF lies more than half a "
+          "bin outside the grid is not moved")
       .def(
           "ridges",
           [](const wavelet::SynchrosqueezedTransform& sst, int count) {
@@ -151,7 +152,8 @@ void BindWavelet(py::module_& m) {
       },
       py::arg("scalogram"),
       "The in-band part of the signal a podid.cwt scalogram came from, at its output times "
-      "(a wavelet band-pass: the inverse CWT).");
+      "(a wavelet band-pass: the inverse CWT). It takes W: a synchrosqueezed sst's T already "
+      "carries the log-scale step and comes back scaled by it (ln 2 / voices).");
 
   m.def(
       "instantaneous_frequency",

@@ -1,6 +1,7 @@
 """The Python module against independent references: NumPy's SVD, the DOP853
 reference data of tests/data, analytic tones. Run by ctest (python.pytest)
 with PYTHONPATH=<build>/python."""
+import json
 import math
 import os
 import pathlib
@@ -303,3 +304,38 @@ def test_identify_stops_when_its_progress_callback_raises():
 
     with pytest.raises(RuntimeError, match="stopped by the user"):
         podid.identify(CASE, MEASURED_01S, objective="time-free", multistart=3, threads=2, progress=stop)
+
+
+# A record simulated by podid itself at knl = 50, written with 17 digits (it
+# reads back exactly) and compared at knl = 50: both sides are the same
+# computation, so every term is round-off or exactly 0. Before the measured
+# side was prepared as `podid identify` prepares it, the [data] filter reached
+# only the simulated side (F = 1.6e-3 with a 31 Hz harmonic force) and a
+# record starting at t = 0.5 s was compared with a simulation from t = 0,
+# which reads the force file half a second early (F = 2.6).
+SAME_RECORD_TOLERANCE = 1e-20
+
+
+def test_the_measured_record_is_conditioned_and_timed_as_podid_identify_does(tmp_path):
+    t = np.arange(0.0, 1.2, 1e-4)
+    force = tmp_path / "force.csv"
+    np.savetxt(force, np.column_stack([t, 20.0 * np.sin(2 * np.pi * (30.0 + 20.0 * t) * t)]), delimiter=",",
+               header="t,N", comments="", fmt="%.17e")
+    forced = ["initial.static_tip_force=0", 'force.0.type="file"', "force.0.node=6",
+              "force.0.file=" + json.dumps(str(force)), 'force.0.column="N"', "time.start=0.5"]
+    sim = podid.simulate(CASE, set=forced, noise=False)
+    assert sim.completed, sim.message
+    assert sim.sensors.time_s[0] == 0.5
+    record = tmp_path / "from_half_a_second.csv"
+    np.savetxt(record, np.column_stack([sim.sensors.time_s, sim.sensors.values]), delimiter=",",
+               header="t," + ",".join(sim.sensors.channel_names), comments="", fmt="%.17e")
+    case = forced[:-1]  # time.start comes from the record
+    lowpass = ['data.filter="lowpass"', "data.cutoff=100"]
+    for measured in (str(record), podid.read(str(record))):
+        for extra in ([], lowpass):
+            with pytest.warns(UserWarning, match="the record starts at t = 0.5 s"):
+                f = podid.Objective(CASE, measured, weightings=["full"], set=case + extra)
+            value = f.evaluate({"knl": 50.0})["values"]["full"]
+            assert value <= SAME_RECORD_TOLERANCE, (type(measured), extra, value)
+    with pytest.raises(ValueError, match="data.decimate: expected 1"):
+        podid.Objective(CASE, str(record), set=case + ["data.decimate=2"])

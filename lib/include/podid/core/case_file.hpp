@@ -89,4 +89,8 @@ std::vector<std::pair<std::string, std::string>> ParseSetArguments(
 /// Applies ParseSetArguments(arguments) to `document`, in order.
 void ApplySetArguments(CaseDocument& document, const std::vector<std::string>& arguments);
 
+/// A TOML basic string holding `text` (quotes and backslashes escaped, control
+/// characters as \uXXXX): a value for CaseDocument::Set, e.g. a file path.
+std::string TomlString(std::string_view text);
+
 }  // namespace podid
