@@ -300,6 +300,16 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
     }
     energy = w.gram.trace();
     check_energy();
+    // Each Gram entry sums `terms` products; below DBL_MIN a product is
+    // subnormal and keeps fewer digits, about terms 2^-1074 absolute in all.
+    // Unless that is below eps of the trace (lambda_1 and more), the values
+    // are garbage (sigma 50 % off at |y| ~ 1e-162, without a message): such
+    // data are degenerate, as those whose squares underflow to 0 are.
+    const double terms = static_cast<double>(direct ? n : m);
+    if (energy < terms * std::numeric_limits<double>::denorm_min() / kEps) {
+      w.gram.setZero();
+      energy = 0.0;
+    }
     // The Gram's rank is at most `available`: when that is far below its
     // side (snapshot with N >> M, direct with M >> N), only the range is
     // solved (range_eigen.hpp), else every eigenpair.
@@ -438,7 +448,7 @@ const PodResult& PodSolver::ComputeImpl(const Eigen::MatrixBase<Derived>& xt) {
                                       : "degenerate data: numerical rank 0, every value is zero")
                     : "degenerate data: numerical rank 0, the largest deviation " +
                           ToText(largest) +
-                          " is too small for double precision (its square underflows); "
+                          " is too small for double precision (its square is subnormal or 0); "
                           "rescale the data";
   }
   return r;

@@ -37,6 +37,26 @@ TEST(PodDegenerate, ValuesWhoseSquaresUnderflowAreDegenerate) {
   }
 }
 
+// Between ~1e-154 and ~1e-162 the Gram's products are subnormal: sigma came
+// out of kAuto (kDirect) 50 % wrong at 1e-162, with no message. Those data
+// are degenerate too; kSvd scales Y itself and still finds rank 2.
+TEST(PodDegenerate, ValuesWhoseGramProductsAreSubnormalAreDegenerate) {
+  for (const double amplitude : {1e-156, 1e-162}) {
+    for (const PodMethod method : {PodMethod::kAuto, PodMethod::kDirect, PodMethod::kSnapshot}) {
+      PodOptions options;
+      options.method = method;
+      const PodResult r = ComputePod(Tones(amplitude), options);
+      EXPECT_TRUE(r.IsDegenerate()) << ToString(method) << " " << amplitude;
+      EXPECT_NE(r.message.find("(its square is subnormal or 0); rescale the data"),
+                std::string::npos)
+          << r.message;
+    }
+    PodOptions svd;
+    svd.method = PodMethod::kSvd;
+    EXPECT_EQ(ComputePod(Tones(amplitude), svd).numerical_rank, 2) << amplitude;
+  }
+}
+
 TEST(PodDegenerate, ConstantSensorsAreDegenerate) {
   Eigen::MatrixXd x = Eigen::MatrixXd::Constant(3, 50, 4.5);
   PodResult r = ComputePod(x);
