@@ -168,6 +168,13 @@ BeamModel BeamModel::FromMatrices(const Eigen::SparseMatrix<double>& mass,
   return model;
 }
 
+// Relative round-off of the 2 x 2 Rayleigh solve: a coefficient that is 0
+// exactly (equal zeta / omega) may come out as -1e-17 of its scale.
+constexpr double kRayleighRoundOff = 1e-12;
+// Two modal frequencies closer than this (relative) are one frequency: the
+// eigensolver's accuracy is far finer, a real structure's split far coarser.
+constexpr double kRayleighMinSeparation = 1e-6;
+
 void RayleighFromModalRatios(double omega1_rad_per_s, double zeta1, double omega2_rad_per_s,
                              double zeta2, double* alpha_per_s, double* beta_s) {
   PODID_CHECK(omega1_rad_per_s > 0 && omega2_rad_per_s > 0 && omega1_rad_per_s != omega2_rad_per_s);
@@ -198,14 +205,36 @@ BeamModel BeamModel::Build(const CaseSpec& spec) {
       const ModalAnalysis modes = model.Modes(std::max(d.modes[0], d.modes[1]));
       const double w1 = 2 * std::numbers::pi * modes.frequencies_Hz[d.modes[0] - 1];
       const double w2 = 2 * std::numbers::pi * modes.frequencies_Hz[d.modes[1] - 1];
-      if (!(w1 > 0 && w2 > 0 && w1 != w2 && std::isfinite(w1) && std::isfinite(w2))) {
+      // Two modes of one frequency (a symmetric structure's pair) leave the
+      // 2 x 2 solve singular: its alpha and beta are round-off.
+      if (!(w1 > 0 && w2 > 0 && std::abs(w2 - w1) > kRayleighMinSeparation * std::max(w1, w2) &&
+            std::isfinite(w1) && std::isfinite(w2))) {
         ThrowInvalid("damping.modal_ratios (with " + std::string(kBeamKeys) + ")",
-                     "modes of two different finite frequencies > 0 Hz",
+                     "modes of two different finite frequencies > 0 Hz (apart by more than 1e-6 of "
+                     "the higher)",
                      ToText(w1 / (2 * std::numbers::pi)) + " Hz and " +
                          ToText(w2 / (2 * std::numbers::pi)) + " Hz");
       }
       RayleighFromModalRatios(w1, d.modal_ratios[0], w2, d.modal_ratios[1], &model.alpha_per_s_,
                               &model.beta_s_);
+      // A negative coefficient is negative damping outside the two modes (an
+      // indefinite C: the integrator's factorisation aborted on it), as
+      // damping.alpha/beta < 0 are refused. Round-off of an exact 0 is 0.
+      const double alpha_scale = 2.0 * d.modal_ratios[0] * w1,
+                   beta_scale = 2.0 * d.modal_ratios[1] / w2;
+      if (model.alpha_per_s_ < -kRayleighRoundOff * alpha_scale ||
+          model.beta_s_ < -kRayleighRoundOff * beta_scale) {
+        ThrowInvalid("damping.modal_ratios",
+                     "ratios whose Rayleigh fit has alpha >= 0 and beta >= 0 (else some modes have "
+                     "negative damping)",
+                     "[" + ToText(d.modal_ratios[0]) + ", " + ToText(d.modal_ratios[1]) + "] at " +
+                         ToText(w1 / (2 * std::numbers::pi)) + " and " +
+                         ToText(w2 / (2 * std::numbers::pi)) +
+                         " Hz: alpha = " + ToText(model.alpha_per_s_) +
+                         " 1/s, beta = " + ToText(model.beta_s_) + " s");
+      }
+      model.alpha_per_s_ = std::max(model.alpha_per_s_, 0.0);
+      model.beta_s_ = std::max(model.beta_s_, 0.0);
     } else {
       model.alpha_per_s_ = d.alpha_per_s;
       model.beta_s_ = d.beta_s;

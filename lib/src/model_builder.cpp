@@ -152,6 +152,14 @@ BeamModel BeamModel::BuildStructure(const CaseSpec& spec) {
       ThrowInvalid(src + ": model.stiffness", "a positive semi-definite stiffness matrix",
                    "a negative pivot (relative " + ToText(k_pivot) + ")");
     }
+    // Nor C: negative damping made the integrator's factorisation abort.
+    if (model.damping_.nonZeros() > 0) {
+      const double c_pivot = RelativeMinPivot(model.damping_);
+      if (c_pivot < -1e-10) {
+        ThrowInvalid(src + ": model.damping", "a positive semi-definite damping matrix",
+                     "a negative pivot (relative " + ToText(c_pivot) + ")");
+      }
+    }
     for (Eigen::Index i = 0; i < n; ++i) model.transverse_.push_back(static_cast<int>(i));
   } else {
     model = BuildLinear(spec.beam);

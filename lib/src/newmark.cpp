@@ -27,6 +27,15 @@ void SetMallocAllowed([[maybe_unused]] bool allowed) {
 #endif
 }
 
+// Reachable from a case (an imported C or K that is not positive
+// semi-definite), so an error and not an internal check: it aborted podid.
+[[noreturn]] void ThrowIndefiniteStepMatrix() {
+  ThrowInvalid("model",
+               "M / (beta dt^2) + gamma C / (beta dt) + K positive definite on the linear dofs "
+               "(C and K positive semi-definite: no negative damping or stiffness)",
+               "a matrix that is not");
+}
+
 }  // namespace
 
 NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOptions& options)
@@ -99,11 +108,13 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     stiffness_sparse_ = permute(model.stiffness());
     const Eigen::SparseMatrix<double> s = s_of();
     mass_ldlt_.compute(mass_sparse_);
-    PODID_CHECK_MSG(mass_ldlt_.info() == Eigen::Success, "M must be positive definite");
+    if (mass_ldlt_.info() != Eigen::Success) {
+      ThrowInvalid("model", "a positive definite mass matrix M", "a singular one");
+    }
     const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower,
                                 Eigen::NaturalOrdering<int>>
         sbb_ldlt(s.bottomRightCorner(nb_, nb_));
-    PODID_CHECK_MSG(sbb_ldlt.info() == Eigen::Success, "S_b must be positive definite");
+    if (sbb_ldlt.info() != Eigen::Success) ThrowIndefiniteStepMatrix();
     const Eigen::SparseMatrix<double> lower =
         sbb_ldlt.matrixL().nestedExpression().triangularView<Eigen::StrictlyLower>();
     sparse_step_ = std::make_shared<const internal::SparseStep>(mass_sparse_, damping_sparse_, na_,
@@ -138,7 +149,7 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     // the condensed matrix S_a - S_ab S_b^-1 S_ba (eqs. 28-29).
     const Eigen::MatrixXd sbb = s_.bottomRightCorner(nb_, nb_);
     Eigen::LLT<Eigen::MatrixXd> llt(sbb);
-    PODID_CHECK_MSG(llt.info() == Eigen::Success, "S_b must be positive definite");
+    if (llt.info() != Eigen::Success) ThrowIndefiniteStepMatrix();
     sbb_inv_ = llt.solve(Eigen::MatrixXd::Identity(nb_, nb_));
     sab_ = s_.topRightCorner(na_, nb_);
     h_ = sbb_inv_ * s_.bottomLeftCorner(nb_, na_);

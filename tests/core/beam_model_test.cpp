@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include "podid/core/simulate.hpp"
 #include "reference_case.hpp"
@@ -66,6 +67,18 @@ TEST(BeamModelTest, RayleighDampingHitsTheModalRatios) {
   EXPECT_NEAR(modes.damping_ratios[1], 0.02, kTolerance);
   // Rayleigh damping grows ~linearly with frequency above mode 2.
   EXPECT_GT(modes.damping_ratios[2], 0.02);
+}
+
+// A fit with a negative coefficient is negative damping outside the two
+// modes: the integrator's Cholesky factorisation aborted podid on it. Equal
+// frequencies (a symmetric pair) leave the fit to round-off.
+TEST(BeamModelTest, RayleighFitsWithNegativeDampingAreRefused) {
+  PODID_EXPECT_THROW_WITH(
+      BeamModel::Build(ReferenceCase({"damping.modal_ratios=[0.5, 0.01]"})), std::invalid_argument,
+      "damping.modal_ratios: expected ratios whose Rayleigh fit has alpha >= 0 and "
+      "beta >= 0");
+  PODID_EXPECT_THROW_WITH(BeamModel::Build(ReferenceCase({"damping.modal_ratios=[0.2, 0]"})),
+                          std::invalid_argument, "beta = -");
 }
 
 TEST(BeamModelTest, ModeShapesAreMassNormalised) {

@@ -171,6 +171,8 @@ TEST(ImportedModel, RejectsBadMatrices) {
       {"neg.mtx", "m.mtx", "", "case.toml: model.mass: expected a positive definite mass matrix"},
       {"m.mtx", "neg.mtx", "",
        "case.toml: model.stiffness: expected a positive semi-definite stiffness matrix"},
+      {"m.mtx", "m.mtx", "damping = \"neg.mtx\"\n",
+       "case.toml: model.damping: expected a positive semi-definite damping matrix"},
       {"m.mtx", "asym.mtx", "", "case.toml: model.stiffness: expected a finite symmetric matrix"},
       {"m.mtx", "big.mtx", "",
        "big.mtx: expected a square matrix of the mass matrix's size 2 x 2, got 3 x 3"},
