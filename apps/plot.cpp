@@ -196,21 +196,29 @@ PlotOutcome RenderPlot(const PlotRequest& request) {
   const std::string& png = request.output_png;
   const std::string gnuplot = FindGnuplot();
   if (gnuplot.empty()) {
+    // In a folder made for them (mkdtemp: new, so no existing file is
+    // replaced): next to the PNG under fixed names, they overwrote the case
+    // file when it was called <png>.gp.
+    std::string kept = png + ".gnuplot-XXXXXX";
+    if (::mkdtemp(kept.data()) == nullptr) {
+      throw std::runtime_error("plot: gnuplot not found, and cannot create a folder " + kept +
+                               " for the script: " + std::strerror(errno));
+    }
     std::vector<std::string> paths;
     for (std::size_t i = 0; i < request.data.size(); ++i) {
-      paths.push_back(png + ".data" + std::to_string(i) + ".txt");
+      paths.push_back(kept + "/data" + std::to_string(i) + ".txt");
       WriteFileAtomically(paths.back(), [&](std::ostream& os) {
         os.precision(10);
         request.data[i](os);
       });
     }
-    const std::string script = png + ".gp";
+    const std::string script = kept + "/plot.gp";
     WriteFileAtomically(script, [&](std::ostream& os) {
       os << Header(request, png) << Substitute(request.script, paths);
     });
     std::fprintf(stderr,
                  "podid: gnuplot not found on PATH: %s not drawn; wrote %s and its data "
-                 "(run 'gnuplot %s')\n",
+                 "(run 'gnuplot %s' from this folder)\n",
                  png.c_str(), script.c_str(), script.c_str());
     return PlotOutcome::kNoGnuplot;
   }

@@ -13,10 +13,11 @@
 // GnuplotString in plot.cpp): it cannot end the string or run a command.
 //
 // Without gnuplot on PATH (or $PODID_GNUPLOT, an explicit program path) it
-// says so on stderr, keeps the data and the script next to the PNG instead
-// (<png>.gp, <png>.data0.txt, ...; run `gnuplot <png>.gp` later; the paths in
-// it are escaped the same way) and returns PlotOutcome::kNoGnuplot; the
-// command still writes its other outputs.
+// says so on stderr, keeps the data and the script in a new folder next to
+// the PNG instead (<png>.gnuplot-XXXXXX/plot.gp, data0.txt, ...; run `gnuplot
+// <that folder>/plot.gp` later from the same folder; the paths in it are
+// escaped the same way) and returns PlotOutcome::kNoGnuplot; the command
+// still writes its other outputs.
 //
 // Usage (a generic script body; {data0}, {data1}, ... become the quoted data
 // file paths; the terminal and output lines are added):

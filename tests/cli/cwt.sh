@@ -181,11 +181,16 @@ if command -v gnuplot >/dev/null; then
   head -c 8 "$out/s.png" | od -c | grep -q "P   N   G" || fail "not a PNG"
   ls "$out" | grep -q "tmp" && fail "temporaries left behind"
 fi
+# Without gnuplot the script and data go to a new folder: a file that has the
+# names they once had (here the case's copy) is not replaced.
+cp examples/beam.toml "$out/n.png.gp"
 PATH=/nonexistent "$podid" cwt "$data" --channel w6 --plot "$out/n.png" -o "$out/r2.csv" \
   >/dev/null 2>"$out/stderr" || fail "plot without gnuplot exited $?"
 grep -q "gnuplot not found" "$out/stderr" || fail "no gnuplot message"
-[ -s "$out/n.png.gp" ] && [ -s "$out/n.png.data0.txt" ] && [ -s "$out/r2.csv" ] \
+kept=$(ls -d "$out"/n.png.gnuplot-*)
+[ -s "$kept/plot.gp" ] && [ -s "$kept/data0.txt" ] && [ -s "$out/r2.csv" ] \
   || fail "data not kept without gnuplot"
+cmp -s "$out/n.png.gp" examples/beam.toml || fail "the kept script replaced n.png.gp"
 # A grid reaching below the frequencies whose cone holds a sample of this 1 s
 # record (5.4 Hz at coi_factor 2): a note names that frequency; none at the default fmin.
 "$podid" cwt "$data" --channel w6 --fmin 1 >/dev/null 2>"$out/low" || fail "cwt --fmin 1 exited $?"

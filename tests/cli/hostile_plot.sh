@@ -88,8 +88,9 @@ check_nothing_ran "relative gnuplot"
 PODID_GNUPLOT=/nonexistent "$podid" landscape evil.toml -m "$data" --param "$name" \
   --range 0:100:3 --objective time-free --plot "$png.kept" >stdout 2>stderr \
   || fail "landscape without gnuplot: $(cat stderr)"
-[ -f "$png.kept.gp" ] || fail "no kept script"
-"$gnuplot_program" "$png.kept.gp" 2>gnuplot.err || fail "the kept script fails: $(cat gnuplot.err)"
+kept=$(ls -d "$png.kept".gnuplot-*/)
+[ -f "${kept}plot.gp" ] || fail "no kept script"
+"$gnuplot_program" "${kept}plot.gp" 2>gnuplot.err || fail "the kept script fails: $(cat gnuplot.err)"
 check_nothing_ran "kept script"
 is_png "$png.kept" || fail "the kept script drew no PNG"
 echo "hostile plot: ok"
