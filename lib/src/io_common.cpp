@@ -1,6 +1,8 @@
 // What the time-series readers share: the uniform-grid fit of time stamps,
 // clean text from files, and the dispatch on the file's extension with the
 // channel selection and sampling options of DataReadOptions.
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -244,6 +246,17 @@ void DataReadOptions::Check() const {
     if (!seen.insert(name).second)
       ThrowInvalid("channels", "distinct channel names", "\"" + name + "\" twice");
   }
+}
+
+void internal::RequireRegularFile(const std::string& path, const std::string& expected) {
+  struct stat status {};
+  if (::stat(path.c_str(), &status) != 0 || S_ISREG(status.st_mode)) return;
+  const char* kind = S_ISDIR(status.st_mode)                              ? "a directory"
+                     : S_ISFIFO(status.st_mode)                           ? "a FIFO (named pipe)"
+                     : S_ISSOCK(status.st_mode)                           ? "a socket"
+                     : S_ISCHR(status.st_mode) || S_ISBLK(status.st_mode) ? "a device"
+                                                                          : "not a regular file";
+  ThrowInvalid(path, expected, kind);
 }
 
 TimeSeries ReadTimeSeries(const std::string& path,

@@ -16,6 +16,12 @@ struct UniformGrid {
   double step_s = 0.0;
 };
 
+/// Throws std::invalid_argument "<path>: expected <expected>, got a FIFO
+/// (named pipe)" (or a directory, a device, a socket) unless `path` is a
+/// regular file; nothing when it does not exist (the open says so). Opening a
+/// FIFO without a writer blocked podid for ever.
+void RequireRegularFile(const std::string& path, const std::string& expected);
+
 /// Fits t_i = t0 + i h by least squares to n >= 2 increasing stamps and checks
 /// them (io.hpp, kTimeStepRelativeTolerance): each step within the rounding of
 /// its two stamps plus 1e-6 of the median step of the median step, and each

@@ -332,6 +332,7 @@ TimeSeries ReadMatFile(const std::string& path,
                        double step_s,
                        bool* has_time,
                        std::vector<std::string>* notes) {
+  internal::RequireRegularFile(path, "a readable .mat file");
   // libmatio allocates what the headers declare, from Mat_Open on: check them
   // against the file first (v5, v4 here; v7.3 with libhdf5).
   CheckMatStructure(path);

@@ -39,6 +39,7 @@ std::string_view Trim(std::string_view s) {
 class UffFile {
  public:
   explicit UffFile(const std::string& path) : path_(path) {
+    internal::RequireRegularFile(path, "a readable universal file (.uff)");
     file_.reset(std::fopen(path.c_str(), "rb"));
     if (!file_) {
       ThrowInvalid(path, "a readable universal file (.uff)",

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "io_internal.hpp"
 #include "io_mat_internal.hpp"
 #include "mat_structure.hpp"
 #include "podid/core/error.hpp"
@@ -145,6 +146,7 @@ Eigen::SparseMatrix<double> FromMatVariable(mat_t* mat, const std::string& name,
 }  // namespace
 
 Eigen::SparseMatrix<double> ReadMatrixMarket(const std::string& path) {
+  internal::RequireRegularFile(path, "a readable Matrix Market file");
   std::ifstream in(path, std::ios::binary);
   if (!in) ThrowInvalid(path, "a readable Matrix Market file", "a file that cannot be opened");
   std::string line;

@@ -46,6 +46,28 @@ printf 't,a,b\n0,1e-304,2e-304\n0.001,-1e-304,1e-304\n0.002,3e-304,-2e-304\n' >"
 expect 2 "degenerate data: numerical rank 0" -- pod "$out/tiny.csv" --json "$out/tiny.json"
 [ ! -e "$out/tiny.json" ] || fail "pod of degenerate data wrote its JSON"
 
+# A FIFO or a folder as a data, force or matrix file is refused before it is
+# opened: opening a FIFO without a writer blocked podid for ever.
+mkfifo "$out/fifo.csv" "$out/fifo.uff" "$out/fifo.mat" "$out/fifo.mtx"
+for f in fifo.csv fifo.uff fifo.mat; do
+  timeout 60 "$podid" pod "$out/$f" >"$out/stdout" 2>"$out/stderr"
+  rc=$?
+  [ $rc -eq 1 ] || fail "pod $f: exit $rc, expected 1"
+  grep -q "$f: expected a readable .*, got a FIFO (named pipe)" "$out/stderr" || fail "pod $f: $(cat "$out/stderr")"
+done
+mkdir -p "$out/folder.csv"
+expect 1 "folder.csv: expected a readable CSV file, got a directory" -- pod "$out/folder.csv"
+timeout 60 "$podid" simulate "$case_file" --set force.0.type=file --set "force.0.file=\"$out/fifo.csv\"" \
+  --set force.0.column=N --set force.0.node=6 -o "$out/never.csv" >"$out/stdout" 2>"$out/stderr"
+rc=$?
+[ $rc -eq 1 ] && grep -q "got a FIFO" "$out/stderr" || fail "FIFO force file: exit $rc: $(cat "$out/stderr")"
+printf '[model]\ntype = "matrices"\nmass = "fifo.mtx"\nstiffness = "fifo.mtx"\n[time]\nduration = 0.1\nstep = 0.01\n' \
+  >"$out/fifo_model.toml"
+timeout 60 "$podid" modes "$out/fifo_model.toml" >"$out/stdout" 2>"$out/stderr"
+rc=$?
+[ $rc -eq 1 ] && grep -q "fifo.mtx: expected a readable Matrix Market file, got a FIFO" "$out/stderr" \
+  || fail "FIFO matrix file: exit $rc: $(cat "$out/stderr")"
+
 # Item 8: /dev/zero as a case file grew to GBs; now it fails at 1 MiB + 1.
 start=$(date +%s)
 expect 1 "expected a case file of at most 1048576 bytes (1 MiB)" -- modes /dev/zero
