@@ -91,6 +91,7 @@ struct RunState {
   int evaluations = 0;
   int failed = 0;
   double best = std::numeric_limits<double>::infinity();
+  double worst = 0.0;  ///< the largest value of a non-failed evaluation
   Eigen::VectorXd best_x;
   TermValues best_terms;
   std::string first_failure;  ///< the reason of the first failed evaluation
@@ -117,6 +118,11 @@ struct RunState {
 
 bool Stopping(const RunState& s) { return (s.cancel && s.cancel->load()) || s.stopped->load(); }
 
+// A failed evaluation's value is at least this multiple of the largest value
+// seen in its start: above it, finite, and not so far above that a quadratic
+// model (BOBYQA) built through it is dominated by it.
+constexpr double kFailureOverWorst = 2.0;
+
 // Records what stopped start `s` and tells the other starts to stop.
 void Fail(RunState& s, std::exception_ptr error) {
   s.error = std::move(error);
@@ -133,9 +139,17 @@ double EvaluateOrThrow(unsigned n, const double* x, RunState& s) {
   s.first_pending = false;
   Evaluation evaluation = s.objective->Evaluate(s.x, &s.workspace);
   const TermValues& terms = evaluation.terms;
-  const double value = static_cast<std::size_t>(s.weighting) < evaluation.values.size()
-                           ? evaluation.values[s.weighting]
-                           : s.objective->options().failure_value;
+  double value = static_cast<std::size_t>(s.weighting) < evaluation.values.size()
+                     ? evaluation.values[s.weighting]
+                     : s.objective->options().failure_value;
+  // A failed point must look worse to the optimiser than every point it has
+  // seen: with objectives above failure_value (1e3: 13234 with --modes 6)
+  // the search walked into the failing region.
+  if (terms.failed) {
+    value = std::max(value, kFailureOverWorst * s.worst);
+  } else {
+    s.worst = std::max(s.worst, value);
+  }
   ++s.evaluations;
   if (terms.failed && s.failed++ == 0) s.first_failure = terms.failure;  // the start, when all fail
   if (!terms.failed && value < s.best) {

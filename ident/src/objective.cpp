@@ -3,14 +3,15 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <new>
 #include <sstream>
 #include <utility>
 
+#include "mode_ridges.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/recording.hpp"
 #include "podid/pod/noise.hpp"
-#include "mode_ridges.hpp"
 
 namespace podid::ident {
 namespace {
@@ -415,6 +416,20 @@ Evaluation ObjectiveFunction::Evaluate(const Eigen::VectorXd& values,
     result.values.resize(options_.weightings.size());
     for (std::size_t k = 0; k < result.values.size(); ++k) {
       result.values[k] = result.terms.Combine(options_.weightings[k].weights, options_.failure_value);
+    }
+    // A weighted sum that is not finite (a weight of 1e308 overflows it) is
+    // a failure with its reason, not a usable point of value failure_value.
+    const double infinity = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < result.values.size() && !result.terms.failed; ++k) {
+      if (!std::isfinite(result.terms.Combine(options_.weightings[k].weights, infinity))) {
+        const TermValues& t = result.terms;
+        result.terms.failed = true;
+        result.terms.failure = "weighting " + options_.weightings[k].name + " (" +
+                               options_.weightings[k].weights.ToString() +
+                               "): the weighted sum is not finite (dU " + ToText(t.u) + ", dS " +
+                               ToText(t.s) + ", dV " + ToText(t.v) + ", dIF " + ToText(t.f) + ")";
+        for (double& value : result.values) value = options_.failure_value;
+      }
     }
   } catch (...) {  // no memory for the values
     result.values.clear();

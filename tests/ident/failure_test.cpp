@@ -10,6 +10,7 @@
 // evaluation) fails there.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -33,7 +34,10 @@ ObjectiveOptions Weighted(const ObjectiveWeights& weights) {
   return options;
 }
 
-ObjectiveFunction KnlObjective(double lower, double upper, double start) {
+ObjectiveFunction KnlObjective(double lower,
+                               double upper,
+                               double start,
+                               const ObjectiveWeights& weights = kTimeFree) {
   const CaseDocument document = CaseDocument::Load(testing::ExamplePath("beam.toml"));
   ParameterSpec knl;
   knl.name = "knl";
@@ -43,7 +47,7 @@ ObjectiveFunction KnlObjective(double lower, double upper, double start) {
   knl.lower = lower;
   knl.upper = upper;
   return ObjectiveFunction(document, testing::ReferenceData("measured_knl50_T0.1.csv"),
-                           Weighted(kTimeFree), {knl});
+                           Weighted(weights), {knl});
 }
 
 /// The best non-failed point of the history, as Identify must report it.
@@ -92,6 +96,46 @@ TEST(IdentifyFailure, GlobalSearchThroughTheFailingRegionCountsFailuresAndKeepsT
   // 30 DIRECT points in [-100, 200] come within a few units of knl = 50.
   constexpr double kGridTolerance = 5.0;
   EXPECT_NEAR(summary.parameters[0], 50.0, kGridTolerance);
+}
+
+TEST(IdentifyFailure, AFailedPointIsWorseThanEveryPointSeenBeforeIt) {
+  // time-free x 1e6: real values far above failure_value (1e3), as the
+  // wavelet objective with 6 modes reaches 1.3e4. A failed point at 1e3 was
+  // the search's best guess, and it walked into the failing region.
+  ObjectiveWeights heavy = kTimeFree;
+  heavy.u *= 1e6;
+  heavy.s *= 1e6;
+  const ObjectiveFunction f = KnlObjective(-100.0, 200.0, 40.0, heavy);
+  IdentifyOptions options;
+  options.algorithm = Algorithm::kGnDirectL;
+  options.max_evaluations = 30;
+  const IdentifySummary summary = Identify(f, options);
+  ASSERT_GT(summary.failed_evaluations, 0);
+  double worst = 0.0;
+  bool above_failure_value = false;
+  for (const IterationRecord& r : summary.history) {
+    if (r.failed) {
+      EXPECT_GE(r.objective, 2.0 * worst) << "evaluation " << r.evaluation;
+      EXPECT_GE(r.objective, kDefaultFailureValue);
+    } else {
+      worst = std::max(worst, r.objective);
+      above_failure_value = above_failure_value || r.objective > kDefaultFailureValue;
+    }
+  }
+  EXPECT_TRUE(above_failure_value);  // else this test tests nothing
+  ExpectBestPointKept(summary);
+}
+
+TEST(ObjectiveFailure, AWeightedSumThatOverflowsIsAFailedEvaluation) {
+  ObjectiveWeights huge;
+  huge.u = 0.0;
+  huge.s = 0.0;
+  huge.v = 1e308;
+  const ObjectiveFunction f = KnlObjective(-100.0, 200.0, 40.0, huge);
+  const Evaluation e = f.Evaluate(Eigen::VectorXd::Constant(1, 200.0));
+  EXPECT_TRUE(e.failed());
+  EXPECT_NE(e.failure().find("the weighted sum is not finite"), std::string::npos) << e.failure();
+  EXPECT_EQ(e.values[0], kDefaultFailureValue);
 }
 
 TEST(IdentifyFailure, BudgetExhaustedSaysSoAndKeepsTheBestPoint) {

@@ -58,8 +58,10 @@ struct NamedObjective {
 };
 
 /// The objective value of an evaluation that failed (simulation diverged, a
-/// parameter value the case rejects): larger than any finite objective of a
-/// usable simulation in practice, finite so optimisers keep going.
+/// parameter value the case rejects, a weighted sum that is not finite):
+/// larger than most finite objectives of a usable simulation, finite so
+/// optimisers keep going. Identify raises it to twice the largest value seen
+/// in the start when that is more (objectives of many modes reach 1e4).
 inline constexpr double kDefaultFailureValue = 1e3;
 
 /// A frequency band in Hz; both 0 (the default) means "follow the mode".
