@@ -68,6 +68,14 @@ rc=$?
 [ $rc -eq 1 ] && grep -q "fifo.mtx: expected a readable Matrix Market file, got a FIFO" "$out/stderr" \
   || fail "FIFO matrix file: exit $rc: $(cat "$out/stderr")"
 
+# A record starting at t = 1e9 s is written with enough digits to read back
+# (at 13 digits its 501 stamps were all 1.000000000000e+09).
+"$podid" simulate "$case_file" --set time.start=1e9 -o "$out/late.csv" >/dev/null 2>"$out/stderr" \
+  || fail "simulate from t = 1e9 s: $(cat "$out/stderr")"
+"$podid" pod "$out/late.csv" --json "$out/late.json" >/dev/null 2>"$out/stderr" \
+  || fail "a record from t = 1e9 s does not read back: $(cat "$out/stderr")"
+grep -q '"samples": 501' "$out/late.json" || fail "late.json: $(head -c 300 "$out/late.json")"
+
 # Item 8: /dev/zero as a case file grew to GBs; now it fails at 1 MiB + 1.
 start=$(date +%s)
 expect 1 "expected a case file of at most 1048576 bytes (1 MiB)" -- modes /dev/zero
