@@ -106,6 +106,11 @@ TEST(AddNoise, ZeroLeavesTheSeriesAndNegativeIsRejected) {
                           "noise.relative: expected a finite number >= 0, got -0.1");
   PODID_EXPECT_THROW_WITH(AddNoise(series, std::nan(""), 1), std::invalid_argument,
                           "noise.relative: expected a finite number >= 0, got nan");
+  // A level whose noise overflows is refused before any value changes (it
+  // wrote a file of inf): 1e308 x the first sample's max |x|.
+  PODID_EXPECT_THROW_WITH(AddNoise(series, 1e308, 1), std::invalid_argument,
+                          "noise.relative: expected a level whose noise stays finite, got 1e+308");
+  EXPECT_EQ(series.values, Example().values);
 }
 
 }  // namespace
