@@ -335,9 +335,9 @@ void WriteCsv(const std::string& path, const TimeSeries& series) {
     header += '\n';
     os.write(header.data(), static_cast<std::streamsize>(header.size()));
     // One row per line: 13 significant digits, as printf("%.12e"). The time
-    // gets more when the step is below 1e-6 of 1e-12 of the largest time
-    // (the reader's step tolerance): a record starting at t = 1e9 s at 5 kHz
-    // was written as 500 equal stamps. 17 digits round-trip any double.
+    // gets more when 13 would not resolve its step to 1e-6 of the step (the
+    // reader's tolerance): a record starting at t = 1e9 s at 5 kHz was
+    // written as 501 equal stamps. 17 digits round-trip any double.
     int time_precision = 12;
     if (rows >= 2) {
       const double span = std::max(std::abs(series.time_s(0)), std::abs(series.time_s(rows - 1)));

@@ -35,8 +35,9 @@ void AddNoise(TimeSeries& series, double relative, std::uint64_t seed) {
   const double std_dev = NoiseStandardDeviation(series, relative);
   if (relative == 0.0) return;
   // Checked before a value changes: noise.relative = 1e308 wrote a file of
-  // inf with exit 0. A draw is at most ~8.6 (the polar method's s >= 2^-53),
-  // so 16 sigma + max |x| bounds every noisy value.
+  // inf with exit 0. A polar-method draw |v| sqrt(-2 ln s / s) is at most
+  // sqrt(-2 ln s) < 12 (s >= 2^-104), so 16 sigma + max |x| bounds every
+  // noisy value.
   const double largest = series.values.size() > 0 ? series.values.cwiseAbs().maxCoeff() : 0.0;
   if (!std::isfinite(std_dev) || !std::isfinite(16.0 * std_dev + largest)) {
     ThrowInvalid("noise.relative", "a level whose noise stays finite",
