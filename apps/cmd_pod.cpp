@@ -52,6 +52,14 @@ void RunPod(const PodArguments& a) {
   }
   const PodResult r = ComputePod(series, options);
   if (r.IsDegenerate()) throw CommandFailed("pod: " + a.data + ": " + r.message + "; no file written");
+  // A threshold above every sigma kept nothing, and wrote a CSV of times only
+  // that podid cannot read back.
+  if (r.modes() == 0) {
+    ThrowInvalid(
+        "--sigma-threshold",
+        "a threshold below the largest singular value of " + a.data + " (it keeps no mode)",
+        ToText(a.sigma_threshold));
+  }
 
   std::printf("%s: %lld channels x %lld samples, method %s, numerical rank %d\n", a.data.c_str(),
               static_cast<long long>(r.sensors), static_cast<long long>(r.samples),

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <variant>
@@ -68,7 +69,14 @@ std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case
                                                          int ridge_threads) {
   ident::ObjectiveOptions options;
   options.weightings.clear();
-  for (const std::string& w : weightings) options.weightings.push_back(ParseWeighting(w));
+  for (const std::string& w : weightings) {
+    // The values come back by name: a second "full" silently replaced the first.
+    for (const ident::NamedObjective& seen : options.weightings) {
+      if (seen.name == w)
+        throw std::invalid_argument("weightings: expected distinct names, got \"" + w + "\" twice");
+    }
+    options.weightings.push_back(ParseWeighting(w));
+  }
   options.modes = modes;
   options.relative_sigma = !raw_sigma;
   options.remove_mean = !keep_mean;

@@ -339,3 +339,11 @@ def test_the_measured_record_is_conditioned_and_timed_as_podid_identify_does(tmp
             assert value <= SAME_RECORD_TOLERANCE, (type(measured), extra, value)
     with pytest.raises(ValueError, match="data.decimate: expected 1"):
         podid.Objective(CASE, str(record), set=case + ["data.decimate=2"])
+
+
+def test_duplicate_weightings_are_refused():
+    # Values come back in a dict by name: a second "full" replaced the first.
+    with pytest.raises(ValueError, match='weightings: expected distinct names, got "full" twice'):
+        podid.Objective(CASE, MEASURED_01S, weightings=["full", "full"])
+    with pytest.raises(ValueError, match='got "wavelet" twice'):
+        podid.landscape(CASE, MEASURED_01S, "knl", 40.0, 60.0, 3, objectives=["wavelet", "full", "wavelet"])

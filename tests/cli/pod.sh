@@ -43,6 +43,13 @@ grep -q "expected one of auto, svd, direct, snapshot" "$out/stderr" || fail "met
 "$podid" pod "$data" --energy 1.5 2>"$out/stderr"
 [ $? -eq 1 ] || fail "bad energy exit code"
 grep -q -- '--energy: expected a number in (0, 1], got "1.5"' "$out/stderr" || fail "energy message"
+# A threshold above every sigma keeps nothing: refused, and no file written
+# (it wrote a CSV of times only, which podid cannot read back).
+"$podid" pod "$data" --sigma-threshold 1 -o "$out/none.csv" 2>"$out/stderr"
+[ $? -eq 1 ] || fail "sigma-threshold above every sigma: exit code"
+grep -q -- "--sigma-threshold: expected a threshold below the largest singular value" "$out/stderr" \
+  || fail "sigma-threshold message: $(cat "$out/stderr")"
+[ ! -e "$out/none.csv" ] || fail "sigma-threshold above every sigma wrote a file"
 "$podid" pod "$out/missing.csv" 2>"$out/stderr"
 [ $? -eq 1 ] || fail "missing file exit code"
 echo "pod CLI: ok"
