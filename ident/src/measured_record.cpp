@@ -17,13 +17,13 @@ void CheckNotDecimated(const CaseDocument& document, const CaseSpec& spec) {
   }
 }
 
-}  // namespace
-
-TimeSeries PrepareMeasured(CaseDocument& document,
-                           const TimeSeries& raw,
-                           const std::string& where,
-                           std::vector<std::string>* notes) {
-  const CaseSpec spec = document.ToSpec();
+// PrepareMeasured with the document's spec already built: ToSpec validates
+// the whole case and reads its force files, once is enough.
+TimeSeries Prepare(CaseDocument& document,
+                   const CaseSpec& spec,
+                   const TimeSeries& raw,
+                   const std::string& where,
+                   std::vector<std::string>* notes) {
   CheckNotDecimated(document, spec);
   TimeSeries data = ConditionMeasured(spec, raw, where, notes);
   if (data.time_s.size() == 0) ThrowInvalid(where, "a record with samples", "none");
@@ -39,6 +39,15 @@ TimeSeries PrepareMeasured(CaseDocument& document,
   return data;
 }
 
+}  // namespace
+
+TimeSeries PrepareMeasured(CaseDocument& document,
+                           const TimeSeries& raw,
+                           const std::string& where,
+                           std::vector<std::string>* notes) {
+  return Prepare(document, document.ToSpec(), raw, where, notes);
+}
+
 TimeSeries ReadMeasured(CaseDocument& document, std::vector<std::string>* notes) {
   const CaseSpec spec = document.ToSpec();
   CheckNotDecimated(document, spec);  // before reading a long file for nothing
@@ -50,7 +59,7 @@ TimeSeries ReadMeasured(CaseDocument& document, std::vector<std::string>* notes)
   read.variable = data.variable;
   read.rate_Hz = data.rate_Hz;
   read.step_s = data.step_s;
-  return PrepareMeasured(document, ReadTimeSeries(data.file, read, notes), data.file, notes);
+  return Prepare(document, spec, ReadTimeSeries(data.file, read, notes), data.file, notes);
 }
 
 }  // namespace podid::ident
