@@ -48,16 +48,37 @@ UniformGrid FitUniformGrid(const double* t,
   };
   double rounding_max = 0.0;
   for (std::size_t i = 0; i < n; ++i) rounding_max = std::max(rounding_max, rounding(i));
-  // Steps against the median step, which rounded stamps move by at most
-  // 2 rounding_max: a gap or a jump is named where it is.
   std::vector<double> steps(n - 1);
   for (std::size_t i = 1; i < n; ++i) steps[i - 1] = t[i] - t[i - 1];
   const std::size_t middle = (steps.size() - 1) / 2;  // the lower median
   std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(middle), steps.end());
   const double median = steps[middle];
   std::vector<double>().swap(steps);
+  // Stamps printed to a unit (2 rounding_max) of half a step or more: the
+  // rounding of a uniform grid then moves a step by as much as a missing
+  // sample does (0.1, 0.2, 0.4 at 10 Hz), so such stamps must be exact
+  // multiples of one step, as 0.1, 0.2, 0.3 are. (The chord's step: the
+  // median of steps printed to half a step is off by up to a half.)
+  const double chord = (t[n - 1] - t[0]) / static_cast<double>(n - 1);
+  const bool coarse = 4.0 * rounding_max >= chord;
+  const auto exact = [&](std::size_t i, double h) {
+    return kTimeStepRelativeTolerance * h + kArithmetic * std::abs(t[i]);
+  };
+  // Steps against the median step, which rounded stamps move by at most
+  // 2 rounding_max: a gap or a jump is named where it is.
   for (std::size_t i = 1; i < n; ++i) {
     const double d = t[i] - t[i - 1];
+    if (coarse) {
+      const double allowed = exact(i, median) + exact(i - 1, median);
+      if (std::abs(d - median) > allowed) {
+        ThrowInvalid(where(i),
+                     "a uniform time step " + ToText(median) +
+                         " s exactly (the stamps' resolution, " + Short(2.0 * rounding_max) +
+                         " s, is half a step or more: rounding would hide a missing sample)",
+                     "a step of " + ToText(d) + " s");
+      }
+      continue;
+    }
     const double allowed = tolerance(i, median) + tolerance(i - 1, median) + 2.0 * rounding_max;
     if (std::abs(d - median) > allowed) {
       ThrowInvalid(where(i),
@@ -69,7 +90,7 @@ UniformGrid FitUniformGrid(const double* t,
   }
   // Least squares on the small deviations u_i from the chord, so that sums of
   // large times lose no digits.
-  const double h0 = (t[n - 1] - t[0]) / static_cast<double>(n - 1);
+  const double h0 = chord;
   const double mean_i = 0.5 * static_cast<double>(n - 1);
   double mean_u = 0.0;
   for (std::size_t i = 0; i < n; ++i) mean_u += t[i] - (t[0] + static_cast<double>(i) * h0);
@@ -87,6 +108,26 @@ UniformGrid FitUniformGrid(const double* t,
   if (!IsSamplingStep(grid.step_s)) {  // increasing stamps 1e-320 s apart, say
     ThrowInvalid(where(1), "a time step whose rate 1 / step is finite",
                  "a step of " + ToText(grid.step_s) + " s");
+  }
+  // Steps against the fitted step, whose error from the stamps' bounds is at
+  // most max_i tolerance(i) sum |x_i| / sxx: a step may differ from it by the
+  // rounding of its two stamps only. The median test above allows twice that,
+  // so a missing sample could pass it with stamps printed to a quarter step.
+  double bound_max = 0.0, sum_abs_x = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    bound_max = std::max(bound_max, tolerance(i, grid.step_s));
+    sum_abs_x += std::abs(static_cast<double>(i) - mean_i);
+  }
+  const double slope_error = bound_max * sum_abs_x / sxx;
+  for (std::size_t i = 1; i < n; ++i) {
+    const double d = t[i] - t[i - 1];
+    const double allowed = tolerance(i, grid.step_s) + tolerance(i - 1, grid.step_s) + slope_error;
+    if (std::abs(d - grid.step_s) > allowed) {
+      ThrowInvalid(where(i),
+                   "a uniform time step " + ToText(grid.step_s) + " s (least squares; within " +
+                       Short(allowed) + " s: the two stamps' rounding and the fit's error)",
+                   "a step of " + ToText(d) + " s");
+    }
   }
   for (std::size_t i = 0; i < n; ++i) {
     const double on_grid = grid.start_s + static_cast<double>(i) * grid.step_s;

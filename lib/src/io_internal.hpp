@@ -23,9 +23,11 @@ struct UniformGrid {
 void RequireRegularFile(const std::string& path, const std::string& expected);
 
 /// Fits t_i = t0 + i h by least squares to n >= 2 increasing stamps and checks
-/// them (io.hpp, kTimeStepRelativeTolerance): each step within the rounding of
-/// its two stamps plus 1e-6 of the median step of the median step, and each
-/// stamp within its rounding plus 1e-6 h of the fitted grid. `rounding(i)`
+/// them (io.hpp, kTimeStepRelativeTolerance): each step against the median step
+/// and the fitted step, within the rounding of its two stamps plus 1e-6 of a
+/// step (within 1e-6 of the median step alone when the stamps are rounded to
+/// half a step or more), and each stamp within its rounding plus 1e-6 h of
+/// the fitted grid. `rounding(i)`
 /// is the half-unit rounding bound of stamp i (s); `where(i)` names it in
 /// messages. Throws std::invalid_argument: "<where(i)>: expected an increasing
 /// time ...", "... a uniform time step <h> s ..., got a step of <d> s", or

@@ -82,6 +82,56 @@ TEST(TimeGrid, AJitterBeyondThePrintingIsStillRejected) {
   EXPECT_NO_THROW(ReadCsv(dir.Write("fine.csv", SpreadsheetCsv(-1, 300, 2e-5))));
 }
 
+/// `samples` stamps i * step_s printed with printf `format` (a value column of
+/// zeros); `skip` drops one row.
+std::string PrintedCsv(const char* format, double step_s, int samples, int skip = -1) {
+  std::string text = "t,x\n";
+  for (int i = 0; i < samples; ++i) {
+    if (i == skip) continue;
+    char stamp[64];
+    std::snprintf(stamp, sizeof stamp, format, i * step_s);
+    text += std::string(stamp) + ",0\n";
+  }
+  return text;
+}
+
+TEST(TimeGrid, StampsPrintedToAStepMustBeExactMultiples) {
+  // One decimal at 10 Hz, or sample numbers as time: the rounding of such a
+  // column (half a step) would hide a missing sample, so the stamps are taken
+  // as exact. Each missing sample is found at the row after it (sample i on
+  // file line i + 2).
+  const testing::TempDir dir;
+  const TimeSeries tenths = ReadCsv(dir.Write("tenths.csv", PrintedCsv("%.1f", 0.1, 100)));
+  EXPECT_EQ(tenths.samples(), 100);
+  EXPECT_DOUBLE_EQ(tenths.time_s(99), 9.9);  // kept as written
+  EXPECT_EQ(ReadCsv(dir.Write("numbers.csv", PrintedCsv("%.0f", 1.0, 100))).samples(), 100);
+  PODID_EXPECT_THROW_WITH(ReadCsv(dir.Write("gap.csv", PrintedCsv("%.1f", 0.1, 100, 50))),
+                          std::invalid_argument,
+                          "gap.csv:52:1: expected a uniform time step 0.1 s exactly (the stamps' "
+                          "resolution, 0.1 s, is half a step or more: rounding would hide a "
+                          "missing sample), got a step of 0.2 s");
+  PODID_EXPECT_THROW_WITH(ReadCsv(dir.Write("gap2.csv", PrintedCsv("%.0f", 1.0, 100, 7))),
+                          std::invalid_argument,
+                          "gap2.csv:9:1: expected a uniform time step 1 s exactly");
+  // 6.67 Hz printed to 0.1 s: steps of 0.1 and 0.2 s, rounding or gaps alike.
+  PODID_EXPECT_THROW_WITH(ReadCsv(dir.Write("coarse.csv", PrintedCsv("%.1f", 0.15, 100))),
+                          std::invalid_argument, "s exactly (the stamps' resolution, 0.1 s");
+}
+
+TEST(TimeGrid, AMissingSampleIsFoundWithStampsPrintedToUnderHalfAStep) {
+  // 4444 Hz printed to 1e-4 s (0.44 of a step): steps are 2 or 3 units. Row
+  // 1000 missing leaves a step of 4 units (file line 1002), within the median
+  // test's 4 roundings of the median (2 units) but 1.8 units from the fitted
+  // step, beyond the rounding of its two stamps (1 unit).
+  const testing::TempDir dir;
+  EXPECT_EQ(ReadCsv(dir.Write("fine.csv", PrintedCsv("%.4f", 2.25e-4, 2000))).samples(), 2000);
+  PODID_EXPECT_THROW_WITH(ReadCsv(dir.Write("gap.csv", PrintedCsv("%.4f", 2.25e-4, 2000, 1000))),
+                          std::invalid_argument,
+                          "gap.csv:1002:1: expected a uniform time step 0.0002251688927 s (least "
+                          "squares; within 0.0001 s: the two stamps' rounding and the fit's "
+                          "error), got a step of 0.0004 s");
+}
+
 TEST(TimeGrid, SubnormalStepsAreRejected) {
   // Increasing, uniform stamps 1e-320 s apart fit a grid whose rate 1 / step
   // is infinite: a transform's every frequency would inherit it (IsSamplingStep).

@@ -26,8 +26,10 @@ inline constexpr std::size_t kMaxCsvLineBytes = std::size_t{1} << 20;
 /// stamp of the column prints, and never more than half a unit of the stamp's
 /// own last digit; so spreadsheet stamps such as 0.0009766, 0.001953 at
 /// 1024 Hz are accepted and replaced by the fitted grid, while a gap or a
-/// jitter beyond the printing precision is rejected. Binary stamps (.mat)
-/// round at their floating-point precision.
+/// jitter beyond the printing precision is rejected. Stamps printed to half a
+/// step or coarser (0.1, 0.2, 0.3 at 10 Hz) must have exact steps, since their
+/// rounding could hide a missing sample. Binary stamps (.mat) round at their
+/// floating-point precision.
 inline constexpr double kTimeStepRelativeTolerance = 1e-6;
 
 /// Most values (samples x channels) a reader allocates: 2^27 doubles (1 GiB).
