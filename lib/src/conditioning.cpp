@@ -119,6 +119,16 @@ void CheckCutoff(double f_Hz, double nyquist_Hz, const char* name) {
                  "a cutoff in (0, " + ToText(nyquist_Hz) + ") Hz (the Nyquist frequency)",
                  ToText(f_Hz) + " Hz");
   }
+  const double lowest = kMinFilterCutoffFraction * nyquist_Hz;
+  const double highest = (1.0 - kMinFilterCutoffFraction) * nyquist_Hz;
+  if (!(f_Hz >= lowest && f_Hz <= highest)) {
+    ThrowInvalid(std::string("filter ") + name,
+                 "a cutoff in [" + ToText(lowest) + ", " + ToText(highest) + "] Hz (" +
+                     ToText(kMinFilterCutoffFraction) +
+                     " of the Nyquist frequency from 0 and from it: closer, the filter loses "
+                     "its accuracy in double precision)",
+                 ToText(f_Hz) + " Hz");
+  }
 }
 
 }  // namespace
@@ -370,6 +380,13 @@ TimeSeries ConditionRecord(const TimeSeries& series,
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(where + ": " + e.what());
     }
+    // Finite values through a stable filter overflow only near the largest
+    // double: say so here rather than let a later stage find NaN.
+    if (!values.allFinite()) {
+      ThrowInvalid(where + ": filter", "finite filtered values",
+                   "an overflow (input values of up to " +
+                       ToText(series.values.cwiseAbs().maxCoeff()) + ")");
+    }
   }
   // 5. Decimate.
   if (options.decimate > 1) {
@@ -387,6 +404,11 @@ TimeSeries ConditionRecord(const TimeSeries& series,
       values = FiltFilt(ButterworthSections(anti_alias, rate), values);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(where + ": decimate: " + e.what());
+    }
+    if (!values.allFinite()) {
+      ThrowInvalid(where + ": decimate", "finite filtered values",
+                   "an overflow in the anti-alias filter (input values of up to " +
+                       ToText(series.values.cwiseAbs().maxCoeff()) + ")");
     }
     Eigen::MatrixXd decimated(kept, values.cols());
     Eigen::VectorXd decimated_time(kept);

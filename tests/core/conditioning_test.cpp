@@ -162,5 +162,72 @@ TEST(ConditioningTest, RejectsBadOptionsWithTheirNames) {
             "got 51 samples");
 }
 
+/// `n` samples at `rate_Hz` of `value(t)`, one channel.
+template <typename F>
+TimeSeries Record(double rate_Hz, int n, F value) {
+  TimeSeries s;
+  s.time_s = Eigen::VectorXd::LinSpaced(n, 0.0, (n - 1) / rate_Hz);
+  s.values = s.time_s.unaryExpr(value);
+  s.channel_names = {"x"};
+  return s;
+}
+
+TEST(ConditioningTest, CutoffsWithinAFractionOfZeroOrNyquistAreRefused) {
+  // At 1 kHz the cutoffs lie in [1e-5, 1 - 1e-5] x 500 Hz. 1e-8 of Nyquist
+  // rounded 1 + a1 + a2 of a section to 0 and filtered to NaN.
+  const TimeSeries s = Record(1000.0, 200, [](double t) { return t; });
+  auto message = [&](const ConditioningOptions& o) {
+    try {
+      (void)ConditionRecord(s, o, "rec.csv");
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no exception");
+  };
+  EXPECT_EQ(message(Filter(FilterType::kLowpass, 4, 0.0, 5e-6)),
+            "rec.csv: filter cutoff: expected a cutoff in [0.005, 499.995] Hz (1e-05 of the "
+            "Nyquist frequency from 0 and from it: closer, the filter loses its accuracy in double "
+            "precision), got 5e-06 Hz");
+  EXPECT_NE(message(Filter(FilterType::kHighpass, 2, 0.0049, 0.0)).find("got 0.0049 Hz"),
+            std::string::npos);
+  EXPECT_NE(message(Filter(FilterType::kBandpass, 2, 10.0, 499.999))
+                .find("filter high cutoff: expected a cutoff in [0.005, 499.995] Hz"),
+            std::string::npos);
+  EXPECT_EQ(message(Filter(FilterType::kLowpass, 4, 0.0, 0.005)), "no exception");
+}
+
+TEST(ConditioningTest, TheExtremeCutoffsKeepTheirGains) {
+  // At the lowest cutoff a low-pass keeps a constant (its DC gain, measured
+  // 1e-7 off at Wn = 1e-5 for scipy's sections, order 1-16) and a high-pass
+  // removes it (its zeros at z = 1 are exact); at the highest, a low-pass
+  // keeps it too. (A tone there is not a test of accuracy: a filter that
+  // close to Nyquist rings for ~1 / (pi 1e-5) samples after the padding,
+  // 4e-5 of the tone in a 4000-sample record, scipy alike.)
+  constexpr double kGainTolerance = 1e-6;
+  constexpr double kRate_Hz = 1000.0, kNyquist_Hz = 500.0;
+  const double lowest = kMinFilterCutoffFraction * kNyquist_Hz;
+  const double highest = (1.0 - kMinFilterCutoffFraction) * kNyquist_Hz;
+  const TimeSeries constant = Record(kRate_Hz, 2000, [](double) { return 3.0; });
+  for (const int order : {1, 2, 4, 8, kMaxFilterOrder}) {
+    for (const double cutoff : {lowest, highest}) {
+      const Eigen::VectorXd low =
+          ConditionRecord(constant, Filter(FilterType::kLowpass, order, 0.0, cutoff), "c").values;
+      EXPECT_LE((low.array() - 3.0).abs().maxCoeff(), 3.0 * kGainTolerance) << order;
+    }
+    const Eigen::VectorXd high =
+        ConditionRecord(constant, Filter(FilterType::kHighpass, order, lowest, 0.0), "c").values;
+    EXPECT_LE(high.cwiseAbs().maxCoeff(), 3.0 * kGainTolerance) << order;
+  }
+}
+
+TEST(ConditioningTest, AnOverflowInTheFilterIsNamed) {
+  // A step from -1e308 to 1e308: the order-8 low-pass overshoots by ~10 %.
+  const TimeSeries s = Record(1000.0, 400, [](double t) { return t < 0.2 ? -1.7e308 : 1.7e308; });
+  PODID_EXPECT_THROW_WITH(ConditionRecord(s, Filter(FilterType::kLowpass, 8, 0.0, 50.0), "big.csv"),
+                          std::invalid_argument,
+                          "big.csv: filter: expected finite filtered values, got an overflow "
+                          "(input values of up to 1.7e+308)");
+}
+
 }  // namespace
 }  // namespace podid

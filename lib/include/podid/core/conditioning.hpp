@@ -39,6 +39,12 @@ namespace podid {
 /// Highest Butterworth order (the low-pass prototype's; a band-pass has twice
 /// as many poles).
 inline constexpr int kMaxFilterOrder = 16;
+/// Cutoffs lie in [f, 1 - f] of the Nyquist frequency, f = 1e-5: a pole at
+/// ~pi Wn from z = 1 (z = -1 near Nyquist) is stored in its section's a1, a2
+/// with a relative error of ~eps / (pi Wn)^2, so the DC gain of a low-pass is
+/// off by ~1e-7 at Wn = 1e-5 (scipy's butter alike), 1e-3 at 1e-7, and 1e-8
+/// gave NaN. 1e-5 still passes a 0.05 Hz high-pass at 10 kHz.
+inline constexpr double kMinFilterCutoffFraction = 1e-5;
 /// Highest decimation factor.
 inline constexpr int kMaxDecimation = 1000;
 /// Order of decimate's anti-alias low-pass, and its cutoff as a fraction of the
@@ -82,7 +88,8 @@ struct ConditioningOptions {
 /// [b0 b1 b2 1 a1 a2] per section (as scipy.signal.butter(..., output="sos"),
 /// up to the pairing of poles and zeros into sections). Cutoffs in Hz,
 /// `sample_rate_Hz` > 0; throws std::invalid_argument for an order outside
-/// 1..kMaxFilterOrder or a cutoff outside (0, Nyquist).
+/// 1..kMaxFilterOrder or a cutoff outside [f, 1 - f] x Nyquist
+/// (f = kMinFilterCutoffFraction).
 std::vector<std::array<double, 6>> ButterworthSections(const FilterOptions& filter,
                                                        double sample_rate_Hz);
 
