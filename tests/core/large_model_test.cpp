@@ -129,6 +129,61 @@ TEST(SparseModes, SpectraMatchesTheDenseSolverOnABeam) {
   }
 }
 
+TEST(SparseModes, ManyModesAreCheckedInTheEigenproblem) {
+  // 250 of a 300-dof cantilever's modes: kAuto picks the sparse solver, whose
+  // Lanczos tolerance bounds the Ritz values of K^-1 M only. Each pair must
+  // solve K phi = lambda M phi to 1e-8 of ||K|| + lambda ||M||; these do not,
+  // so the dense solver takes over and the frequencies agree with its own as
+  // in the test above (before: high modes off, `podid modes -n 250`).
+  constexpr int kCount = 250;
+  const CaseSpec spec = testing::ReferenceCase({"beam.elements=150"});
+  const BeamModel model = BeamModel::BuildLinear(spec.beam);
+  const ModalAnalysis dense = model.Modes(model.dofs(), EigenSolverChoice::kDense);
+  const ModalAnalysis modes = model.Modes(kCount);
+  // The sparse solver alone: the highest modes are wrong (relative residual
+  // 3.5e-4, measured), and it says so.
+  PODID_EXPECT_THROW_WITH(model.Modes(kCount, EigenSolverChoice::kSparse), std::invalid_argument,
+                          "the sparse eigensolver's 250 modes have a relative residual of ");
+  ASSERT_EQ(modes.frequencies_Hz.size(), kCount);
+  const double f_max = dense.frequencies_Hz[model.dofs() - 1];
+  for (int k = 0; k < kCount; ++k) {
+    const double ratio = f_max / dense.frequencies_Hz[k];
+    const double tolerance = 10 * std::numeric_limits<double>::epsilon() * ratio * ratio;
+    ASSERT_NEAR(modes.frequencies_Hz[k] / dense.frequencies_Hz[k], 1.0, std::max(tolerance, 1e-12))
+        << k;
+  }
+}
+
+TEST(DenseModes, LowModesOfAFineMeshByTheirRayleighQuotient) {
+  // Mode 1 of a 500-element cantilever (1000 dofs) against beta_1 L =
+  // 1.875104068711961 (the FE error at this mesh is below 1e-13): the dense
+  // eigenvalue alone was 1.3e-5 off, its vector's Rayleigh quotient 2.3e-7,
+  // the sparse solver 2.5e-8 (all measured). The tolerance is 4x the
+  // Rayleigh quotient's.
+  constexpr double kTolerance = 1e-6;
+  const CaseSpec spec = testing::ReferenceCase({"beam.elements=500"});
+  const BeamModel model = BeamModel::BuildLinear(spec.beam);
+  const ModalAnalysis modes = model.Modes(model.dofs(), EigenSolverChoice::kDense);
+  const double ei = spec.beam.youngs_modulus_Pa * spec.beam.second_moment_m4;
+  const double rho_a = spec.beam.density_kg_per_m3 * spec.beam.area_m2;
+  const double scale = std::sqrt(ei / (rho_a * std::pow(spec.beam.length_m, 4)));
+  const double f1_Hz = 1.875104068711961 * 1.875104068711961 * scale / (2 * std::numbers::pi);
+  EXPECT_NEAR(modes.frequencies_Hz[0] / f1_Hz, 1.0, kTolerance);
+}
+
+TEST(Modes, BothSolversAreBounded) {
+  // All modes of 5000 dofs would take ~1.2 GB and minutes; the lowest come
+  // from the sparse solver.
+  const BeamModel model = Chain(5000, {});
+  PODID_EXPECT_THROW_WITH(model.Modes(), std::invalid_argument,
+                          "modes: expected a model of at most 4096 dofs for the dense eigensolver");
+  EXPECT_EQ(model.Modes(3).frequencies_Hz.size(), 3);
+  // 400 modes of 2 x 10^5 dofs: a Lanczos basis of 801 x 2 x 10^5 doubles
+  // (1.3 GB), refused before any is allocated.
+  PODID_EXPECT_THROW_WITH(Chain(200000, {}).Modes(400), std::invalid_argument,
+                          "modes: count: expected at most 335 modes of this 200000-dof model");
+}
+
 TEST(SparseModes, CantileverBetaLBySpectra) {
   // 300 elements: beta_n L of the first three cantilever modes (analytic
   // 1.875104, 4.694091, 7.854757; FE error < 1e-7 at this mesh), rounded to 1e-6.

@@ -50,6 +50,10 @@ enum class EigenSolverChoice {
 
 /// Largest model solved with the dense eigensolver by EigenSolverChoice::kAuto.
 inline constexpr int kDenseModesLimit = 200;
+/// Largest model the dense eigensolver takes (all modes, or the sparse
+/// solver's fallback): 4096 dofs hold ~6 dense n x n matrices (0.8 GB) and
+/// take about a minute on one core; 20000 dofs asked for 13 GB.
+inline constexpr int kMaxDenseModesDofs = 4096;
 
 /// The 0-based model dof a case refers to: `dof1` (1-based, > 0) for any model,
 /// else the beam dof `which` of `node`. Throws std::invalid_argument naming
@@ -104,9 +108,11 @@ class BeamModel {
   /// Modal analysis of the linear part (M, K, C): all n modes (dense solver).
   ModalAnalysis Modes() const;
   /// The lowest `count` modes (1..n). kAuto uses the sparse solver above
-  /// kDenseModesLimit dofs when count < n. Throws std::invalid_argument when
-  /// the modes cannot be computed (M and K too far apart in scale, or the
-  /// sparse solver does not converge).
+  /// kDenseModesLimit dofs when count < n, and the dense one when a sparse
+  /// mode's residual in K phi = lambda M phi exceeds 1e-8 (relative). Throws
+  /// std::invalid_argument when the modes cannot be computed (M and K too far
+  /// apart in scale, the sparse solver does not converge or its modes are
+  /// inaccurate), or the dense solver would take more than kMaxDenseModesDofs.
   ModalAnalysis Modes(int count, EigenSolverChoice solver = EigenSolverChoice::kAuto) const;
 
   /// The one change a built model takes: new coefficients of its nonlinear
@@ -120,6 +126,8 @@ class BeamModel {
   /// M, K, the springs' and imported damping (in damping_) and the transverse
   /// mask, before Rayleigh damping and the nonlinear elements (model_builder.cpp).
   static BeamModel BuildStructure(const CaseSpec& spec);
+  /// The lowest `count` < n modes by shift-invert Lanczos (modal.cpp).
+  void SparseModes(int count, Eigen::VectorXd* eigenvalues, Eigen::MatrixXd* shapes) const;
 
   Eigen::SparseMatrix<double> mass_, stiffness_, damping_;
   /// Dofs whose sign fixes a mode shape's sign (beam: the w dofs; else all).
