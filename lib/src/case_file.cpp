@@ -492,8 +492,9 @@ std::vector<ParameterSpec> ReadParameters(const CaseDocument::Impl& doc) {
     const Section s(doc, array.get(i)->as_table(), "identify.parameter." + std::to_string(i));
     ParameterSpec p;
     p.name = s.String("name");
+    CheckName(s, "name", p.name);
     if (!names.insert(p.name).second) {
-      s.Fail("name", "a name no other identify.parameter has", "\"" + p.name + "\" again");
+      s.Fail("name", "a name no other identify.parameter has", TomlString(p.name) + " again");
     }
     p.key = s.String("key");
     if (!CaseDocument::IsNumericKey(p.key) || !IndicesExist(doc.root, p.key)) {

@@ -297,6 +297,25 @@ class Section {
   std::string key_;
 };
 
+/// Longest name (sensor, label, parameter) in bytes.
+inline constexpr std::size_t kMaxNameBytes = 256;
+
+/// A name that becomes a CSV column, a JSON key and a word in messages and on
+/// the terminal: at most kMaxNameBytes, without control characters (NUL, an
+/// escape sequence, a line break), ',' or '"'. `key` is the name's key in `s`.
+inline void CheckName(const Section& s, const std::string& key, const std::string& name) {
+  const bool control = std::any_of(name.begin(), name.end(), [](char c) {
+    const auto u = static_cast<unsigned char>(c);
+    return u < 0x20 || u == 0x7f;
+  });
+  if (control || name.size() > kMaxNameBytes || name.find_first_of(",\"") != std::string::npos) {
+    s.Fail(key,
+           "a name of at most " + std::to_string(kMaxNameBytes) +
+               " bytes without control characters, ',' or '\"'",
+           TomlString(name.substr(0, 64)) + (name.size() > 64 ? " (cut at 64 bytes)" : ""));
+  }
+}
+
 inline Section SubSection(const CaseDocument::Impl& doc, std::string_view name, bool required) {
   const toml::node* node = doc.root.get(name);
   if (node == nullptr && required) {

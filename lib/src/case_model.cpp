@@ -284,13 +284,6 @@ InitialSpec ReadInitial(const CaseDocument::Impl& doc, const CaseSpec& spec) {
   return initial;
 }
 
-void CheckChannelName(const Section& s, std::size_t i, const std::string& name) {
-  if (name.find_first_of(",\"\r\n") != std::string::npos) {
-    s.Fail("names." + std::to_string(i), "a channel name without ',', '\"' or a line break",
-           "\"" + name + "\"");
-  }
-}
-
 SensorSpec ReadSensors(const CaseDocument::Impl& doc, const CaseSpec& spec) {
   const Section s = SubSection(doc, "sensors", false);
   SensorSpec sensors;
@@ -357,9 +350,9 @@ SensorSpec ReadSensors(const CaseDocument::Impl& doc, const CaseSpec& spec) {
     sensors.names = s.StringArray("names", count);
     std::set<std::string> names;
     for (std::size_t i = 0; i < sensors.names.size(); ++i) {
-      CheckChannelName(s, i, sensors.names[i]);
+      CheckName(s, "names." + std::to_string(i), sensors.names[i]);
       if (!names.insert(sensors.names[i]).second) {
-        s.Fail("names", "distinct channel names", "\"" + sensors.names[i] + "\" twice");
+        s.Fail("names", "distinct channel names", TomlString(sensors.names[i]) + " twice");
       }
     }
   } else if (!beam && spec.model.matrices && !spec.model.matrices->labels.empty()) {
@@ -443,8 +436,11 @@ void ReadImported(const CaseDocument::Impl& doc, const Section& s, CaseSpec* spe
     auto copy = std::make_shared<ImportedMatrices>(*matrices);
     copy->labels = s.StringArray("labels", static_cast<std::size_t>(matrices->mass.rows()));
     std::set<std::string> seen;
-    for (const auto& label : copy->labels) {
-      if (!seen.insert(label).second) s.Fail("labels", "distinct labels", "\"" + label + "\" twice");
+    for (std::size_t i = 0; i < copy->labels.size(); ++i) {
+      const std::string& label = copy->labels[i];
+      CheckName(s, "labels." + std::to_string(i), label);
+      if (!seen.insert(label).second)
+        s.Fail("labels", "distinct labels", TomlString(label) + " twice");
     }
     matrices = std::move(copy);
   }

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Plots under hostile input (issue 10 items 1, 2): no user text reaches a
 # gnuplot script unescaped, and plot temporaries never follow a planted
-# symlink. Names with a newline, quotes, a backquote or '@' in a case file's
-# parameter, a data file's channel and a --plot path run nothing (the files
-# X* they would create do not exist) and still give a PNG; the old
+# symlink. Names with a backquote or '@' in a case file's parameter (one with
+# a newline or a quote is refused there), and with a newline, quotes, a
+# backquote or '@' in a data file's channel and a --plot path, run nothing
+# (the files X* they would create do not exist) and still give a PNG; the old
 # predictable temporaries (<png>.tmp<PID>.data0, .gp) are not touched; the
 # private folder in $TMPDIR is gone afterwards.
 # Usage: bash tests/cli/hostile_plot.sh PODID (from the repo root).
@@ -21,13 +22,15 @@ cd "$out"
 mkdir tmp
 export TMPDIR="$out/tmp"
 # Each evil text tries a gnuplot command (system), a backquote command
-# substitution and a macro, after a newline that would end the string.
-name='knl
-system "touch XA"
-print `touch XB` @x'
+# substitution and a macro, after a newline that would end the string. A
+# case's names take no newline or quote (refused at the case, below), so the
+# parameter name keeps the backquote and the macro.
+name='knl `touch XB` @x'
+sed "s/^name = \"knl\"/name = \"$name\"/" "$root/examples/beam.toml" >evil.toml
+grep -q 'touch XB' evil.toml || fail "could not write the evil case"
 toml_name='knl\\nsystem \\"touch XA\\"\\nprint `touch XB` @x'  # sed: \\ is one \
-sed "s/^name = \"knl\"/name = \"$toml_name\"/" "$root/examples/beam.toml" >evil.toml
-grep -q 'touch XA' evil.toml || fail "could not write the evil case"
+sed "s/^name = \"knl\"/name = \"$toml_name\"/" "$root/examples/beam.toml" >evil_nl.toml
+grep -q 'touch XA' evil_nl.toml || fail "could not write the evil case with newlines"
 data="$root/tests/data/measured_knl50_T0.1.csv"
 png='p
 system "touch XC"
@@ -39,6 +42,15 @@ check_nothing_ran() {
   return 0
 }
 is_png() { head -c 8 "$1" | od -An -tx1 | tr -d ' \n' | grep -q '^89504e470d0a1a0a$'; }
+
+# A parameter name with newlines and quotes is refused at the case (exit 1).
+"$podid" landscape evil_nl.toml -m "$data" --param knl --range 0:100:3 \
+  --objective time-free --plot refused.png >stdout 2>stderr
+[ $? -eq 1 ] || fail "a name with newlines: expected exit 1"
+grep -q "identify.parameter.0.name: expected a name of at most 256 bytes without control" stderr \
+  || fail "a name with newlines: $(cat stderr)"
+[ ! -e refused.png ] || fail "a name with newlines: a plot was written"
+check_nothing_ran refused
 
 # landscape --plot: the parameter name is the x label; the path has a newline.
 "$podid" landscape evil.toml -m "$data" --param "$name" --range 0:100:3 \

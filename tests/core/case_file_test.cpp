@@ -559,6 +559,16 @@ constexpr Rejection kRejections[] = {
      "upper), got 400"},
     {"IdentifyParameters", "name = \"knl\"", "name = \"\"",
      "identify.parameter.0.name: expected a non-empty string, got \"\""},
+    // Names reach CSV headers, JSON keys and the terminal: an escape sequence
+    // (here one that clears the screen), NUL or a comma is refused, shown escaped.
+    {"IdentifyParameters", "name = \"knl\"", "name = \"k\\u001b[2J\"",
+     "case.toml:32: identify.parameter.0.name: expected a name of at most 256 bytes without "
+     "control characters, ',' or '\"', got \"k\\u001b[2J\""},
+    {"IdentifyParameters", "name = \"knl\"", "name = \"k,nl\"", "got \"k,nl\""},
+    {"SensorsNoiseIntegrator", "dof = \"w\"\n",
+     "dof = \"w\"\nnodes = [1, 2]\nnames = [\"a\", \"b\\u0000c\"]\n",
+     "sensors.names.1: expected a name of at most 256 bytes without control characters, ',' or "
+     "'\"', got \"b\\u0000c\""},
     {"IdentifyParameters", "",
      "[[identify.parameter]]\nname = \"knl\"\nkey = \"damping.modal_ratios.0\"\nstart = 1\n"
      "lower = 0\nupper = 2\n",
