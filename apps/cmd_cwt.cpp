@@ -1,7 +1,9 @@
 // podid cwt: Morlet wavelet transform of one channel (or one POD time mode),
 // its ridge, and the instantaneous frequency along it (docs/wavelet.md).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -115,13 +117,14 @@ std::vector<std::pair<std::string, Eigen::VectorXd>> SelectSignals(const CwtArgu
 
 // Prints the IF statistics of one ridge inside the cone of influence.
 void PrintRidge(const wavelet::RidgeTrack& track, double coi_factor, const std::string& prefix) {
-  double sum = 0.0, sum2 = 0.0, lo = INFINITY, hi = -INFINITY;
+  double lo = INFINITY, hi = -INFINITY;
   Eigen::Index first = -1, last = -1, inside = 0;
+  const auto counted = [&](Eigen::Index j) {
+    return track.inside_coi(j) && std::isfinite(track.frequency_Hz(j));
+  };
   for (Eigen::Index j = 0; j < track.size(); ++j) {
-    if (!track.inside_coi(j) || !std::isfinite(track.frequency_Hz(j))) continue;
+    if (!counted(j)) continue;
     const double f = track.frequency_Hz(j);
-    sum += f;
-    sum2 += f * f;
     lo = std::min(lo, f);
     hi = std::max(hi, f);
     if (first < 0) first = j;
@@ -133,8 +136,21 @@ void PrintRidge(const wavelet::RidgeTrack& track, double coi_factor, const std::
                 prefix.c_str(), coi_factor);
     return;
   }
-  const double mean = sum / static_cast<double>(inside);
-  const double sd = std::sqrt(std::max(0.0, sum2 / static_cast<double>(inside) - mean * mean));
+  // Two passes on f / max |f|: a step of 1e-200 s puts the IF near 1e199 Hz,
+  // whose squares overflow, and sum f^2 - n mean^2 cancels a small spread.
+  const double scale = std::max({std::abs(lo), std::abs(hi), std::numeric_limits<double>::min()});
+  double sum = 0.0, sum2 = 0.0;
+  for (Eigen::Index j = 0; j < track.size(); ++j) {
+    if (counted(j)) sum += track.frequency_Hz(j) / scale;
+  }
+  const double mean_scaled = sum / static_cast<double>(inside);
+  for (Eigen::Index j = 0; j < track.size(); ++j) {
+    if (!counted(j)) continue;
+    const double d = track.frequency_Hz(j) / scale - mean_scaled;
+    sum2 += d * d;
+  }
+  const double mean = mean_scaled * scale;
+  const double sd = std::sqrt(sum2 / static_cast<double>(inside)) * scale;
   std::printf("%sIF inside the cone of influence (%ld of %ld samples, t = %.4g-%.4g s):\n",
               prefix.c_str(), static_cast<long>(inside), static_cast<long>(track.size()),
               track.time_s(first), track.time_s(last));

@@ -297,8 +297,10 @@ void AddIdentifyCommand(CLI::App& app) {
   command->add_option("--xtol", args->xtol_rel, "Relative parameter tolerance")
       ->capture_default_str()
       ->check(NumberIn({0.0, true}));
+  // Bounded so that "-1" is refused rather than wrapped to 2^64 - 1.
   command->add_option("--seed", args->seed, "Seed of the Latin hypercube and random algorithms")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(IntegerIn(0, std::numeric_limits<long long>::max()));
   command->add_option("--json", args->json, "Write the result and history as JSON");
   command->add_option("--plot-dir", args->plot_dir,
                       "Write signals.csv and plots (fig2a_start.png, fig2b_optimum.png, convergence.png, "

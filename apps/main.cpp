@@ -1,5 +1,7 @@
 // podid: identification of nonlinear structures by POD and wavelets.
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <new>
 #include <stdexcept>
@@ -109,6 +111,15 @@ int main(int argc, char** argv) {
     return 1;
   } catch (const std::exception& e) {
     PrintError(e.what());
+    return 1;
+  }
+  // A full disk behind stdout loses the printed results: not a success
+  // (`podid modes CASE > /dev/full` exited 0). A closed pipe ends the process
+  // by SIGPIPE before this, as for any tool.
+  errno = 0;
+  if (std::fflush(stdout) != 0 || std::ferror(stdout) != 0) {
+    PrintError(std::string("standard output: expected the results written, got a write error") +
+               (errno != 0 ? std::string(" (") + std::strerror(errno) + ")" : std::string()));
     return 1;
   }
   return 0;

@@ -217,4 +217,20 @@ grep -q "dead" "$out/dead_r.csv" && fail "the dead channel is in the ridge CSV"
 [ $? -eq 1 ] || fail "a constant --channel: expected exit 1"
 grep -q "^podid: error: dead of $out/dead.csv: .*non-constant" "$out/dead_err" \
   || fail "the error does not name the channel and file: $(cat "$out/dead_err")"
+# IF statistics at an extreme scale: the record's time x 1e-202 puts the
+# first mode near 3.3e203 Hz, whose squares overflow (the std printed inf or
+# nan); mean and std are taken on f / max |f|. (The ridge penalty is in
+# seconds: scaled with the time.)
+awk -F, 'NR == 1 { print; next } { printf "%.12e", $1 * 1e-202; for (c = 2; c <= NF; c++) printf ",%s", $c; print "" }' \
+  "$data" >"$out/tiny_step.csv"
+"$podid" cwt "$out/tiny_step.csv" --channel w6 --fmin 1e203 --fmax 1.2e204 --penalty 5e-204 \
+  >"$out/tiny_stdout" \
+  || fail "cwt of a 2e-206 s step exited $?"
+stats=$(grep "mean .* Hz, std" "$out/tiny_stdout")
+echo "$stats" | grep -qi "inf\|nan" && fail "IF statistics overflow: $stats"
+mean=$(echo "$stats" | sed -n 's/.*mean \([0-9.e+]*\) Hz.*/\1/p')
+std=$(echo "$stats" | sed -n 's/.*std \([0-9.e+-]*\) Hz.*/\1/p')
+# The same ridge as at the record's own scale, 33-40 Hz x 1e202.
+awk -v m="$mean" -v s="$std" 'BEGIN { exit !(m > 33e202 && m < 40e202 && s > 0 && s < 7e202) }' \
+  || fail "IF mean $mean, std $std Hz at the 1e-202 scale"
 echo "cli.cwt: ok"

@@ -159,12 +159,22 @@ expect_argument_error "identify --ridge-snr 2000" '--ridge-snr: expected a numbe
   identify "${ident[@]}" --ridge-snr 2000
 expect_argument_error "identify --min-signal nan" '--min-signal: expected a number in \[0, 0.999\], got "nan"' \
   identify "${ident[@]}" --min-signal nan
+expect_argument_error "identify --seed -1" '--seed: expected an integer in \[0, 9223372036854775807\], got "-1"' \
+  identify "${ident[@]}" --seed -1
 expect_argument_error "identify --xtol abc" '--xtol: expected a finite number > 0, got "abc"' \
   identify "${ident[@]}" --xtol abc
 expect_argument_error "landscape --threads 1025" '--threads: expected an integer in \[0, 1024\], got "1025"' \
   landscape case.toml -m data.csv --param knl --range 0:1:2 --threads 1025
 expect_argument_error "a control character" 'not expected: \\x1b\[2J' \
   simulate case.toml $'\e[2J'
+# A full disk behind stdout: the printed results are lost, exit 1 with a line.
+if [ -w /dev/full ]; then
+  "$podid" modes case.toml >/dev/full 2>"$out/full.err"
+  rc=$?
+  [ $rc -eq 1 ] || fail "stdout on /dev/full: exit $rc, expected 1"
+  grep -q "^podid: error: standard output: expected the results written, got a write error" \
+    "$out/full.err" || fail "stdout on /dev/full: $(cat "$out/full.err")"
+fi
 "$podid" --help >/dev/null || fail "--help: exit $?"
 "$podid" pod --help | grep -q 'INT in \[0, 1000000\]' || fail "pod --help lacks the --modes bound"
 "$podid" --version | grep -q '^podid ' || fail "--version"
