@@ -14,6 +14,8 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "io_internal.hpp"
@@ -433,14 +435,20 @@ TimeSeries ReadUff(const std::string& path, std::vector<std::string>* notes_out)
   series.time_s = internal::UniformTimes(first.start_s, first.step_s, first.values.size(),
                                          file.Where(first.line + 7) + " (record 7)");
   series.values.resize(samples, static_cast<Eigen::Index>(responses.size()));
+  // A repeated name gets _2, _3, ... (the first free one: a file may name
+  // another channel "a_2" already). Hashed: a file of 10^6 two-sample data
+  // sets compared every name with every earlier one.
+  std::unordered_map<std::string, int> repeats;
+  std::unordered_set<std::string> used;
   for (std::size_t j = 0; j < responses.size(); ++j) {
     Response& r = responses[j];
     std::copy(r.values.begin(), r.values.end(),
               series.values.col(static_cast<Eigen::Index>(j)).data());
     std::vector<double>().swap(r.values);
-    int repeat = 1;
-    for (std::size_t k = 0; k < j; ++k) repeat += responses[k].name == r.name;
-    series.channel_names.push_back(repeat == 1 ? r.name : r.name + "_" + std::to_string(repeat));
+    std::string name = r.name;
+    int& repeat = repeats[r.name];
+    while (!used.insert(name).second) name = r.name + "_" + std::to_string(++repeat + 1);
+    series.channel_names.push_back(std::move(name));
     series.units.push_back(r.unit);
   }
   return series;

@@ -172,6 +172,27 @@ std::string RealData(const std::string& name) {
   return (std::filesystem::path(PODID_TEST_DATA_DIR) / "../../../shared/realdata" / name).string();
 }
 
+TEST(ReadUff, RepeatedNamesAreNumberedInFileOrder) {
+  // Three ASCII data sets at node 1, +Z: "1+Z", "1+Z_2", "1+Z_3" (a hash of
+  // the names used; the earlier scan of every previous name made a file of
+  // many small data sets quadratic).
+  std::string text;
+  for (int j = 0; j < 3; ++j) {
+    text +=
+        "    -1\n    58\nr\nNONE\nNONE\nNONE\nNONE\n"
+        "    1         0    0         0 NONE               1   3 NONE               0   0\n"
+        "         2         2         1  0.00000E+00  1.00000E-03  0.00000E+00\n"
+        "        17    0    0    0 Time                 s\n"
+        "        12    1    0    0 Acceleration         m/s^2\n"
+        "         0    0    0    0 NONE                 NONE\n"
+        "         0    0    0    0 NONE                 NONE\n"
+        "  1.00000E+00  2.00000E+00\n    -1\n";
+  }
+  const testing::TempDir dir;
+  const TimeSeries s = ReadUff(dir.Write("three.uff", text));
+  EXPECT_EQ(s.channel_names, (std::vector<std::string>{"1+Z", "1+Z_2", "1+Z_3"}));
+}
+
 TEST(ReadUff, LargePyuffSamplesAsciiAndBinaryAgree) {
   const std::string ascii = RealData("uff/Sample_UFF58_ascii.uff");
   const std::string binary = RealData("uff/Sample_UFF58b_bin.uff");
