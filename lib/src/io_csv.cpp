@@ -134,6 +134,13 @@ TimeSeries ReadCsv(const std::string& path) {
   while ((have_line = reader.Next(line)) && IsBlank(line)) {
   }
   if (!have_line) ThrowInvalid(where(1, 1), "a header line such as \"t,w1,w2\"", "an empty file");
+  // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first
+  // name; columns in messages still count its 3 bytes.
+  std::size_t bom = 0;
+  if (reader.line_number() == 1 && line.starts_with("\xEF\xBB\xBF")) {
+    line.remove_prefix(3);
+    bom = 3;
+  }
   std::vector<std::string> names;
   {
     std::set<std::string_view> seen;
@@ -145,32 +152,33 @@ TimeSeries ReadCsv(const std::string& path) {
       double number = 0.0;
       const auto [ptr, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), number);
       if (cell.empty()) {
-        ThrowInvalid(where(reader.line_number(), start + 1), "a header line such as \"t,w1,w2\"",
-                     "an empty column name");
+        ThrowInvalid(where(reader.line_number(), bom + start + 1),
+                     "a header line such as \"t,w1,w2\"", "an empty column name");
       }
       if (ec == std::errc() && ptr == cell.data() + cell.size()) {
-        ThrowInvalid(where(reader.line_number(), start + 1), "a header line such as \"t,w1,w2\"",
+        ThrowInvalid(where(reader.line_number(), bom + start + 1),
+                     "a header line such as \"t,w1,w2\"",
                      "a row of numbers (the header is missing)");
       }
       if (names.empty() && cell != "t" && cell != "time") {
         // A first line without a comma is no CSV header (`[force] file =
         // /etc/shadow`): nothing of it is shown, only its length.
         if (comma == line.npos) {
-          ThrowInvalid(where(reader.line_number(), start + 1),
+          ThrowInvalid(where(reader.line_number(), bom + start + 1),
                        "a CSV header line such as \"t,w1,w2\"",
                        "a first line of " + std::to_string(line.size()) +
                            " bytes without a comma (not a CSV file?)");
         }
-        ThrowInvalid(where(reader.line_number(), start + 1),
+        ThrowInvalid(where(reader.line_number(), bom + start + 1),
                      "a header line whose first name is \"t\" or \"time\"",
                      Excerpt(cell, kShownFirstCellBytes));
       }
       if (HasControlCharacter(cell)) {  // names reach messages, tables and outputs
-        ThrowInvalid(where(reader.line_number(), start + 1),
+        ThrowInvalid(where(reader.line_number(), bom + start + 1),
                      "column names without control characters", Quote(cell));
       }
       if (!seen.insert(cell).second) {
-        ThrowInvalid(where(reader.line_number(), start + 1), "distinct column names",
+        ThrowInvalid(where(reader.line_number(), bom + start + 1), "distinct column names",
                      Quote(cell) + " twice");
       }
       names.emplace_back(cell);
@@ -178,8 +186,9 @@ TimeSeries ReadCsv(const std::string& path) {
       start = comma + 1;
     }
     if (names.size() < 2) {
-      ThrowInvalid(where(reader.line_number(), line.size() + 1),
-                   "a time column and at least one channel in the header", "only " + Quote(names[0]));
+      ThrowInvalid(where(reader.line_number(), bom + line.size() + 1),
+                   "a time column and at least one channel in the header",
+                   "only " + Quote(names[0]));
     }
   }
   const std::size_t columns = names.size();

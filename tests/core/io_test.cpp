@@ -107,6 +107,19 @@ TEST(ReadCsv, AcceptsCrlfSpacesAndBlankLines) {
   EXPECT_EQ(series.time_s, Eigen::Vector2d(0, 0.1));
 }
 
+TEST(ReadCsv, AcceptsAUtf8ByteOrderMark) {
+  // Spreadsheets start a UTF-8 CSV with EF BB BF; it was read as part of the
+  // first name ("expected a header line whose first name is \"t\"").
+  const TempDir dir;
+  const TimeSeries series = ReadCsv(dir.Write("bom.csv", "\xEF\xBB\xBFt,w1\n0,1\n0.5,2\n"));
+  EXPECT_EQ(series.channel_names, std::vector<std::string>{"w1"});
+  EXPECT_EQ(series.time_s, Eigen::Vector2d(0, 0.5));
+  // Columns in messages still count its bytes: "x" starts at byte 4.
+  PODID_EXPECT_THROW_WITH(ReadCsv(dir.Write("bom2.csv", "\xEF\xBB\xBFx,w1\n0,1\n")),
+                          std::invalid_argument,
+                          "bom2.csv:1:4: expected a header line whose first name is");
+}
+
 // --- CSV: each rejection names file:line:column ------------------------------
 
 class ReadCsvRejects : public ::testing::Test {
