@@ -52,8 +52,18 @@ void BindModel(py::module_& m) {
         options.rate_Hz = rate_Hz;
         options.step_s = step_s;
         options.Check();
-        py::gil_scoped_release release;
-        return ReadTimeSeries(path, options);
+        // Notes (a skipped UFF data set, say) become UserWarnings, as podid
+        // prints them on stderr.
+        std::vector<std::string> notes;
+        TimeSeries series;
+        {
+          py::gil_scoped_release release;
+          series = ReadTimeSeries(path, options, &notes);
+        }
+        for (const std::string& note : notes) {
+          if (PyErr_WarnEx(PyExc_UserWarning, note.c_str(), 2) != 0) throw py::error_already_set();
+        }
+        return series;
       },
       py::arg("path"), py::arg("variable") = "", py::arg("channels") = std::vector<std::string>{},
       py::arg("rate_Hz") = 0.0, py::arg("step_s") = 0.0,

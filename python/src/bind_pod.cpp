@@ -32,8 +32,25 @@ void BindPod(py::module_& m) {
 
   m.def(
       "pod",
-      [](const Eigen::Ref<const Eigen::MatrixXd>& x, const std::string& method, int modes,
-         bool remove_mean, bool time_modes) {
+      [](const py::object& object, const std::string& method, int modes, bool remove_mean,
+         bool time_modes) {
+        // Any array-like (a nested list too), as the Eigen caster took it.
+        const py::array array = py::array::ensure(object);
+        if (!array) throw py::type_error("X: expected a 2-D array of real numbers");
+        // A 1-D array would become one column: N sensors of 1 sample each.
+        if (array.ndim() != 2) {
+          throw py::value_error("X: expected a 2-D array (sensors x samples), got a " +
+                                std::to_string(array.ndim()) +
+                                "-D array (one sensor's samples: X[None, :])");
+        }
+        // pybind11's own conversion, kept alive here: a Fortran-ordered float64
+        // array is viewed, anything else copied into the caster.
+        py::detail::make_caster<Eigen::Ref<const Eigen::MatrixXd>> caster;
+        if (!caster.load(array, true)) {
+          throw py::type_error("X: expected a 2-D array of real numbers");
+        }
+        const Eigen::Ref<const Eigen::MatrixXd> x =
+            py::detail::cast_op<Eigen::Ref<const Eigen::MatrixXd>>(caster);
         PodOptions options;
         options.method = ParsePodMethod(method);
         options.max_modes = modes;

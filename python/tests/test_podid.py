@@ -60,6 +60,27 @@ def test_pod_accepts_c_and_fortran_arrays_and_truncates():
     np.testing.assert_array_equal(a.singular_values, b.singular_values)
 
 
+def test_pod_refuses_an_array_that_is_not_2d():
+    # A 1-D array became one column: 100 sensors of 1 sample each.
+    with pytest.raises(ValueError, match=r"X: expected a 2-D array \(sensors x samples\), got a 1-D"):
+        podid.pod(np.arange(100.0))
+    with pytest.raises(ValueError, match="got a 3-D"):
+        podid.pod(np.ones((2, 3, 4)))
+    # A nested list is an array too.
+    assert podid.pod([[0.0, 1.0, 0.0, 2.0], [1.0, 0.0, 1.0, 0.0]]).poms.shape[0] == 2
+
+
+def test_read_gives_its_notes_as_warnings():
+    # The file's data sets 151 and a complex 58 are skipped, as podid notes.
+    path = SOURCE / "tests" / "data" / "readers" / "uff_four_accelerations_58b_le_single.uff"
+    with pytest.warns(UserWarning) as caught:
+        series = podid.read(str(path))
+    assert len(series.channel_names) == 4
+    messages = [str(w.message) for w in caught]
+    assert any("data set 151 skipped" in m for m in messages), messages
+    assert any("function type 4, complex skipped" in m for m in messages), messages
+
+
 def test_simulate_matches_the_independent_integration():
     reference = podid.read(CLEAN)
     sim = podid.simulate(CASE, noise=False)
