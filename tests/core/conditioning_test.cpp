@@ -121,19 +121,22 @@ TEST(ConditioningTest, IdentityKeepsTheRecord) {
   EXPECT_EQ(y.time_s, s.time_s);
 }
 
+/// What ConditionRecord(s, o, "rec.csv") throws, or "no exception".
+std::string Message(const TimeSeries& s, const ConditioningOptions& o) {
+  try {
+    (void)ConditionRecord(s, o, "rec.csv");
+  } catch (const std::invalid_argument& e) {
+    return std::string(e.what());
+  }
+  return std::string("no exception");
+}
+
 TEST(ConditioningTest, RejectsBadOptionsWithTheirNames) {
   TimeSeries s;
   s.time_s = Eigen::VectorXd::LinSpaced(100, 0.0, 0.099);  // 1 kHz
   s.values = Eigen::MatrixXd::Random(100, 1);
   s.channel_names = {"a"};
-  auto message = [&](const ConditioningOptions& o) {
-    try {
-      (void)ConditionRecord(s, o, "rec.csv");
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("no exception");
-  };
+  auto message = [&](const ConditioningOptions& o) { return Message(s, o); };
   EXPECT_EQ(message(Filter(FilterType::kLowpass, 4, 0.0, 500.0)),
             "rec.csv: filter cutoff: expected a cutoff in (0, 500) Hz (the Nyquist frequency), got "
             "500 Hz");
@@ -176,14 +179,7 @@ TEST(ConditioningTest, CutoffsWithinAFractionOfZeroOrNyquistAreRefused) {
   // At 1 kHz the cutoffs lie in [1e-5, 1 - 1e-5] x 500 Hz. 1e-8 of Nyquist
   // rounded 1 + a1 + a2 of a section to 0 and filtered to NaN.
   const TimeSeries s = Record(1000.0, 200, [](double t) { return t; });
-  auto message = [&](const ConditioningOptions& o) {
-    try {
-      (void)ConditionRecord(s, o, "rec.csv");
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("no exception");
-  };
+  auto message = [&](const ConditioningOptions& o) { return Message(s, o); };
   EXPECT_EQ(message(Filter(FilterType::kLowpass, 4, 0.0, 5e-6)),
             "rec.csv: filter cutoff: expected a cutoff in [0.005, 499.995] Hz (1e-05 of the "
             "Nyquist frequency from 0 and from it: closer, the filter loses its accuracy in double "
