@@ -5,7 +5,10 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <stdexcept>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "bindings.hpp"
@@ -18,6 +21,41 @@ namespace py = pybind11;
 namespace podid::python {
 namespace {
 
+// The library's field names in a message (FrequencyGrid.min_frequency_Hz)
+// as this module's keyword arguments (fmin), which the caller typed.
+std::string PythonNames(std::string message) {
+  // Longest first: a shorter name is part of a longer one.
+  static constexpr std::pair<std::string_view, std::string_view> kNames[] = {
+      {"Cwt: frequencies.max_frequency_Hz", "fmax"},
+      {"Cwt: frequencies.min_frequency_Hz", "fmin"},
+      {"FrequencyGrid.min_frequency_Hz", "fmin"},
+      {"FrequencyGrid.max_frequency_Hz", "fmax"},
+      {"FrequencyGrid.voices_per_octave", "voices"},
+      {"MorletWavelet.omega0", "omega0"},
+      {"CwtOptions.coi_factor", "coi_factor"},
+      {"CwtOptions.threads", "threads"},
+      {"min_frequency_Hz", "fmin"},
+      {" (or admissibility_correction = true)", ""},  // not a keyword of this module
+  };
+  for (const auto& [field, argument] : kNames) {
+    for (std::size_t at = message.find(field); at != std::string::npos;
+         at = message.find(field, at + argument.size())) {
+      message.replace(at, field.size(), argument);
+    }
+  }
+  return message;
+}
+
+// Runs `compute`, its std::invalid_argument (a ValueError) in Python's names.
+template <typename F>
+auto WithPythonNames(F&& compute) {
+  try {
+    return compute();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(PythonNames(e.what()));
+  }
+}
+
 wavelet::CwtOptions MakeCwtOptions(double fmin_Hz, double fmax_Hz, int voices, double omega0,
                                    const std::string& padding, double coi_factor, int threads) {
   wavelet::CwtOptions options;
@@ -28,6 +66,8 @@ wavelet::CwtOptions MakeCwtOptions(double fmin_Hz, double fmax_Hz, int voices, d
   options.padding = wavelet::ParsePadding(padding);
   options.coi_factor = coi_factor;
   options.threads = threads;
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument(PythonNames(why));
   return options;
 }
 
@@ -71,7 +111,7 @@ void BindWavelet(py::module_& m) {
         const wavelet::CwtOptions options =
             MakeCwtOptions(fmin, fmax, voices, omega0, padding, coi_factor, threads);
         py::gil_scoped_release release;
-        return wavelet::Cwt(x, step_s, options);
+        return WithPythonNames([&] { return wavelet::Cwt(x, step_s, options); });
       },
       py::arg("x"), py::arg("step_s"), PODID_CWT_KWARGS,
       "Morlet CWT of x (1-D, sampled every step_s) on a log grid fmin..fmax Hz.");
@@ -89,7 +129,10 @@ void BindWavelet(py::module_& m) {
         py::gil_scoped_release release;
         wavelet::CwtTransform transform(options);
         wavelet::Scalogram scalogram;
-        transform.Compute(x, step_s, &scalogram);
+        WithPythonNames([&] {
+          transform.Compute(x, step_s, &scalogram);
+          return 0;
+        });
         std::vector<wavelet::RidgeTrack> tracks;
         for (const Eigen::VectorXi& path : wavelet::FindRidges(scalogram, ridge)) {
           tracks.push_back(wavelet::TrackRidge(scalogram, path, ridge, &transform));
@@ -136,7 +179,10 @@ void BindWavelet(py::module_& m) {
         py::gil_scoped_release release;
         wavelet::CwtTransform transform(options);
         wavelet::SynchrosqueezedTransform out;
-        transform.Compute(x, step_s, &out.sst);
+        WithPythonNames([&] {
+          transform.Compute(x, step_s, &out.sst);
+          return 0;
+        });
         wavelet::SynchrosqueezeInPlace(transform, squeeze, &out);  // T over W: no second matrix
         return out;
       },
@@ -164,7 +210,7 @@ void BindWavelet(py::module_& m) {
         options.cwt = MakeCwtOptions(fmin, fmax, voices, omega0, padding, coi_factor, threads);
         options.cwt.band_limited = band_limited;
         py::gil_scoped_release release;
-        return wavelet::RidgeFrequency(x, step_s, options);
+        return WithPythonNames([&] { return wavelet::RidgeFrequency(x, step_s, options); });
       },
       py::arg("x"), py::arg("step_s"), PODID_OBJECTIVE_KWARGS,
       "The IF of x along its main ridge, as the wavelet objective computes it (band-limited, "

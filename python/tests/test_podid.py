@@ -216,6 +216,25 @@ def test_errors_are_value_errors_with_podid_messages():
         podid.read("/no_such_file.csv")
 
 
+def test_wavelet_errors_name_the_keyword_arguments():
+    # They named the library's fields (FrequencyGrid.min_frequency_Hz, ...).
+    x = np.sin(np.arange(1000.0))
+    with pytest.raises(ValueError, match=r"^fmin: expected a finite value > 0, got nan$"):
+        podid.cwt(x, 1e-3, fmin=float("nan"))
+    with pytest.raises(ValueError, match=r"^fmax: expected <= the Nyquist frequency"):
+        podid.cwt(x, 1e-3, fmax=900)
+    with pytest.raises(ValueError, match=r"^fmax: expected a finite value > fmin \(200\)"):
+        podid.ridges(x, 1e-3, fmin=200, fmax=100)
+    with pytest.raises(ValueError, match=r"^voices: expected 1\.\.1024, got 0$"):
+        podid.synchrosqueeze(x, 1e-3, voices=0)
+    with pytest.raises(ValueError, match=r"^omega0: expected >= 5, got 0.1$"):
+        podid.instantaneous_frequency(x, 1e-3, omega0=0.1)
+    with pytest.raises(ValueError, match=r"^coi_factor: expected a value in \[0, 10\], got -1$"):
+        podid.cwt(x, 1e-3, coi_factor=-1)
+    with pytest.raises(ValueError, match=r"^threads: expected 1\.\.256, got 0$"):
+        podid.cwt(x, 1e-3, threads=0)
+
+
 MEASURED_1S = str(SOURCE / "examples" / "measured_knl50_T1.0.csv")
 MEASURED_01S = str(SOURCE / "tests" / "data" / "measured_knl50_T0.1.csv")
 # The reference data's true knl is 50; issue 5's acceptance bound is 0.5 %.
