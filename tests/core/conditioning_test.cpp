@@ -157,7 +157,7 @@ TEST(ConditioningTest, RejectsBadOptionsWithTheirNames) {
   EXPECT_EQ(message(o),
             "rec.csv: window: expected at least 4 samples of the record (0 .. 0.099 s), got 0 "
             "samples in 0.5 .. 0.6 s");
-  o = Filter(FilterType::kBandpass, 16, 10.0, 50.0);  // 99 samples of padding
+  o = Filter(FilterType::kBandpass, 16, 25.0, 50.0);  // 99 samples of padding
   o.window_start_s = 0.0;
   o.window_end_s = 0.05;
   EXPECT_EQ(message(o),
@@ -176,8 +176,8 @@ TimeSeries Record(double rate_Hz, int n, F value) {
 }
 
 TEST(ConditioningTest, CutoffsWithinAFractionOfZeroOrNyquistAreRefused) {
-  // At 1 kHz the cutoffs lie in [1e-5, 1 - 1e-5] x 500 Hz. 1e-8 of Nyquist
-  // rounded 1 + a1 + a2 of a section to 0 and filtered to NaN.
+  // At 1 kHz the cutoffs lie in [1e-5, 1 - 1e-5] x 500 Hz. 1e-9 of Nyquist
+  // filtered to NaN (orders 2-8).
   const TimeSeries s = Record(1000.0, 200, [](double t) { return t; });
   auto message = [&](const ConditioningOptions& o) { return Message(s, o); };
   EXPECT_EQ(message(Filter(FilterType::kLowpass, 4, 0.0, 5e-6)),
@@ -189,12 +189,27 @@ TEST(ConditioningTest, CutoffsWithinAFractionOfZeroOrNyquistAreRefused) {
   EXPECT_NE(message(Filter(FilterType::kBandpass, 2, 10.0, 499.999))
                 .find("filter high cutoff: expected a cutoff in [0.005, 499.995] Hz"),
             std::string::npos);
-  EXPECT_EQ(message(Filter(FilterType::kLowpass, 4, 0.0, 0.005)), "no exception");
+}
+
+TEST(ConditioningTest, CutoffsBelowOneOverTheDurationAreRefused) {
+  // A 0.2 s record at 1 kHz: below 5 Hz the filter's response outlasts it.
+  // A low-pass at 0.005 Hz on a noisy 2 s record gave a constant 3.125 for
+  // data in 2.9..3.1 (the padding's odd extension of the first samples).
+  const TimeSeries s = Record(1000.0, 201, [](double t) { return t; });
+  EXPECT_EQ(Message(s, Filter(FilterType::kLowpass, 4, 0.0, 4.0)),
+            "rec.csv: filter cutoff: expected a cutoff >= 1 / duration = 5 Hz (below, the "
+            "filter's response outlasts the record and its output is set by the padding at the "
+            "edges), got 4 Hz");
+  EXPECT_NE(Message(s, Filter(FilterType::kBandpass, 2, 1.0, 100.0))
+                .find("rec.csv: filter low cutoff: expected a cutoff >= 1 / duration = 5 Hz"),
+            std::string::npos);
+  EXPECT_EQ(Message(s, Filter(FilterType::kHighpass, 2, 5.0, 0.0)), "no exception");
 }
 
 TEST(ConditioningTest, TheExtremeCutoffsKeepTheirGains) {
   // At the lowest cutoff a low-pass keeps a constant (its DC gain, measured
-  // 1e-7 off at Wn = 1e-5 for scipy's sections, order 1-16) and a high-pass
+  // up to 3.5e-7 off at Wn = 1e-5, orders 1-16: the tolerance is ~3 times
+  // that; scipy's sections 1e-7) and a high-pass
   // removes it (its zeros at z = 1 are exact); at the highest, a low-pass
   // keeps it too. (A tone there is not a test of accuracy: a filter that
   // close to Nyquist rings for ~1 / (pi 1e-5) samples after the padding,
@@ -203,7 +218,8 @@ TEST(ConditioningTest, TheExtremeCutoffsKeepTheirGains) {
   constexpr double kRate_Hz = 1000.0, kNyquist_Hz = 500.0;
   const double lowest = kMinFilterCutoffFraction * kNyquist_Hz;
   const double highest = (1.0 - kMinFilterCutoffFraction) * kNyquist_Hz;
-  const TimeSeries constant = Record(kRate_Hz, 2000, [](double) { return 3.0; });
+  // 200 s: the lowest cutoff, 0.005 Hz, is 1 / duration.
+  const TimeSeries constant = Record(kRate_Hz, 200001, [](double) { return 3.0; });
   for (const int order : {1, 2, 4, 8, kMaxFilterOrder}) {
     for (const double cutoff : {lowest, highest}) {
       const Eigen::VectorXd low =

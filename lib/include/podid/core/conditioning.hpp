@@ -42,8 +42,8 @@ inline constexpr int kMaxFilterOrder = 16;
 /// Cutoffs lie in [f, 1 - f] of the Nyquist frequency, f = 1e-5: a pole at
 /// ~pi Wn from z = 1 (z = -1 near Nyquist) is stored in its section's a1, a2
 /// with a relative error of ~eps / (pi Wn)^2, so the DC gain of a low-pass is
-/// off by ~1e-7 at Wn = 1e-5 (scipy's butter alike), 1e-3 at 1e-7, and 1e-8
-/// gave NaN. 1e-5 still passes a 0.05 Hz high-pass at 10 kHz.
+/// off by up to 3.5e-7 at Wn = 1e-5 (orders 1-16; scipy's butter 1e-7), and
+/// 1e-9 gave NaN. 1e-5 still passes a 0.05 Hz high-pass at 10 kHz.
 inline constexpr double kMinFilterCutoffFraction = 1e-5;
 /// Highest decimation factor.
 inline constexpr int kMaxDecimation = 1000;
