@@ -338,6 +338,10 @@ void Run(const CwtArguments& a) {
     }
   }
 
+  // Every file of the command is staged and published at the end, together:
+  // a failure on a later one (gnuplot, a full disk) leaves none of them.
+  OutputBatch batch;
+  std::vector<std::string> written;  // "what -> path", printed once published
   if (!a.output.empty()) {
     // Columns f_Hz, amplitude, inside_coi per ridge (suffix 2, 3.. after the
     // first) and per channel (prefix "NAME_" with --channel all).
@@ -361,8 +365,8 @@ void Run(const CwtArguments& a) {
       ridge.values.col(col + 1) = columns[i]->amplitude;
       ridge.values.col(col + 2) = columns[i]->inside_coi.cast<double>();
     }
-    WriteCsv(a.output, ridge);
-    std::printf("ridge -> %s\n", a.output.c_str());
+    WriteCsv(a.output, ridge, &batch);
+    written.push_back("ridge -> " + a.output);
   }
   if (!a.inverse.empty()) {
     // Columns named by channel (or "pomK"), on the transform's output times.
@@ -373,8 +377,8 @@ void Run(const CwtArguments& a) {
       band.channel_names.push_back(a.pom > 0 ? "pom" + ToText(a.pom) : signals[c].first);
       band.values.col(static_cast<Eigen::Index>(c)) = in_band[c];
     }
-    WriteCsv(a.inverse, band);
-    std::printf("in-band signal -> %s\n", a.inverse.c_str());
+    WriteCsv(a.inverse, band, &batch);
+    written.push_back("in-band signal -> " + a.inverse);
   }
   const std::string& label = signals.front().first;
   const wavelet::RidgeTrack& track = tracks.front().front();
@@ -390,8 +394,8 @@ void Run(const CwtArguments& a) {
       magnitude.channel_names.push_back(name);
     }
     magnitude.values = sg.coefficients.cwiseAbs() * sg.coefficient_scale;
-    WriteCsv(a.scalogram, magnitude);
-    std::printf("%s -> %s\n", symbol, a.scalogram.c_str());
+    WriteCsv(a.scalogram, magnitude, &batch);
+    written.push_back(std::string(symbol) + " -> " + a.scalogram);
   }
   if (!a.plot.empty()) {
     // At most ~1000 time columns keep the PNG quick to draw.
@@ -418,11 +422,14 @@ void Run(const CwtArguments& a) {
     axes.x_label = "t (s)";
     axes.y_label = "f (Hz)";
     axes.log_y = a.bins == 0;
-    const PlotOutcome outcome = PlotHeatMap(a.plot, axes, symbol, t, sg.frequencies_Hz, z,
-                                            {{"ridge IF (inside cone)", track.time_s, ridge_f},
-                                             {"cone of influence", coi_time_s, coi}});
-    if (outcome == PlotOutcome::kWritten) std::printf("plot -> %s\n", a.plot.c_str());
+    const PlotOutcome outcome = PlotHeatMap(
+        a.plot, axes, symbol, t, sg.frequencies_Hz, z,
+        {{"ridge IF (inside cone)", track.time_s, ridge_f}, {"cone of influence", coi_time_s, coi}},
+        &batch);
+    if (outcome == PlotOutcome::kWritten) written.push_back("plot -> " + a.plot);
   }
+  batch.Commit();
+  for (const std::string& line : written) std::printf("%s\n", line.c_str());
 }
 
 }  // namespace

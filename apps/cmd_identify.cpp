@@ -44,7 +44,7 @@ nlohmann::json ParametersJson(const std::vector<std::string>& names, const Eigen
 
 nlohmann::json NumberOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
-void WriteJson(const std::string& path, const ident::IdentifySummary& s) {
+void WriteJson(const std::string& path, const ident::IdentifySummary& s, OutputBatch* batch) {
   nlohmann::json j;
   j["parameters"] = ParametersJson(s.parameter_names, s.parameters);
   j["initial_parameters"] = ParametersJson(s.parameter_names, s.initial_parameters);
@@ -110,14 +110,19 @@ void WriteJson(const std::string& path, const ident::IdentifySummary& s) {
     j["uncertainty"] = {{"usable", false}, {"reason", s.uncertainty.message}};
   }
   j["history"] = history;
-  WriteFileAtomically(path, [&](std::ostream& os) { os << j.dump(2) << '\n'; });
+  WriteFileAtomically(
+      path, [&](std::ostream& os) { os << j.dump(2) << '\n'; }, batch);
 }
 
 // The paper's fig. 2: measured vs simulated signals at the start and at the
 // optimum, the convergence history, and with a wavelet term the ridges.
-void WritePlots(const std::string& dir, const ident::ObjectiveFunction& objective,
-                const ident::IdentifySummary& s, bool ridges, ident::EvaluationWorkspace* workspace) {
-  std::filesystem::create_directories(dir);
+void WritePlots(const std::string& dir,
+                const ident::ObjectiveFunction& objective,
+                const ident::IdentifySummary& s,
+                bool ridges,
+                ident::EvaluationWorkspace* workspace,
+                OutputBatch* batch) {
+  batch->CreateFolders(dir);
   const TimeSeries& measured = objective.measured();
   const int channel = static_cast<int>(measured.channels()) - 1;
   const std::string name = measured.channel_names[channel];
@@ -133,15 +138,21 @@ void WritePlots(const std::string& dir, const ident::ObjectiveFunction& objectiv
     const Eigen::Index rows = std::min(sim->sensors.samples(), measured.samples());
     signals.values.col(col).head(rows) = sim->sensors.values.col(channel).head(rows);
   }
-  WriteCsv(dir + "/signals.csv", signals);
+  WriteCsv(dir + "/signals.csv", signals, batch);
   const std::string pname = s.parameter_names.front();
   auto label = [&](const Eigen::VectorXd& p) { return pname + " = " + ToText(p[0]); };
-  PlotLines(dir + "/fig2a_start.png", {"Measured vs simulated at the start (" + label(s.initial_parameters) + ")", "t (s)", name + " (m)"},
+  PlotLines(dir + "/fig2a_start.png",
+            {"Measured vs simulated at the start (" + label(s.initial_parameters) + ")", "t (s)",
+             name + " (m)"},
             {{"measured", measured.time_s, signals.values.col(0)},
-             {"simulated", measured.time_s, signals.values.col(1)}});
-  PlotLines(dir + "/fig2b_optimum.png", {"Measured vs simulated at the optimum (" + label(s.parameters) + ")", "t (s)", name + " (m)"},
+             {"simulated", measured.time_s, signals.values.col(1)}},
+            batch);
+  PlotLines(dir + "/fig2b_optimum.png",
+            {"Measured vs simulated at the optimum (" + label(s.parameters) + ")", "t (s)",
+             name + " (m)"},
             {{"measured", measured.time_s, signals.values.col(0)},
-             {"simulated", measured.time_s, signals.values.col(2)}});
+             {"simulated", measured.time_s, signals.values.col(2)}},
+            batch);
   Eigen::VectorXd evaluation(static_cast<Eigen::Index>(s.history.size())), best(evaluation.size()), value(evaluation.size());
   for (Eigen::Index i = 0; i < evaluation.size(); ++i) {
     evaluation[i] = static_cast<double>(i + 1);
@@ -149,7 +160,7 @@ void WritePlots(const std::string& dir, const ident::ObjectiveFunction& objectiv
     best[i] = s.history[i].best_objective;
   }
   PlotLines(dir + "/convergence.png", {"Objective per evaluation", "evaluation", "F", true},
-            {{"F", evaluation, value}, {"best so far", evaluation, best}});
+            {{"F", evaluation, value}, {"best so far", evaluation, best}}, batch);
   if (ridges && !objective.measured_ridges().empty()) {
     wavelet::RidgeFrequencyOptions plot_options = objective.mode_ridge_options(0);
     plot_options.keep_scalogram = true;  // the heat map needs |W|
@@ -158,9 +169,9 @@ void WritePlots(const std::string& dir, const ident::ObjectiveFunction& objectiv
     const wavelet::RidgeTrack& measured_ridge = estimator.Estimate(pod.time_modes.col(0), measured.step_s());
     const wavelet::Scalogram& sc = estimator.scalogram();
     Eigen::MatrixXd magnitude = sc.coefficients.cwiseAbs();
-    PlotHeatMap(dir + "/ridge.png", {"|W| of the measured V_1 with its ridge", "t (s)", "f (Hz)"}, "|W|",
-                sc.time_s, sc.frequencies_Hz, magnitude,
-                {{"measured ridge", measured_ridge.time_s, measured_ridge.frequency_Hz}});
+    PlotHeatMap(dir + "/ridge.png", {"|W| of the measured V_1 with its ridge", "t (s)", "f (Hz)"},
+                "|W|", sc.time_s, sc.frequencies_Hz, magnitude,
+                {{"measured ridge", measured_ridge.time_s, measured_ridge.frequency_Hz}}, batch);
   }
 }
 
@@ -394,9 +405,14 @@ void AddIdentifyCommand(CLI::App& app) {
       }
     }
     if (args->report) std::printf("%s", summary.FullReport().c_str());
-    if (!args->json.empty()) WriteJson(args->json, summary);
+    // --json and the plots published together: a failing plot leaves none.
+    OutputBatch batch;
+    if (!args->json.empty()) WriteJson(args->json, summary, &batch);
     if (!args->plot_dir.empty()) {
-      WritePlots(args->plot_dir, *objective, summary, weights.NeedsRidges(), &reports);
+      WritePlots(args->plot_dir, *objective, summary, weights.NeedsRidges(), &reports, &batch);
+    }
+    batch.Commit();
+    if (!args->plot_dir.empty()) {
       std::printf("plots and signals.csv written to %s/\n", args->plot_dir.c_str());
     }
     if (!summary.IsSolutionUsable()) throw CommandFailed("identify: " + summary.message);

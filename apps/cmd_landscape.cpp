@@ -198,22 +198,27 @@ void AddLandscapeCommand(CLI::App& app) {
                     100 * m.basin_fraction, m.roughness);
       }
     }
+    // -o, --json and --plot published together (a failing gnuplot leaves none).
+    OutputBatch batch;
     if (!args->output.empty()) {
-      WriteFileAtomically(args->output, [&](std::ostream& os) {
-        os.precision(12);
-        os << result.parameter_names[0];
-        if (!one_d) os << ',' << result.parameter_names[1];
-        for (const std::string& n : result.names) os << ',' << n;
-        os << '\n';
-        for (Eigen::Index i = 0; i < result.x.size(); ++i) {
-          for (Eigen::Index j = 0; j < std::max<Eigen::Index>(result.y.size(), 1); ++j) {
-            os << result.x[i];
-            if (!one_d) os << ',' << result.y[j];
-            for (const Eigen::MatrixXd& v : result.values) os << ',' << v(i, j);
+      WriteFileAtomically(
+          args->output,
+          [&](std::ostream& os) {
+            os.precision(12);
+            os << result.parameter_names[0];
+            if (!one_d) os << ',' << result.parameter_names[1];
+            for (const std::string& n : result.names) os << ',' << n;
             os << '\n';
-          }
-        }
-      });
+            for (Eigen::Index i = 0; i < result.x.size(); ++i) {
+              for (Eigen::Index j = 0; j < std::max<Eigen::Index>(result.y.size(), 1); ++j) {
+                os << result.x[i];
+                if (!one_d) os << ',' << result.y[j];
+                for (const Eigen::MatrixXd& v : result.values) os << ',' << v(i, j);
+                os << '\n';
+              }
+            }
+          },
+          &batch);
     }
     if (!args->json.empty()) {
       nlohmann::json j;
@@ -236,19 +241,24 @@ void AddLandscapeCommand(CLI::App& app) {
         }
         j["objectives"][result.names[k]] = o;
       }
-      WriteFileAtomically(args->json, [&](std::ostream& os) { os << j.dump(2) << '\n'; });
+      WriteFileAtomically(
+          args->json, [&](std::ostream& os) { os << j.dump(2) << '\n'; }, &batch);
     }
     if (!args->plot.empty()) {
       if (one_d) {
         std::vector<LineSeries> curves;
         for (std::size_t k = 0; k < result.names.size(); ++k)
           curves.push_back({result.names[k], result.x, result.values[k].col(0)});
-        PlotLines(args->plot, {"Objective landscape", result.parameter_names[0], "F", true}, curves);
+        PlotLines(args->plot, {"Objective landscape", result.parameter_names[0], "F", true}, curves,
+                  &batch);
       } else {
-        PlotHeatMap(args->plot, {result.names[0] + " objective", result.parameter_names[0], result.parameter_names[1]},
-                    "F", result.x, result.y, result.values[0]);
+        PlotHeatMap(
+            args->plot,
+            {result.names[0] + " objective", result.parameter_names[0], result.parameter_names[1]},
+            "F", result.x, result.y, result.values[0], {}, &batch);
       }
     }
+    batch.Commit();
   });
 }
 

@@ -75,6 +75,7 @@ void RunPod(const PodArguments& a) {
     std::printf("\n");
   }
 
+  OutputBatch batch;  // --json and -o published together
   if (!a.json.empty()) {
     nlohmann::json j;
     j["data"] = a.data;
@@ -98,7 +99,8 @@ void RunPod(const PodArguments& a) {
     nlohmann::json poms = nlohmann::json::array();  // one array per POM (dim M)
     for (Eigen::Index k = 0; k < r.modes(); ++k) poms.push_back(ToVector(r.poms.col(k)));
     j["poms"] = poms;
-    WriteFileAtomically(a.json, [&](std::ostream& os) { os << j.dump(2) << '\n'; });
+    WriteFileAtomically(
+        a.json, [&](std::ostream& os) { os << j.dump(2) << '\n'; }, &batch);
   }
   if (!a.output.empty()) {
     TimeSeries v;  // time modes V (N x k): columns v1..vk
@@ -106,8 +108,9 @@ void RunPod(const PodArguments& a) {
     v.values = r.time_modes;
     for (Eigen::Index k = 0; k < r.modes(); ++k)
       v.channel_names.push_back("v" + std::to_string(k + 1));
-    WriteCsv(a.output, v);
+    WriteCsv(a.output, v, &batch);
   }
+  batch.Commit();
 }
 
 }  // namespace

@@ -242,18 +242,23 @@ PlotOutcome RenderPlot(const PlotRequest& request) {
     throw std::runtime_error("plot: gnuplot wrote no image for " + png);
   }
   // The user's path is written by the same safe writer as every other output.
-  WriteFileAtomically(png, [&](std::ostream& os) {
-    std::ifstream in(image, std::ios::binary);
-    if (!in || !(os << in.rdbuf())) throw std::runtime_error("cannot copy " + image);
-  });
+  WriteFileAtomically(
+      png,
+      [&](std::ostream& os) {
+        std::ifstream in(image, std::ios::binary);
+        if (!in || !(os << in.rdbuf())) throw std::runtime_error("cannot copy " + image);
+      },
+      request.batch);
   return PlotOutcome::kWritten;
 }
 
 PlotOutcome PlotLines(const std::string& output_png,
                       const Axes& axes,
-                      const std::vector<LineSeries>& series) {
+                      const std::vector<LineSeries>& series,
+                      OutputBatch* batch) {
   PlotRequest r;
   r.output_png = output_png;
+  r.batch = batch;
   std::ostringstream script;
   script << AxesScript(axes) << "set key outside bottom center horizontal\nplot ";
   for (std::size_t i = 0; i < series.size(); ++i) {
@@ -276,10 +281,12 @@ PlotOutcome PlotHeatMap(const std::string& output_png,
                         const Eigen::VectorXd& x,
                         const Eigen::VectorXd& y,
                         const Eigen::MatrixXd& z,
-                        const std::vector<LineSeries>& overlay) {
+                        const std::vector<LineSeries>& overlay,
+                        OutputBatch* batch) {
   PODID_CHECK(z.rows() == x.size() && z.cols() == y.size());
   PlotRequest r;
   r.output_png = output_png;
+  r.batch = batch;
   // pm3d map: one block per x, blank lines between blocks (non-uniform y is fine).
   r.data.push_back([&](std::ostream& os) {
     for (Eigen::Index i = 0; i < x.size(); ++i) {

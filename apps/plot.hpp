@@ -17,7 +17,9 @@
 // the PNG instead (<png>.gnuplot-XXXXXX/plot.gp, data0.txt, ...; run `gnuplot
 // <that folder>/plot.gp` later from the same folder; the paths in it are
 // escaped the same way) and returns PlotOutcome::kNoGnuplot; the command
-// still writes its other outputs.
+// still writes its other outputs. With PlotRequest::batch (or the batch
+// argument of PlotLines and PlotHeatMap) the PNG is staged in the command's
+// OutputBatch, so a gnuplot failing later leaves none of its files.
 //
 // Usage (a generic script body; {data0}, {data1}, ... become the quoted data
 // file paths; the terminal and output lines are added):
@@ -34,6 +36,8 @@
 #include <string>
 #include <vector>
 
+#include "podid/core/io.hpp"
+
 namespace podid::cli {
 
 enum class PlotOutcome {
@@ -47,6 +51,9 @@ struct PlotRequest {
   std::vector<std::function<void(std::ostream&)>> data;  ///< writers of the data files
   int width_px = 1000;
   int height_px = 650;
+  /// If set, the PNG is staged in it (published by its Commit) instead of
+  /// written at once. The folder kept without gnuplot is not staged.
+  OutputBatch* batch = nullptr;
 };
 
 /// Draws the plot. Throws std::runtime_error if gnuplot runs and fails (its
@@ -70,7 +77,8 @@ struct Axes {
 /// Curves on one set of axes.
 PlotOutcome PlotLines(const std::string& output_png,
                       const Axes& axes,
-                      const std::vector<LineSeries>& series);
+                      const std::vector<LineSeries>& series,
+                      OutputBatch* batch = nullptr);
 
 /// A colour map z(x_i, y_j) (z: x.size() x y.size(); x and y ascending, y may
 /// be non-uniform, e.g. log-spaced frequencies) with optional curves on top.
@@ -80,7 +88,8 @@ PlotOutcome PlotHeatMap(const std::string& output_png,
                         const Eigen::VectorXd& x,
                         const Eigen::VectorXd& y,
                         const Eigen::MatrixXd& z,
-                        const std::vector<LineSeries>& overlay = {});
+                        const std::vector<LineSeries>& overlay = {},
+                        OutputBatch* batch = nullptr);
 
 /// The gnuplot program that RenderPlot would run, or "" if there is none.
 std::string FindGnuplot();

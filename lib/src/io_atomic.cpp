@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <ostream>
 #include <stdexcept>
 #include <streambuf>
@@ -227,8 +228,43 @@ OutputTarget ResolveOutput(const std::string& path) {
   Fail(path, std::strerror(ELOOP));
 }
 
-void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+struct OutputBatch::Staged {
+  std::string path;    // as the caller spelled it (messages)
+  std::string target;  // the resolved file the temporary replaces
+  std::string temp;
+  TemporaryPath registration;
+};
+
+namespace {
+
+/// Renames a complete temporary onto its target and syncs the folder; on
+/// failure the temporary is removed and the error names the file.
+void Publish(OutputBatch::Staged& staged) {
+  if (::rename(staged.temp.c_str(), staged.target.c_str()) != 0) {
+    const int error = errno;
+    ::unlink(staged.temp.c_str());
+    staged.registration.Release();
+    Fail(staged.path, std::string("rename failed: ") + std::strerror(error));
+  }
+  staged.registration.Release();
+  // Make the rename itself durable (best effort: not every file system allows it).
+  const std::string folder = std::filesystem::path(staged.target).parent_path().string();
+  const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir >= 0) {
+    (void)::fsync(dir);
+    ::close(dir);
+  }
+}
+
+}  // namespace
+
+void WriteFileAtomically(const std::string& path,
+                         const std::function<void(std::ostream&)>& write,
+                         OutputBatch* batch) {
   namespace fs = std::filesystem;
+  if (batch != nullptr && batch->committed_) {
+    throw std::logic_error("WriteFileAtomically(" + path + "): the batch was already committed");
+  }
   const OutputTarget target = ResolveOutput(path);
   if (target.kind == OutputTarget::Kind::kDescriptor) {
     // Keep the order of what was printed before on the same stream.
@@ -247,31 +283,32 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
     return;
   }
 
-  // The temporary: in the target's folder, so that rename() is atomic.
+  // The temporary: in the target's own folder, so that rename() is atomic.
+  auto staged = std::make_unique<OutputBatch::Staged>();
+  staged->path = path;
+  staged->target = target.path;
   const fs::path final_path(target.path);
   const std::string folder = final_path.parent_path().string();
   const std::string name = final_path.filename().string().substr(0, kTempNameBytes);
-  std::string temp;
   int fd = -1;
-  TemporaryPath registration;
   for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-    temp = (final_path.parent_path() / ("." + name + ".tmp-" + std::to_string(::getpid()) + "-" +
-                                        std::to_string(temp_counter.fetch_add(1))))
-               .string();
+    staged->temp = (final_path.parent_path() / ("." + name + ".tmp-" + std::to_string(::getpid()) +
+                                                "-" + std::to_string(temp_counter.fetch_add(1))))
+                       .string();
     const BlockCleanupSignals blocked;  // create and register as one step
-    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    fd = ::open(staged->temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
     if (fd < 0 && errno != EEXIST) {
       Fail(path, "cannot create a temporary file in " + folder + ": " + std::strerror(errno));
     }
-    if (fd >= 0) registration = TemporaryPath(temp);
+    if (fd >= 0) staged->registration = TemporaryPath(staged->temp);
   }
   if (fd < 0) Fail(path, "cannot create a temporary file in " + folder);
 
   auto discard = [&]() {
     if (fd >= 0) ::close(fd);
     fd = -1;
-    ::unlink(temp.c_str());
-    registration.Release();
+    ::unlink(staged->temp.c_str());
+    staged->registration.Release();
   };
 
   if (target.exists) {
@@ -302,18 +339,58 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
     discard();
     Fail(path, std::string("close failed: ") + std::strerror(error));
   }
-  if (::rename(temp.c_str(), target.path.c_str()) != 0) {
-    const int error = errno;
-    discard();
-    Fail(path, std::string("rename failed: ") + std::strerror(error));
+  if (batch != nullptr) {
+    batch->files_.push_back(std::move(staged));
+  } else {
+    Publish(*staged);
   }
-  registration.Release();
-  // Make the rename itself durable (best effort: not every file system allows it).
-  const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dir >= 0) {
-    (void)::fsync(dir);
-    ::close(dir);
+}
+
+OutputBatch::OutputBatch() = default;
+
+OutputBatch::~OutputBatch() {
+  if (committed_) return;
+  for (const std::unique_ptr<Staged>& file : files_) {
+    if (file) ::unlink(file->temp.c_str());  // the registration goes with it
   }
+  // Deepest first; rmdir leaves a folder that holds anything else.
+  for (auto folder = created_folders_.rbegin(); folder != created_folders_.rend(); ++folder) {
+    ::rmdir(folder->c_str());
+  }
+}
+
+void OutputBatch::CreateFolders(const std::string& folder) {
+  namespace fs = std::filesystem;
+  // The missing ancestors, nearest the root first, then create_directories.
+  std::vector<std::string> missing;
+  std::error_code error;
+  fs::path start = fs::absolute(folder, error).lexically_normal();
+  if (!start.has_filename()) start = start.parent_path();  // "figs/"
+  for (fs::path p = start; !error && !p.empty(); p = p.parent_path()) {
+    // libstdc++ reports "not found" both as the type and as the error.
+    if (fs::symlink_status(p, error).type() != fs::file_type::not_found) break;
+    error.clear();
+    missing.push_back(p.string());
+    if (p == p.parent_path()) break;
+  }
+  fs::create_directories(folder);  // throws filesystem_error naming the folder
+  created_folders_.insert(created_folders_.end(), missing.rbegin(), missing.rend());
+}
+
+void OutputBatch::Commit() {
+  if (committed_) throw std::logic_error("OutputBatch::Commit: already committed");
+  for (std::unique_ptr<Staged>& file : files_) {
+    Publish(*file);  // on failure the rest stay staged: the destructor removes them
+    file.reset();
+  }
+  files_.clear();
+  committed_ = true;
+}
+
+std::size_t OutputBatch::staged() const {
+  std::size_t count = 0;
+  for (const std::unique_ptr<Staged>& file : files_) count += file ? 1 : 0;
+  return count;
 }
 
 }  // namespace podid

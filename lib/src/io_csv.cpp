@@ -321,7 +321,7 @@ TimeSeries ReadCsv(const std::string& path) {
   return series;
 }
 
-void WriteCsv(const std::string& path, const TimeSeries& series) {
+void WriteCsv(const std::string& path, const TimeSeries& series, OutputBatch* batch) {
   const auto rows = series.values.rows();
   const auto cols = series.values.cols();
   if (series.time_s.size() != rows) {
@@ -338,39 +338,43 @@ void WriteCsv(const std::string& path, const TimeSeries& series) {
                    "channel names without ',', '\"' or line breaks, not empty", Quote(name));
     }
   }
-  WriteFileAtomically(path, [&](std::ostream& os) {
-    std::string header = "t";
-    for (const auto& name : series.channel_names) header += "," + name;
-    header += '\n';
-    os.write(header.data(), static_cast<std::streamsize>(header.size()));
-    // One row per line: 13 significant digits, as printf("%.12e"). The time
-    // gets more when 13 would not resolve its step to 1e-6 of the step (the
-    // reader's tolerance): a record starting at t = 1e9 s at 5 kHz was
-    // written as 501 equal stamps. 17 digits round-trip any double.
-    int time_precision = 12;
-    if (rows >= 2) {
-      const double span = std::max(std::abs(series.time_s(0)), std::abs(series.time_s(rows - 1)));
-      const double step =
-          (series.time_s(rows - 1) - series.time_s(0)) / static_cast<double>(rows - 1);
-      if (step > 0.0 && span > 0.0) {
-        const double needed = std::ceil(std::log10(span / step)) + 6.0;
-        time_precision = static_cast<int>(std::clamp(needed, 12.0, 16.0));
-      }
-    }
-    std::vector<char> buffer(static_cast<std::size_t>(cols + 1) * 32 + 1);
-    for (Eigen::Index i = 0; i < rows; ++i) {
-      char* p = buffer.data();
-      char* const end = buffer.data() + buffer.size();
-      for (Eigen::Index j = -1; j < cols; ++j) {
-        if (j >= 0) *p++ = ',';
-        const double v = j < 0 ? series.time_s(i) : series.values(i, j);
-        p = std::to_chars(p, end, v, std::chars_format::scientific, j < 0 ? time_precision : 12)
-                .ptr;
-      }
-      *p++ = '\n';
-      os.write(buffer.data(), p - buffer.data());
-    }
-  });
+  WriteFileAtomically(
+      path,
+      [&](std::ostream& os) {
+        std::string header = "t";
+        for (const auto& name : series.channel_names) header += "," + name;
+        header += '\n';
+        os.write(header.data(), static_cast<std::streamsize>(header.size()));
+        // One row per line: 13 significant digits, as printf("%.12e"). The time
+        // gets more when 13 would not resolve its step to 1e-6 of the step (the
+        // reader's tolerance): a record starting at t = 1e9 s at 5 kHz was
+        // written as 501 equal stamps. 17 digits round-trip any double.
+        int time_precision = 12;
+        if (rows >= 2) {
+          const double span =
+              std::max(std::abs(series.time_s(0)), std::abs(series.time_s(rows - 1)));
+          const double step =
+              (series.time_s(rows - 1) - series.time_s(0)) / static_cast<double>(rows - 1);
+          if (step > 0.0 && span > 0.0) {
+            const double needed = std::ceil(std::log10(span / step)) + 6.0;
+            time_precision = static_cast<int>(std::clamp(needed, 12.0, 16.0));
+          }
+        }
+        std::vector<char> buffer(static_cast<std::size_t>(cols + 1) * 32 + 1);
+        for (Eigen::Index i = 0; i < rows; ++i) {
+          char* p = buffer.data();
+          char* const end = buffer.data() + buffer.size();
+          for (Eigen::Index j = -1; j < cols; ++j) {
+            if (j >= 0) *p++ = ',';
+            const double v = j < 0 ? series.time_s(i) : series.values(i, j);
+            p = std::to_chars(p, end, v, std::chars_format::scientific, j < 0 ? time_precision : 12)
+                    .ptr;
+          }
+          *p++ = '\n';
+          os.write(buffer.data(), p - buffer.data());
+        }
+      },
+      batch);
 }
 
 }  // namespace podid

@@ -105,4 +105,33 @@ kept=$(ls -d "$png.kept".gnuplot-*/)
 "$gnuplot_program" "${kept}plot.gp" 2>gnuplot.err || fail "the kept script fails: $(cat gnuplot.err)"
 check_nothing_ran "kept script"
 is_png "$png.kept" || fail "the kept script drew no PNG"
+# A gnuplot that fails leaves none of the command's outputs and replaces
+# nothing: every file is staged and published only once the plot is drawn
+# (before, -o and --json were written first and stayed behind).
+printf '#!/bin/sh\nexit 1\n' >bin/failing
+chmod +x bin/failing
+printf 'old\n' >old.csv
+printf '{"old": 1}\n' >old.json
+expect_no_outputs() {  # $1: what, then the files that must not exist
+  local what=$1
+  shift
+  [ "$(cat old.csv)" = old ] || fail "$what: old.csv was replaced"
+  [ "$(cat old.json)" = '{"old": 1}' ] || fail "$what: old.json was replaced"
+  for f in "$@"; do [ ! -e "$f" ] || fail "$what: $f was left behind"; done
+  grep -q ' -> \|written to' stdout && fail "$what: announced a file: $(cat stdout)"
+  check_nothing_ran "$what"
+}
+PODID_GNUPLOT=bin/failing "$podid" cwt "$data" --channel w6 -o old.csv --scalogram sg.csv \
+  --plot fail.png >stdout 2>stderr
+[ $? -eq 1 ] || fail "cwt with a failing gnuplot: expected exit 1"
+grep -q "gnuplot (.*) failed drawing fail.png" stderr || fail "cwt, failing gnuplot: $(cat stderr)"
+expect_no_outputs "cwt, failing gnuplot" sg.csv fail.png
+PODID_GNUPLOT=bin/failing "$podid" landscape evil.toml -m "$data" --param "$name" \
+  --range 0:100:3 --objective time-free -o old.csv --json old.json --plot fail.png >stdout 2>stderr
+[ $? -eq 1 ] || fail "landscape with a failing gnuplot: expected exit 1"
+expect_no_outputs "landscape, failing gnuplot" fail.png
+PODID_GNUPLOT=bin/failing "$podid" identify evil.toml -m "$data" --objective time-free \
+  --max-evaluations 3 --json old.json --plot-dir new/figs >stdout 2>stderr
+[ $? -eq 1 ] || fail "identify with a failing gnuplot: expected exit 1"
+expect_no_outputs "identify, failing gnuplot" new
 echo "hostile plot: ok"

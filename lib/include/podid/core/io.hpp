@@ -7,12 +7,15 @@
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "podid/core/time_series.hpp"
 
 namespace podid {
+
+class OutputBatch;
 
 /// Longest CSV line ReadCsv accepts (bytes, without the newline); a longer line
 /// is rejected without reading the rest of it.
@@ -50,7 +53,8 @@ TimeSeries ReadCsv(const std::string& path);
 /// Writes `t,<names...>` and the rows with 13 significant digits (%.12e), atomically.
 /// Throws std::invalid_argument (before touching any file) when the sizes
 /// disagree or a channel name is empty or contains ',', '"' or a line break.
-void WriteCsv(const std::string& path, const TimeSeries& series);
+/// With a `batch`, the file is staged in it (see OutputBatch).
+void WriteCsv(const std::string& path, const TimeSeries& series, OutputBatch* batch = nullptr);
 
 struct MatReadOptions {
   std::string variable;  ///< the variable or struct to read; empty: chosen as ReadMat says
@@ -155,6 +159,51 @@ OutputTarget ResolveOutput(const std::string& path);
 /// std::runtime_error / std::invalid_argument says which file and why. An
 /// exception thrown by `write` is rethrown as the same kind
 /// (std::invalid_argument, else std::runtime_error) with the file name added.
-void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
+/// With a `batch`, a kFile target is written to its temporary but renamed only
+/// by batch->Commit() (see OutputBatch); kSpecial and kDescriptor targets are
+/// written at once, as without one.
+void WriteFileAtomically(const std::string& path,
+                         const std::function<void(std::ostream&)>& write,
+                         OutputBatch* batch = nullptr);
+
+/// The files of one command, published together: a command that writes
+/// several files (a CSV, a JSON, plots) stages each in one batch and commits
+/// the batch once everything has succeeded, so a late failure (gnuplot, a full
+/// disk, a bad value) leaves none of them, and no earlier file is replaced.
+///   OutputBatch batch;
+///   WriteCsv("ridge.csv", ridge, &batch);
+///   WriteFileAtomically("fit.json", writer, &batch);
+///   batch.Commit();  // renames both; before it, neither exists
+/// Commit renames the temporaries onto their targets in the order they were
+/// written, then makes the renames durable; only a rename failing midway (the
+/// targets were checked writable when staged) can leave the earlier ones
+/// published, and the error says which file failed. A batch destroyed before
+/// Commit removes its temporaries and the folders CreateFolders made for it.
+class OutputBatch {
+ public:
+  OutputBatch();
+  ~OutputBatch();
+  OutputBatch(const OutputBatch&) = delete;
+  OutputBatch& operator=(const OutputBatch&) = delete;
+
+  /// std::filesystem::create_directories(folder), remembering the folders it
+  /// made: an uncommitted batch removes them again (those left empty).
+  void CreateFolders(const std::string& folder);
+  /// Publishes every staged file; throws std::runtime_error naming the file
+  /// whose rename failed. A batch is committed at most once.
+  void Commit();
+  /// Staged files not yet committed.
+  std::size_t staged() const;
+
+  struct Staged;  // a temporary and its target (io_atomic.cpp)
+
+ private:
+  friend void WriteFileAtomically(const std::string&,
+                                  const std::function<void(std::ostream&)>&,
+                                  OutputBatch*);
+  std::vector<std::unique_ptr<Staged>> files_;
+  std::vector<std::string> created_folders_;  // parents first
+  bool committed_ = false;
+};
 
 }  // namespace podid
