@@ -304,11 +304,8 @@ inline constexpr std::size_t kMaxNameBytes = 256;
 /// the terminal: at most kMaxNameBytes, without control characters (NUL, an
 /// escape sequence, a line break), ',' or '"'. `key` is the name's key in `s`.
 inline void CheckName(const Section& s, const std::string& key, const std::string& name) {
-  const bool control = std::any_of(name.begin(), name.end(), [](char c) {
-    const auto u = static_cast<unsigned char>(c);
-    return u < 0x20 || u == 0x7f;
-  });
-  if (control || name.size() > kMaxNameBytes || name.find_first_of(",\"") != std::string::npos) {
+  if (HasControlCharacter(name) || name.size() > kMaxNameBytes ||
+      name.find_first_of(",\"") != std::string::npos) {
     s.Fail(key,
            "a name of at most " + std::to_string(kMaxNameBytes) +
                " bytes without control characters, ',' or '\"'",

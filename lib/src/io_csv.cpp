@@ -106,13 +106,6 @@ std::string Quote(std::string_view cell) { return Excerpt(cell); }
 // The first cell of a header whose first name is wrong: show only its start.
 constexpr std::size_t kShownFirstCellBytes = 12;
 
-bool HasControlCharacter(std::string_view text) {
-  for (const char c : text) {
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return true;
-  }
-  return false;
-}
-
 bool IsBlank(std::string_view line) { return Trim(line).empty(); }
 
 }  // namespace

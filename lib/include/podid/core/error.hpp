@@ -44,6 +44,11 @@ std::size_t Utf8SequenceLength(std::string_view s, std::size_t i);
 /// escaped text changes nothing. ThrowInvalid escapes every message with it.
 std::string Escaped(std::string_view text);
 
+/// Whether `text` holds a C0 control byte (NUL, a line break, an escape) or
+/// DEL: what names read from files (channels, parameters, labels) may not
+/// hold, since they reach messages, tables and output headers.
+bool HasControlCharacter(std::string_view text);
+
 /// A short, quoted, escaped excerpt of an input token for "got ...":
 /// `"abc"`, or `"abcd..." (1234 bytes)` when longer than `max_bytes`.
 std::string Excerpt(std::string_view text, std::size_t max_bytes = kExcerptBytes);
