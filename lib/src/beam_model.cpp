@@ -296,6 +296,18 @@ Eigen::VectorXd SolveStatic(const BeamModel& model, const Eigen::VectorXd& force
                          force.lpNorm<Eigen::Infinity>();
     return r.lpNorm<Eigen::Infinity>() <= options.tolerance * scale;
   };
+  // The Newton correction -J^-1 r, J = K + U K_t U^T at the last evaluation.
+  auto newton_step = [&](const Eigen::VectorXd& rr) {
+    Eigen::VectorXd dx = k_ldlt.solve(-rr);
+    if (na > 0) {
+      Eigen::VectorXd ua(na);
+      for (int i = 0; i < na; ++i) ua[i] = dx[a[i]];
+      const Eigen::MatrixXd small = Eigen::MatrixXd::Identity(na, na) + g * ka;
+      const Eigen::VectorXd u = small.partialPivLu().solve(ua);
+      dx.noalias() -= z * (ka * u);
+    }
+    return dx;
+  };
   Eigen::VectorXd r(x.size()), trial(x.size()), r_trial(x.size());
   residual(x, &r);
   summary->converged = false;
@@ -306,14 +318,7 @@ Eigen::VectorXd SolveStatic(const BeamModel& model, const Eigen::VectorXd& force
       summary->converged = true;
       break;
     }
-    Eigen::VectorXd dx = k_ldlt.solve(-r);
-    if (na > 0) {
-      Eigen::VectorXd ua(na);
-      for (int i = 0; i < na; ++i) ua[i] = dx[a[i]];
-      const Eigen::MatrixXd small = Eigen::MatrixXd::Identity(na, na) + g * ka;
-      const Eigen::VectorXd u = small.partialPivLu().solve(ua);
-      dx.noalias() -= z * (ka * u);
-    }
+    const Eigen::VectorXd dx = newton_step(r);
     // Backtracking: halve the step until the residual norm decreases.
     double step = 1.0;
     bool decreased = false;
@@ -337,13 +342,28 @@ Eigen::VectorXd SolveStatic(const BeamModel& model, const Eigen::VectorXd& force
   summary->relative_residual = r.norm() / force_norm;
   if (summary->relative_residual <= options.tolerance || force.norm() == 0.0 || backward_ok(x, r))
     summary->converged = true;
-  summary->message = summary->converged
-                         ? "static solve converged in " + std::to_string(summary->iterations) +
-                               " Newton iterations, relative residual " +
-                               ToText(summary->relative_residual)
-                         : "static solve did not converge in " +
-                               std::to_string(options.max_iterations) +
-                               " iterations, relative residual " + ToText(summary->relative_residual);
+  // A forward-error estimate: the size of one more Newton step from the
+  // computed residual (one step of iterative refinement; the residual's own
+  // round-off, eps |K| |x|, mapped through J^-1, is the error an
+  // ill-conditioned K leaves in x).
+  const double x_norm = x.lpNorm<Eigen::Infinity>();
+  summary->relative_error_estimate =
+      x_norm > 0.0 ? newton_step(r).lpNorm<Eigen::Infinity>() / x_norm : 0.0;
+  const std::string figures = "relative residual " + ToText(summary->relative_residual) +
+                              ", estimated relative error " +
+                              ToText(summary->relative_error_estimate);
+  if (!summary->converged) {
+    summary->message = "static solve did not converge in " +
+                       std::to_string(options.max_iterations) + " iterations, " + figures;
+  } else if (!(summary->relative_error_estimate <= kMaxStaticRelativeError)) {
+    summary->converged = false;
+    summary->message = "static solve: K is too ill-conditioned for an accurate deflection (" +
+                       figures + ", above " + ToText(kMaxStaticRelativeError) +
+                       "): elements of very different lengths or stiffnesses";
+  } else {
+    summary->message = "static solve converged in " + std::to_string(summary->iterations) +
+                       " Newton iterations, " + figures;
+  }
   return x;
 }
 
