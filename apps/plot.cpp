@@ -204,18 +204,24 @@ PlotOutcome RenderPlot(const PlotRequest& request) {
       throw std::runtime_error("plot: gnuplot not found, and cannot create a folder " + kept +
                                " for the script: " + std::strerror(errno));
     }
+    // Staged with the command's other files: a later failure removes them.
+    if (request.batch != nullptr) request.batch->AdoptFolder(kept);
     std::vector<std::string> paths;
     for (std::size_t i = 0; i < request.data.size(); ++i) {
       paths.push_back(kept + "/data" + std::to_string(i) + ".txt");
-      WriteFileAtomically(paths.back(), [&](std::ostream& os) {
-        os.precision(10);
-        request.data[i](os);
-      });
+      WriteFileAtomically(
+          paths.back(),
+          [&](std::ostream& os) {
+            os.precision(10);
+            request.data[i](os);
+          },
+          request.batch);
     }
     const std::string script = kept + "/plot.gp";
-    WriteFileAtomically(script, [&](std::ostream& os) {
-      os << Header(request, png) << Substitute(request.script, paths);
-    });
+    WriteFileAtomically(
+        script,
+        [&](std::ostream& os) { os << Header(request, png) << Substitute(request.script, paths); },
+        request.batch);
     std::fprintf(stderr,
                  "podid: gnuplot not found on PATH: %s not drawn; wrote %s and its data "
                  "(run 'gnuplot %s' from this folder)\n",

@@ -51,8 +51,8 @@ struct PlotRequest {
   std::vector<std::function<void(std::ostream&)>> data;  ///< writers of the data files
   int width_px = 1000;
   int height_px = 650;
-  /// If set, the PNG is staged in it (published by its Commit) instead of
-  /// written at once. The folder kept without gnuplot is not staged.
+  /// If set, the PNG (without gnuplot: the kept folder's script and data) is
+  /// staged in it, published by its Commit, instead of written at once.
   OutputBatch* batch = nullptr;
 };
 

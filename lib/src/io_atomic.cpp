@@ -377,6 +377,8 @@ void OutputBatch::CreateFolders(const std::string& folder) {
   created_folders_.insert(created_folders_.end(), missing.rbegin(), missing.rend());
 }
 
+void OutputBatch::AdoptFolder(const std::string& folder) { created_folders_.push_back(folder); }
+
 void OutputBatch::Commit() {
   if (committed_) throw std::logic_error("OutputBatch::Commit: already committed");
   for (std::unique_ptr<Staged>& file : files_) {

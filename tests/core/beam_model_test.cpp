@@ -135,81 +135,49 @@ TEST(BeamModelTest, TheFinestBeamKeepsItsStaticDeflection) {
                           "beam.elements: expected an integer in [1, 1000], got 1001");
 }
 
-TEST(BeamModelTest, AnIllConditionedStaticSolveIsAFailureNotAWrongDeflection) {
-  // Pinned-pinned, loaded at a = 0.99 m, the last 0.01 m in 998 elements
-  // (element lengths 49500x apart). Hermite elements give the deflection
-  // under the load, F a^2 b^2 / (3 EI L), exactly at any mesh; round-off in
-  // K's factor loses 4.5e-4 of it (measured) and the Newton residual test
-  // passes at its round-off floor. The error estimate refuses it.
-  const char* const text = R"(
-[beam]
-youngs_modulus = 2.05e11
-density = 7800.0
-area = 0.196e-3
-left = "pinned"
-right = "pinned"
-[[beam.segment]]
-length = 0.99
-elements = 2
-[[beam.segment]]
-length = 0.01
-elements = 998
-[damping]
-type = "rayleigh"
-alpha = 0.0
-beta = 0.0
-[time]
-duration = 0.001
-step = 1e-4
-[sensors]
-nodes = [2]
-)";
-  const CaseSpec spec = CaseDocument::Parse(text, "case.toml").ToSpec();
+// A 1 m pinned-pinned steel beam meshed by `mesh` (a [beam] length and
+// elements, or [[beam.segment]] tables), under 200 N at `node`: the static
+// deflection there and the solve's summary.
+double PinnedDeflection(const std::string& mesh, int node, StaticSolveSummary* summary) {
+  const CaseSpec spec = CaseDocument::Parse(
+                            "[beam]\nyoungs_modulus = 2.05e11\ndensity = 7800.0\narea = 0.196e-3\n"
+                            "left = \"pinned\"\nright = \"pinned\"\n" +
+                                mesh +
+                                "\n[damping]\ntype = \"rayleigh\"\nalpha = 0.0\nbeta = 0.0\n"
+                                "[time]\nduration = 0.001\nstep = 1e-4\n[sensors]\nnodes = [1]\n",
+                            "case.toml")
+                            .ToSpec();
   const BeamModel model = BeamModel::Build(spec);
   Eigen::VectorXd force = Eigen::VectorXd::Zero(model.dofs());
-  const double f_N = 200.0, a_m = 0.99, b_m = 0.01;
-  const int loaded = BeamDof(spec.beam, 2, SensorDof::kW);
-  force[loaded] = f_N;
+  const int loaded = BeamDof(spec.beam, node, SensorDof::kW);
+  force[loaded] = 200.0;
+  return SolveStatic(model, force, StaticSolveOptions{}, summary)[loaded];
+}
+
+TEST(BeamModelTest, AnIllConditionedStaticSolveIsAFailureNotAWrongDeflection) {
+  // Loaded at a = 0.99 m, the last 0.01 m in 998 elements (element lengths
+  // 49500x apart). Hermite elements give the deflection under the load,
+  // F a^2 b^2 / (3 EI L), exactly at any mesh; round-off in K's factor loses
+  // 4.5e-4 of it (measured) and the Newton residual test passes at its
+  // round-off floor. The error estimate refuses it.
+  const double a_m = 0.99, b_m = 0.01;
+  const double ei = 2.05e11 * 0.196e-3 * 0.196e-3 / 12;  // square section: I = A^2 / 12
+  const double exact = 200.0 * a_m * a_m * b_m * b_m / (3 * ei * 1.0);
   StaticSolveSummary summary;
-  const Eigen::VectorXd x = SolveStatic(model, force, StaticSolveOptions{}, &summary);
-  const double ei = spec.beam.youngs_modulus_Pa * spec.beam.second_moment_m4;
-  const double exact = f_N * a_m * a_m * b_m * b_m / (3 * ei * 1.0);
-  const double error = std::abs(x[loaded] / exact - 1.0);
-  EXPECT_GT(error, kMaxStaticRelativeError);  // what would have been returned
+  const double uneven = PinnedDeflection(
+      "[[beam.segment]]\nlength = 0.99\nelements = 2\n[[beam.segment]]\nlength = 0.01\nelements = "
+      "998",
+      2, &summary);
+  EXPECT_GT(std::abs(uneven / exact - 1.0),
+            kMaxStaticRelativeError);  // what it would have returned
   EXPECT_GT(summary.relative_error_estimate, kMaxStaticRelativeError);
   EXPECT_FALSE(summary.converged);
   EXPECT_NE(summary.message.find("K is too ill-conditioned"), std::string::npos) << summary.message;
-  // The same beam with uniform elements is solved to round-off.
-  const CaseSpec uniform = CaseDocument::Parse(R"(
-[beam]
-length = 1.0
-elements = 100
-youngs_modulus = 2.05e11
-density = 7800.0
-area = 0.196e-3
-left = "pinned"
-right = "pinned"
-[damping]
-type = "rayleigh"
-alpha = 0.0
-beta = 0.0
-[time]
-duration = 0.001
-step = 1e-4
-[sensors]
-nodes = [99]
-)",
-                                               "uniform.toml")
-                               .ToSpec();
-  const BeamModel uniform_model = BeamModel::Build(uniform);
-  Eigen::VectorXd uniform_force = Eigen::VectorXd::Zero(uniform_model.dofs());
-  const int uniform_loaded = BeamDof(uniform.beam, 99, SensorDof::kW);
-  uniform_force[uniform_loaded] = f_N;
-  const Eigen::VectorXd y =
-      SolveStatic(uniform_model, uniform_force, StaticSolveOptions{}, &summary);
+  // The same load on uniform elements is solved to round-off.
+  const double uniform = PinnedDeflection("length = 1.0\nelements = 100", 99, &summary);
   EXPECT_TRUE(summary.converged) << summary.message;
   EXPECT_LT(summary.relative_error_estimate, 1e-9);
-  EXPECT_NEAR(y[uniform_loaded] / exact, 1.0, 1e-8);
+  EXPECT_NEAR(uniform / exact, 1.0, 1e-8);
 }
 
 TEST(BeamModelTest, StaticSolveReportsNonConvergence) {

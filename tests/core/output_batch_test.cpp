@@ -110,6 +110,27 @@ TEST(OutputBatch, FoldersItCreatedGoWhenItIsNotCommitted) {
   EXPECT_EQ(ReadText(dir.File("kept/figs/signals.csv")), "t,y\n");
 }
 
+TEST(OutputBatch, AnAdoptedFolderGoesWithItsStagedFiles) {
+  // What a plot without gnuplot keeps (<png>.gnuplot-XXXXXX/plot.gp, data).
+  const TempDir dir;
+  const std::string kept = dir.File("fig.png.gnuplot-1");
+  {
+    OutputBatch batch;
+    std::filesystem::create_directory(kept);
+    batch.AdoptFolder(kept);
+    WriteFileAtomically(kept + "/plot.gp", Text("plot 1\n"), &batch);
+  }
+  EXPECT_TRUE(dir.Entries().empty());
+  {
+    OutputBatch batch;
+    std::filesystem::create_directory(kept);
+    batch.AdoptFolder(kept);
+    WriteFileAtomically(kept + "/plot.gp", Text("plot 1\n"), &batch);
+    batch.Commit();
+  }
+  EXPECT_EQ(ReadText(kept + "/plot.gp"), "plot 1\n");
+}
+
 TEST(OutputBatch, ACommittedBatchTakesNoMoreFiles) {
   const TempDir dir;
   OutputBatch batch;

@@ -178,7 +178,8 @@ void WriteFileAtomically(const std::string& path,
 /// written, then makes the renames durable; only a rename failing midway (the
 /// targets were checked writable when staged) can leave the earlier ones
 /// published, and the error says which file failed. A batch destroyed before
-/// Commit removes its temporaries and the folders CreateFolders made for it.
+/// Commit removes its temporaries and the folders CreateFolders made or
+/// AdoptFolder was given.
 class OutputBatch {
  public:
   OutputBatch();
@@ -189,6 +190,9 @@ class OutputBatch {
   /// std::filesystem::create_directories(folder), remembering the folders it
   /// made: an uncommitted batch removes them again (those left empty).
   void CreateFolders(const std::string& folder);
+  /// A folder the caller has just made for this batch's files (mkdtemp):
+  /// removed, once its staged files are, if the batch is not committed.
+  void AdoptFolder(const std::string& folder);
   /// Publishes every staged file; throws std::runtime_error naming the file
   /// whose rename failed. A batch is committed at most once.
   void Commit();
