@@ -375,27 +375,23 @@ TimeSeries ConditionRecord(const TimeSeries& series,
   // 4. Filter.
   const double rate = 1.0 / h;
   if (options.filter.type != FilterType::kNone) {
-    std::vector<Section> sections;
     try {
-      sections = ButterworthSections(options.filter, rate);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(where + ": " + e.what());
-    }
-    // Below 1 / duration the filter's response outlasts the record and its
-    // output is the edges' padding: a low-pass at 0.005 Hz on a 2 s record
-    // gave a constant outside the data's range.
-    const bool lowpass = options.filter.type == FilterType::kLowpass;
-    const double lowest_Hz = lowpass ? options.filter.high_Hz : options.filter.low_Hz;
-    const double shortest_Hz = 1.0 / (static_cast<double>(n - 1) * h);
-    if (!(lowest_Hz >= shortest_Hz)) {
-      ThrowInvalid(where + (options.filter.type == FilterType::kBandpass ? ": filter low cutoff"
-                                                                         : ": filter cutoff"),
-                   "a cutoff >= 1 / duration = " + ToText(shortest_Hz) +
-                       " Hz (below, the filter's response outlasts the record and its output "
-                       "is set by the padding at the edges)",
-                   ToText(lowest_Hz) + " Hz");
-    }
-    try {
+      const std::vector<Section> sections = ButterworthSections(options.filter, rate);
+      // Below 1 / duration the filter's response outlasts the record and its
+      // output is the edges' padding: a low-pass at 0.005 Hz on a 2 s record
+      // gave a constant outside the data's range. Checked after the design,
+      // whose own errors (a cutoff out of range) come first.
+      const bool lowpass = options.filter.type == FilterType::kLowpass;
+      const double lowest_Hz = lowpass ? options.filter.high_Hz : options.filter.low_Hz;
+      const double shortest_Hz = 1.0 / (static_cast<double>(n - 1) * h);
+      if (!(lowest_Hz >= shortest_Hz)) {
+        ThrowInvalid(
+            options.filter.type == FilterType::kBandpass ? "filter low cutoff" : "filter cutoff",
+            "a cutoff >= 1 / duration = " + ToText(shortest_Hz) +
+                " Hz (below, the filter's response outlasts the record and its output "
+                "is set by the padding at the edges)",
+            ToText(lowest_Hz) + " Hz");
+      }
       values = FiltFilt(sections, values);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(where + ": " + e.what());
