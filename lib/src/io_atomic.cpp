@@ -237,6 +237,20 @@ struct OutputBatch::Staged {
 
 namespace {
 
+/// Makes the renames in `folder` durable (best effort: not every file system
+/// allows it).
+void SyncFolder(const std::string& folder) {
+  const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir >= 0) {
+    (void)::fsync(dir);
+    ::close(dir);
+  }
+}
+
+std::string FolderOf(const std::string& file) {
+  return std::filesystem::path(file).parent_path().string();
+}
+
 /// Renames a complete temporary onto its target and syncs the folder; on
 /// failure the temporary is removed and the error names the file.
 void Publish(OutputBatch::Staged& staged) {
@@ -247,13 +261,52 @@ void Publish(OutputBatch::Staged& staged) {
     Fail(staged.path, std::string("rename failed: ") + std::strerror(error));
   }
   staged.registration.Release();
-  // Make the rename itself durable (best effort: not every file system allows it).
-  const std::string folder = std::filesystem::path(staged.target).parent_path().string();
-  const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dir >= 0) {
-    (void)::fsync(dir);
-    ::close(dir);
+  SyncFolder(FolderOf(staged.target));
+}
+
+/// How Commit puts a published file back when a later rename fails: the
+/// replaced file under a second name (a hard link made before the rename),
+/// or nothing to restore for a target that did not exist.
+struct Undo {
+  enum class Kind { kNew, kLinked, kUnrecoverable };
+  Kind kind = Kind::kNew;
+  std::string backup;
+  TemporaryPath registration;  // a kill leaves no stray second name
+};
+
+/// A hard link to `target` beside it, or why there is none. A link, not a
+/// copy: instant and atomic whatever the file's size, and renaming it back
+/// restores the very file (mode, owner, other names) the rename replaced.
+Undo LinkBeside(const std::string& target) {
+  Undo undo;
+  const std::filesystem::path final_path(target);
+  const std::string name = final_path.filename().string().substr(0, kTempNameBytes);
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const std::string backup =
+        (final_path.parent_path() / ("." + name + ".old-" + std::to_string(::getpid()) + "-" +
+                                     std::to_string(temp_counter.fetch_add(1))))
+            .string();
+    const BlockCleanupSignals blocked;  // link and register as one step
+    if (::link(target.c_str(), backup.c_str()) == 0) {
+      undo.kind = Undo::Kind::kLinked;
+      undo.backup = backup;
+      undo.registration = TemporaryPath(backup);
+      return undo;
+    }
+    if (errno == ENOENT) return undo;  // nothing there to replace
+    if (errno != EEXIST) break;
   }
+  // A file system without hard links (EPERM), a file at its link limit: this
+  // file alone cannot be put back, as with a single rename.
+  undo.kind = Undo::Kind::kUnrecoverable;
+  return undo;
+}
+
+/// Drops the second name of a replaced file that stays replaced.
+void Forget(Undo& undo) {
+  if (!undo.backup.empty()) ::unlink(undo.backup.c_str());
+  undo.backup.clear();
+  undo.registration.Release();
 }
 
 }  // namespace
@@ -381,10 +434,45 @@ void OutputBatch::AdoptFolder(const std::string& folder) { created_folders_.push
 
 void OutputBatch::Commit() {
   if (committed_) throw std::logic_error("OutputBatch::Commit: already committed");
-  for (std::unique_ptr<Staged>& file : files_) {
-    Publish(*file);  // on failure the rest stay staged: the destructor removes them
-    file.reset();
+  // A second name for each file about to be replaced, so that a rename failing
+  // midway can put the files before it back: all or nothing, not only up to
+  // the last rename.
+  std::vector<Undo> undo;
+  undo.reserve(files_.size());
+  for (const std::unique_ptr<Staged>& file : files_) {
+    undo.push_back(file ? LinkBeside(file->target) : Undo{});
   }
+  std::size_t done = 0;
+  try {
+    for (; done < files_.size(); ++done) {
+      if (files_[done]) Publish(*files_[done]);  // on failure its temporary is gone
+    }
+  } catch (const std::runtime_error& e) {
+    std::string lost;
+    for (std::size_t i = 0; i < done; ++i) {  // the published ones, back as they were
+      if (!files_[i]) continue;
+      const Staged& file = *files_[i];
+      const bool back =
+          undo[i].kind == Undo::Kind::kLinked
+              ? ::rename(undo[i].backup.c_str(), file.target.c_str()) == 0
+              : undo[i].kind == Undo::Kind::kNew && ::unlink(file.target.c_str()) == 0;
+      if (back) {
+        undo[i].backup.clear();  // renamed back: that name is gone
+        SyncFolder(FolderOf(file.target));
+      } else {
+        lost += (lost.empty() ? "" : ", ") + file.path;
+      }
+    }
+    for (Undo& u : undo) Forget(u);
+    // The published ones and the failed one have no temporary left; the rest
+    // stay staged, and the destructor removes them.
+    for (std::size_t i = 0; i <= done; ++i) files_[i].reset();
+    throw std::runtime_error(std::string(e.what()) +
+                             (lost.empty()
+                                  ? "; the batch's other files were left as they were"
+                                  : "; these were replaced and could not be put back: " + lost));
+  }
+  for (Undo& u : undo) Forget(u);
   files_.clear();
   committed_ = true;
 }

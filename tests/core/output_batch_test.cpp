@@ -2,6 +2,7 @@
 // together or not at all, so a late failure (gnuplot, a full disk) neither
 // leaves some of them nor replaces an earlier file.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -75,6 +76,58 @@ TEST(OutputBatch, AFailingWriterLeavesTheBatchsOtherFilesStaged) {
     EXPECT_EQ(batch.staged(), 1u);
   }
   EXPECT_TRUE(dir.Entries().empty());
+}
+
+TEST(OutputBatch, ARenameFailingMidwayPutsTheEarlierFilesBack) {
+  namespace fs = std::filesystem;
+  const TempDir dir;
+  const std::string old_file = dir.Write("old.csv", "old\n");
+  fs::create_hard_link(old_file, dir.File("other-name.csv"));
+  struct stat before {};
+  ASSERT_EQ(::stat(old_file.c_str(), &before), 0);
+  {
+    OutputBatch batch;
+    WriteFileAtomically(old_file, Text("new\n"), &batch);
+    WriteFileAtomically(dir.File("new.json"), Text("{}\n"), &batch);
+    WriteFileAtomically(dir.File("b.csv"), Text("b\n"), &batch);
+    WriteFileAtomically(dir.File("after.csv"), Text("c\n"), &batch);
+    // Checked writable when staged; a folder there by commit time makes the
+    // third rename fail (EISDIR), after two have succeeded.
+    fs::create_directory(dir.File("b.csv"));
+    try {
+      batch.Commit();
+      ADD_FAILURE() << "Commit did not throw";
+    } catch (const std::runtime_error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("b.csv"), std::string::npos) << message;
+      EXPECT_NE(message.find("left as they were"), std::string::npos) << message;
+    }
+  }
+  // The replaced file is the very file it was (same inode, both names), the
+  // new one is gone, and no temporary or second name is left.
+  EXPECT_EQ(ReadText(old_file), "old\n");
+  struct stat after {};
+  ASSERT_EQ(::stat(old_file.c_str(), &after), 0);
+  EXPECT_EQ(after.st_ino, before.st_ino);
+  EXPECT_EQ(after.st_nlink, 2u);
+  EXPECT_EQ(Sorted(dir.Entries()),
+            (std::vector<std::string>{"b.csv", "old.csv", "other-name.csv"}));
+}
+
+TEST(OutputBatch, ACommittedBatchLeavesNoSecondNames) {
+  const TempDir dir;
+  const std::string a = dir.Write("a.csv", "old a\n");
+  const std::string b = dir.Write("b.csv", "old b\n");
+  OutputBatch batch;
+  WriteFileAtomically(a, Text("a\n"), &batch);
+  WriteFileAtomically(b, Text("b\n"), &batch);
+  batch.Commit();
+  EXPECT_EQ(ReadText(a), "a\n");
+  EXPECT_EQ(ReadText(b), "b\n");
+  EXPECT_EQ(Sorted(dir.Entries()), (std::vector<std::string>{"a.csv", "b.csv"}));
+  struct stat status {};
+  ASSERT_EQ(::stat(a.c_str(), &status), 0);
+  EXPECT_EQ(status.st_nlink, 1u);
 }
 
 TEST(OutputBatch, WriteCsvStagesInTheBatch) {

@@ -175,9 +175,12 @@ void WriteFileAtomically(const std::string& path,
 ///   WriteFileAtomically("fit.json", writer, &batch);
 ///   batch.Commit();  // renames both; before it, neither exists
 /// Commit renames the temporaries onto their targets in the order they were
-/// written, then makes the renames durable; only a rename failing midway (the
-/// targets were checked writable when staged) can leave the earlier ones
-/// published, and the error says which file failed. A batch destroyed before
+/// written and makes the renames durable. It first gives each file it is
+/// about to replace a second name (a hard link beside it), so that a rename
+/// failing midway (the targets were checked writable when staged) puts the
+/// earlier ones back: a replaced file renamed back, a new file removed. Only
+/// where no hard link could be made (a file system without them) can an
+/// earlier file stay replaced; the error names it. A batch destroyed before
 /// Commit removes its temporaries and the folders CreateFolders made or
 /// AdoptFolder was given.
 class OutputBatch {
@@ -194,7 +197,9 @@ class OutputBatch {
   /// removed, once its staged files are, if the batch is not committed.
   void AdoptFolder(const std::string& folder);
   /// Publishes every staged file; throws std::runtime_error naming the file
-  /// whose rename failed. A batch is committed at most once.
+  /// whose rename failed, having put the others back. A batch is committed at
+  /// most once; after a failed Commit it is not, and its destructor removes
+  /// the files still staged.
   void Commit();
   /// Staged files not yet committed.
   std::size_t staged() const;
