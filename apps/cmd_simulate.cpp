@@ -41,6 +41,15 @@ void AddSimulateCommand(CLI::App& app) {
     if (result.summary.termination == SimulationTermination::kStaticSolveFailed) {
       throw CommandFailed("simulate: initial state: " + result.summary.message);
     }
+    if (result.summary.step_error_estimate > kMaxStepRelativeError) {
+      // A warning, not a failure: the estimate covers every dof (newmark.hpp).
+      std::fprintf(
+          stderr,
+          "warning: simulate: the step matrix M / (beta dt^2) + gamma C / (beta dt) + K is "
+          "ill-conditioned: one solve's estimated relative error is %.2g, above %.0e; some "
+          "dofs may be inaccurate (element lengths or stiffnesses many orders apart?)\n",
+          result.summary.step_error_estimate, kMaxStepRelativeError);
+    }
     WriteCsv(output, result.sensors);
     std::printf("%s -> %s (%ld samples x %ld channels)\n", result.summary.BriefReport().c_str(),
                 output.c_str(), static_cast<long>(result.sensors.samples()),

@@ -17,6 +17,7 @@
 #include "podid/core/error.hpp"
 #include "sparse_ordering.hpp"
 #include "sparse_step.hpp"
+#include "step_conditioning.hpp"
 
 namespace podid {
 namespace {
@@ -84,6 +85,8 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
   v0_acceleration_ = dt * (1.0 - g / (2.0 * b));
   // The Newmark update of the condensed paths, dense and sparse.
   update_ = internal::SelectUpdateKernel(options.cpu_dispatch);
+  step_error_estimate_ =
+      internal::StepSolveErrorEstimate(mass_sparse_, damping_sparse_, stiffness_sparse_, a0_, a1_);
 
   if (sparse_) {
     // No n x n dense matrix: M, C, K stay sparse and S_b is factorised once
@@ -454,6 +457,7 @@ SimulationSummary NewmarkIntegrator::Run(const State& initial, const ExternalLoa
   summary.dofs = n_;
   summary.nonlinear_dofs = na_;
   summary.steps_requested = steps;
+  summary.step_error_estimate = step_error_estimate_;
   // Raw column pointers: the recording's stores then cannot alias the
   // matrices' sizes, which would be reloaded at every sample.
   double* const rec_x = recording->displacement.data();

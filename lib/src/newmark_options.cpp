@@ -81,8 +81,12 @@ std::string SimulationSummary::FullReport() const {
                                                         : "Newmark, Newton on all dofs")
      << "\n  dofs:               " << dofs << " (" << nonlinear_dofs << " nonlinear)"
      << "\n  steps:              " << steps_completed << " of " << steps_requested
-     << "\n  Newton iterations:  " << newton_iterations << " total, worst step " << max_step_iterations
-     << " at t = " << worst_step_time_s << " s"
+     << "\n  Newton iterations:  " << newton_iterations << " total, worst step "
+     << max_step_iterations << " at t = " << worst_step_time_s << " s"
+     << "\n  step solve error:   " << step_error_estimate << " (estimated, relative, over all dofs"
+     << (step_error_estimate > kMaxStepRelativeError ? "; above " + ToText(kMaxStepRelativeError)
+                                                     : std::string())
+     << ")"
      << "\n  wall time:          " << wall_time_s << " s"
      << "\n  termination:        " << ToString(termination) << "\n  message:            " << message
      << "\n";
