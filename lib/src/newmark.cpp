@@ -85,8 +85,6 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
   v0_acceleration_ = dt * (1.0 - g / (2.0 * b));
   // The Newmark update of the condensed paths, dense and sparse.
   update_ = internal::SelectUpdateKernel(options.cpu_dispatch);
-  step_error_estimate_ =
-      internal::StepSolveErrorEstimate(mass_sparse_, damping_sparse_, stiffness_sparse_, a0_, a1_);
 
   if (sparse_) {
     // No n x n dense matrix: M, C, K stay sparse and S_b is factorised once
@@ -118,6 +116,10 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
                                 Eigen::NaturalOrdering<int>>
         sbb_ldlt(s.bottomRightCorner(nb_, nb_));
     if (sbb_ldlt.info() != Eigen::Success) ThrowIndefiniteStepMatrix();
+    // The solves the steps make are with this factor: probe it (step_conditioning.hpp).
+    step_error_estimate_ = internal::ProbeSolveError(
+        s.bottomRightCorner(nb_, nb_),
+        [&](const Eigen::VectorXd& rhs) -> Eigen::VectorXd { return sbb_ldlt.solve(rhs); });
     const Eigen::SparseMatrix<double> lower =
         sbb_ldlt.matrixL().nestedExpression().triangularView<Eigen::StrictlyLower>();
     sparse_step_ = std::make_shared<const internal::SparseStep>(mass_sparse_, damping_sparse_, na_,
@@ -135,6 +137,8 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
   }
 
   // Dense path: small models, and the full-Newton reference integrator.
+  step_error_estimate_ =
+      internal::StepSolveErrorEstimate(mass_sparse_, damping_sparse_, stiffness_sparse_, a0_, a1_);
   mass_ = Eigen::MatrixXd(mass_sparse_);
   damping_ = Eigen::MatrixXd(damping_sparse_);
   stiffness_ = Eigen::MatrixXd(stiffness_sparse_);

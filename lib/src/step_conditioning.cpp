@@ -18,19 +18,10 @@
 
 namespace podid::internal {
 
-double StepSolveErrorEstimate(const Eigen::SparseMatrix<double>& mass,
-                              const Eigen::SparseMatrix<double>& damping,
-                              const Eigen::SparseMatrix<double>& stiffness,
-                              double a0,
-                              double a1) {
-  const Eigen::Index n = mass.rows();
+double ProbeSolveError(const Eigen::SparseMatrix<double>& s,
+                       const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& solve) {
+  const Eigen::Index n = s.rows();
   if (n == 0) return 0.0;
-  Eigen::SparseMatrix<double> s = a0 * mass + a1 * damping + stiffness;
-  s.makeCompressed();
-  // AMD ordering: the fill of a banded beam stays O(n), any other model's
-  // what a sparse factor of S costs anyway (the sparse path makes one).
-  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(s);
-  if (factor.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
   Eigen::VectorXd probe = Eigen::VectorXd::Ones(n);
   double worst = 0.0;
   for (int pass = 0; pass < 2; ++pass) {
@@ -43,14 +34,27 @@ double StepSolveErrorEstimate(const Eigen::SparseMatrix<double>& mass,
         probe[i] = 2.0 * static_cast<double>(state) / 2147483647.0 - 1.0;
       }
     }
-    const Eigen::VectorXd rhs = s * probe;
-    const Eigen::VectorXd solved = factor.solve(rhs);
+    const Eigen::VectorXd solved = solve(s * probe);
     const double error =
         (solved - probe).lpNorm<Eigen::Infinity>() / probe.lpNorm<Eigen::Infinity>();
     if (!std::isfinite(error)) return std::numeric_limits<double>::infinity();
     worst = std::max(worst, error);
   }
   return worst;
+}
+
+double StepSolveErrorEstimate(const Eigen::SparseMatrix<double>& mass,
+                              const Eigen::SparseMatrix<double>& damping,
+                              const Eigen::SparseMatrix<double>& stiffness,
+                              double a0,
+                              double a1) {
+  if (mass.rows() == 0) return 0.0;
+  Eigen::SparseMatrix<double> s = a0 * mass + a1 * damping + stiffness;
+  s.makeCompressed();
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(s);
+  if (factor.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
+  return ProbeSolveError(
+      s, [&](const Eigen::VectorXd& rhs) -> Eigen::VectorXd { return factor.solve(rhs); });
 }
 
 }  // namespace podid::internal

@@ -248,8 +248,9 @@ class NewmarkIntegrator {
   int nonlinear_dofs() const { return na_; }
   /// The relative error of one solve with the step matrix S = M / (beta dt^2)
   /// + gamma C / (beta dt) + K (eq. 23), measured once when the integrator is
-  /// built on two probes of known answer (lib/src/step_conditioning.hpp),
-  /// whatever path then steps the model. Round-off sets it (4e-15 for the
+  /// built on two probes of known answer (lib/src/step_conditioning.hpp): on
+  /// the sparse path with its own factor of S_bb (the linear dofs' block),
+  /// else with a sparse factor of S made for it. Round-off sets it (4e-15 for the
   /// reference case, 1e-8 for 1000 uniform elements); lengths or stiffnesses
   /// many orders apart raise it (2.4e-2 for a pinned beam with elements
   /// 49,500x apart, whose transient is then 1e-2 off). Measured over every
