@@ -90,6 +90,16 @@ std::atomic<unsigned> temp_counter{0};
 constexpr int kMaxSymlinkHops = 40;
 /// Bytes of the target's name kept in a temporary's name (NAME_MAX is 255).
 constexpr std::size_t kTempNameBytes = 100;
+/// Names tried for a temporary or a second name before giving up.
+constexpr int kNameAttempts = 100;
+
+/// A fresh hidden name beside `target`: .<name>.<tag>-<pid>-<n>.
+std::string HiddenSibling(const std::filesystem::path& target, const char* tag) {
+  const std::string name = target.filename().string().substr(0, kTempNameBytes);
+  return (target.parent_path() / ("." + name + "." + tag + "-" + std::to_string(::getpid()) + "-" +
+                                  std::to_string(temp_counter.fetch_add(1))))
+      .string();
+}
 
 /// Runs `write` on a stream over `fd` and flushes it. On any failure calls
 /// `discard` and throws: std::invalid_argument from the callback stays one,
@@ -279,13 +289,8 @@ struct Undo {
 /// restores the very file (mode, owner, other names) the rename replaced.
 Undo LinkBeside(const std::string& target) {
   Undo undo;
-  const std::filesystem::path final_path(target);
-  const std::string name = final_path.filename().string().substr(0, kTempNameBytes);
-  for (int attempt = 0; attempt < 100; ++attempt) {
-    const std::string backup =
-        (final_path.parent_path() / ("." + name + ".old-" + std::to_string(::getpid()) + "-" +
-                                     std::to_string(temp_counter.fetch_add(1))))
-            .string();
+  for (int attempt = 0; attempt < kNameAttempts; ++attempt) {
+    const std::string backup = HiddenSibling(target, "old");
     const BlockCleanupSignals blocked;  // link and register as one step
     if (::link(target.c_str(), backup.c_str()) == 0) {
       undo.kind = Undo::Kind::kLinked;
@@ -342,12 +347,9 @@ void WriteFileAtomically(const std::string& path,
   staged->target = target.path;
   const fs::path final_path(target.path);
   const std::string folder = final_path.parent_path().string();
-  const std::string name = final_path.filename().string().substr(0, kTempNameBytes);
   int fd = -1;
-  for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-    staged->temp = (final_path.parent_path() / ("." + name + ".tmp-" + std::to_string(::getpid()) +
-                                                "-" + std::to_string(temp_counter.fetch_add(1))))
-                       .string();
+  for (int attempt = 0; attempt < kNameAttempts && fd < 0; ++attempt) {
+    staged->temp = HiddenSibling(final_path, "tmp");
     const BlockCleanupSignals blocked;  // create and register as one step
     fd = ::open(staged->temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
     if (fd < 0 && errno != EEXIST) {

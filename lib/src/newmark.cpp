@@ -112,14 +112,14 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     if (mass_ldlt_.info() != Eigen::Success) {
       ThrowInvalid("model", "a positive definite mass matrix M", "a singular one");
     }
+    const Eigen::SparseMatrix<double> sbb = s.bottomRightCorner(nb_, nb_);
     const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower,
                                 Eigen::NaturalOrdering<int>>
-        sbb_ldlt(s.bottomRightCorner(nb_, nb_));
+        sbb_ldlt(sbb);
     if (sbb_ldlt.info() != Eigen::Success) ThrowIndefiniteStepMatrix();
     // The solves the steps make are with this factor: probe it (step_conditioning.hpp).
     step_error_estimate_ = internal::ProbeSolveError(
-        s.bottomRightCorner(nb_, nb_),
-        [&](const Eigen::VectorXd& rhs) -> Eigen::VectorXd { return sbb_ldlt.solve(rhs); });
+        sbb, [&](const Eigen::VectorXd& rhs) -> Eigen::VectorXd { return sbb_ldlt.solve(rhs); });
     const Eigen::SparseMatrix<double> lower =
         sbb_ldlt.matrixL().nestedExpression().triangularView<Eigen::StrictlyLower>();
     sparse_step_ = std::make_shared<const internal::SparseStep>(mass_sparse_, damping_sparse_, na_,
