@@ -108,6 +108,69 @@ constexpr std::size_t kShownFirstCellBytes = 12;
 
 bool IsBlank(std::string_view line) { return Trim(line).empty(); }
 
+// Whether from_chars reads all of `cell` as a number ("1", "nan", "inf" too).
+bool IsNumber(std::string_view cell) {
+  double number = 0.0;
+  const auto [ptr, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), number);
+  return !cell.empty() && ec == std::errc() && ptr == cell.data() + cell.size();
+}
+
+// One name of the header from byte `start` of `line`: a bare cell (the blanks
+// around it trimmed) or a quoted one as RFC 4180 writes it ("..." with "" for
+// a quote, blanks allowed around the quotes): R's write.csv quotes every
+// name, and a quoted name may hold a comma and is never taken for a number.
+// Hand-written rather than a CSV library's: only the header can be quoted,
+// and the rows keep the reader's single pass of from_chars.
+struct HeaderCell {
+  std::string name;
+  bool quoted = false;
+  std::size_t next = std::string_view::npos;      // the next cell's first byte; npos: none
+  std::size_t error_at = std::string_view::npos;  // a malformed quote's byte, else npos
+  const char* expected = "";
+  std::string got;
+};
+
+HeaderCell NextHeaderCell(std::string_view line, std::size_t start) {
+  HeaderCell cell;
+  std::size_t at = start;
+  while (at < line.size() && (line[at] == ' ' || line[at] == '\t')) ++at;
+  if (at == line.size() || line[at] != '"') {
+    const std::size_t comma = line.find(',', start);
+    cell.name = Trim(line.substr(start, comma == line.npos ? line.npos : comma - start));
+    cell.next = comma == line.npos ? line.npos : comma + 1;
+    return cell;
+  }
+  cell.quoted = true;
+  const std::size_t open = at++;
+  while (true) {
+    if (at >= line.size()) {
+      cell.error_at = open;
+      cell.expected = "a closing quote '\"' for the column name opened here";
+      cell.got = "the end of the line";
+      return cell;
+    }
+    if (line[at] == '"') {
+      if (at + 1 < line.size() && line[at + 1] == '"') {  // "" inside quotes: one quote
+        cell.name.push_back('"');
+        at += 2;
+        continue;
+      }
+      ++at;
+      break;
+    }
+    cell.name.push_back(line[at++]);
+  }
+  while (at < line.size() && (line[at] == ' ' || line[at] == '\t')) ++at;
+  if (at < line.size() && line[at] != ',') {
+    cell.error_at = at;
+    cell.expected = "a comma or the end of the line after a quoted column name";
+    cell.got = Quote(line.substr(at, 1));
+    return cell;
+  }
+  cell.next = at < line.size() ? at + 1 : line.npos;
+  return cell;
+}
+
 }  // namespace
 
 TimeSeries ReadCsv(const std::string& path) {
@@ -136,19 +199,21 @@ TimeSeries ReadCsv(const std::string& path) {
   }
   std::vector<std::string> names;
   {
-    std::set<std::string_view> seen;
+    std::set<std::string> seen;
     std::size_t start = 0;
     while (true) {
-      const std::size_t comma = line.find(',', start);
-      const std::string_view cell =
-          Trim(line.substr(start, comma == line.npos ? line.npos : comma - start));
-      double number = 0.0;
-      const auto [ptr, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), number);
+      const HeaderCell parsed = NextHeaderCell(line, start);
+      if (parsed.error_at != line.npos) {
+        ThrowInvalid(where(reader.line_number(), bom + parsed.error_at + 1), parsed.expected,
+                     parsed.got);
+      }
+      const std::size_t next = parsed.next;  // npos: the last name
+      const std::string_view cell = parsed.name;
       if (cell.empty()) {
         ThrowInvalid(where(reader.line_number(), bom + start + 1),
                      "a header line such as \"t,w1,w2\"", "an empty column name");
       }
-      if (ec == std::errc() && ptr == cell.data() + cell.size()) {
+      if (!parsed.quoted && IsNumber(cell)) {
         ThrowInvalid(where(reader.line_number(), bom + start + 1),
                      "a header line such as \"t,w1,w2\"",
                      "a row of numbers (the header is missing)");
@@ -156,7 +221,7 @@ TimeSeries ReadCsv(const std::string& path) {
       if (names.empty() && cell != "t" && cell != "time") {
         // A first line without a comma is no CSV header (`[force] file =
         // /etc/shadow`): nothing of it is shown, only its length.
-        if (comma == line.npos) {
+        if (next == line.npos) {
           ThrowInvalid(where(reader.line_number(), bom + start + 1),
                        "a CSV header line such as \"t,w1,w2\"",
                        "a first line of " + std::to_string(line.size()) +
@@ -170,13 +235,13 @@ TimeSeries ReadCsv(const std::string& path) {
         ThrowInvalid(where(reader.line_number(), bom + start + 1),
                      "column names without control characters", Quote(cell));
       }
-      if (!seen.insert(cell).second) {
+      if (!seen.insert(std::string(cell)).second) {
         ThrowInvalid(where(reader.line_number(), bom + start + 1), "distinct column names",
                      Quote(cell) + " twice");
       }
       names.emplace_back(cell);
-      if (comma == line.npos) break;
-      start = comma + 1;
+      if (next == line.npos) break;
+      start = next;
     }
     if (names.size() < 2) {
       ThrowInvalid(where(reader.line_number(), bom + line.size() + 1),
@@ -325,18 +390,33 @@ void WriteCsv(const std::string& path, const TimeSeries& series, OutputBatch* ba
     ThrowInvalid("WriteCsv(" + path + ")", std::to_string(cols) + " channel names",
                  std::to_string(series.channel_names.size()));
   }
+  // The names ReadCsv reads back: not empty, no control character, distinct
+  // (from the time column's "t" too). A name the reader would trim, split or
+  // take for a number is written quoted.
+  std::set<std::string_view> seen = {"t"};
+  std::string header = "t";
   for (const auto& name : series.channel_names) {
-    if (name.empty() || name.find_first_of(",\"\r\n") != std::string::npos) {
-      ThrowInvalid("WriteCsv(" + path + ")",
-                   "channel names without ',', '\"' or line breaks, not empty", Quote(name));
+    if (name.empty() || HasControlCharacter(name)) {
+      ThrowInvalid("WriteCsv(" + path + ")", "channel names without control characters, not empty",
+                   Quote(name));
     }
+    if (!seen.insert(name).second) {
+      ThrowInvalid("WriteCsv(" + path + ")", "distinct channel names other than \"t\"",
+                   Quote(name) + " twice");
+    }
+    header += ',';
+    if (name.find_first_of(",\"") == std::string::npos && Trim(name) == name && !IsNumber(name)) {
+      header += name;
+      continue;
+    }
+    header += '"';
+    for (const char c : name) header += c == '"' ? std::string("\"\"") : std::string(1, c);
+    header += '"';
   }
+  header += '\n';
   WriteFileAtomically(
       path,
       [&](std::ostream& os) {
-        std::string header = "t";
-        for (const auto& name : series.channel_names) header += "," + name;
-        header += '\n';
         os.write(header.data(), static_cast<std::streamsize>(header.size()));
         // One row per line: 13 significant digits, as printf("%.12e"). The time
         // gets more when 13 would not resolve its step to 1e-6 of the step (the

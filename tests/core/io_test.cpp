@@ -89,9 +89,16 @@ TEST(WriteCsv, RejectsInconsistentSeriesBeforeWriting) {
   PODID_EXPECT_THROW_WITH(WriteCsv(dir.File("x.csv"), series), std::invalid_argument,
                           "expected 2 times (one per sample), got 3");
   series.time_s = Eigen::Vector2d(0, 1);
-  series.channel_names = {"w,1"};
+  series.channel_names = {"w\t1"};  // ReadCsv refuses control characters in names
   PODID_EXPECT_THROW_WITH(WriteCsv(dir.File("x.csv"), series), std::invalid_argument,
-                          "expected channel names without ','");
+                          "expected channel names without control characters, not empty, got "
+                          "\"w\\t1\"");
+  series.channel_names = {""};
+  PODID_EXPECT_THROW_WITH(WriteCsv(dir.File("x.csv"), series), std::invalid_argument,
+                          "expected channel names without control characters, not empty");
+  series.channel_names = {"t"};  // the header "t,t" would not read back
+  PODID_EXPECT_THROW_WITH(WriteCsv(dir.File("x.csv"), series), std::invalid_argument,
+                          "expected distinct channel names other than \"t\", got \"t\" twice");
   series.channel_names = {};
   PODID_EXPECT_THROW_WITH(WriteCsv(dir.File("x.csv"), series), std::invalid_argument,
                           "expected 1 channel names, got 0");
@@ -105,6 +112,37 @@ TEST(ReadCsv, AcceptsCrlfSpacesAndBlankLines) {
   EXPECT_EQ(series.channel_names, (std::vector<std::string>{"w1", "w2"}));
   EXPECT_EQ(series.values, (Eigen::Matrix2d() << 1, 2, 3, 4).finished());
   EXPECT_EQ(series.time_s, Eigen::Vector2d(0, 0.1));
+}
+
+TEST(WriteCsv, NamesThatReadBackOnlyQuotedAreQuoted) {
+  // Names with a comma, a quote, outer blanks or the look of a number were
+  // refused ("w,1") or written so that ReadCsv split, trimmed or refused them.
+  const TempDir dir;
+  TimeSeries series;
+  series.time_s = Eigen::Vector2d(0, 0.5);
+  series.channel_names = {"w1", "a,b", "say \"hi\"", " padded ", "1", "nan", "1+X"};
+  series.values = Eigen::MatrixXd::Zero(2, 7);
+  series.values.row(1).setLinSpaced(1.0, 7.0);
+  const std::string path = dir.File("names.csv");
+  WriteCsv(path, series);
+  const std::string text = ReadText(path);
+  EXPECT_EQ(text.substr(0, text.find('\n')),
+            "t,w1,\"a,b\",\"say \"\"hi\"\"\",\" padded \",\"1\",\"nan\",1+X");
+  const TimeSeries back = ReadCsv(path);
+  EXPECT_EQ(back.channel_names, series.channel_names);
+  EXPECT_EQ(back.values, series.values);
+  EXPECT_EQ(back.time_s, series.time_s);
+}
+
+TEST(ReadCsv, AcceptsQuotedNamesAsRWritesThem) {
+  // R's write.csv(x, row.names = FALSE) quotes every name of the header; the
+  // first name "t" was refused ("expected a header line whose first name is").
+  const TempDir dir;
+  const TimeSeries series =
+      ReadCsv(dir.Write("r.csv", "\"t\",\"w1\", \"acc, x\" ,\"12\"\n0,1,2,3\n0.5,4,5,6\n"));
+  EXPECT_EQ(series.channel_names, (std::vector<std::string>{"w1", "acc, x", "12"}));
+  EXPECT_EQ(series.values, (Eigen::Matrix<double, 2, 3>() << 1, 2, 3, 4, 5, 6).finished());
+  EXPECT_EQ(series.time_s, Eigen::Vector2d(0, 0.5));
 }
 
 TEST(ReadCsv, AcceptsAUtf8ByteOrderMark) {
@@ -176,6 +214,17 @@ TEST_F(ReadCsvRejects, MissingHeader) {
   EXPECT_CSV_ERROR("t,w1,,w3\n",
                    ":1:6: expected a header line such as \"t,w1,w2\", got an empty column name");
   EXPECT_CSV_ERROR("t,w1,w1\n", ":1:6: expected distinct column names, got \"w1\" twice");
+  EXPECT_CSV_ERROR("t,w1,\"w1\"\n", ":1:6: expected distinct column names, got \"w1\" twice");
+  EXPECT_CSV_ERROR("t,\"w1\n0,1\n",
+                   ":1:3: expected a closing quote '\"' for the column name opened here, got the "
+                   "end of the line");
+  EXPECT_CSV_ERROR("t,\"w1\"x,w2\n0,1,2\n",
+                   ":1:7: expected a comma or the end of the line after a quoted column name, got "
+                   "\"x\"");
+  EXPECT_CSV_ERROR("t,\"\",w2\n",
+                   ":1:3: expected a header line such as \"t,w1,w2\", got an empty "
+                   "column name");
+  EXPECT_CSV_ERROR("t,\"a\tb\"\n", ":1:3: expected column names without control characters");
   EXPECT_CSV_ERROR("t\n0\n1\n", ":1:2: expected a time column and at least one channel");
 }
 
