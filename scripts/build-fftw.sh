@@ -15,7 +15,9 @@
 # evaluation 1.36x), but on an AMD Zen 4 FFTW_ESTIMATE picked slower plans
 # among the new codelets (the Silverbox evaluation 0.85x), and estimated plans
 # are what every process uses until `podid plan` has run (docs/benchmarks.md,
-# "FFTW with its AVX2 and AVX-512 codelets"). PODID_FFTW_SIMD=ON builds it on
+# "FFTW with its AVX2 and AVX-512 codelets"); on a Zen 3 the CWT was slower
+# with estimated plans (0.60-0.69x) and no faster with measured ones
+# ("FFTW's AVX2 codelets on a Zen 3 EPYC"). PODID_FFTW_SIMD=ON builds it on
 # any x86-64 CPU, OFF never; any other value is an error (exit 1). Whatever
 # stops it (not x86-64, Debian's source archive out of reach, a failed build)
 # leaves podid on Debian's libfftw3-dev, as without this script: it says why
