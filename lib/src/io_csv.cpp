@@ -93,10 +93,19 @@ class LineReader {
   long long line_number_ = 0;
 };
 
+// The blanks a cell may have around it.
+bool IsBlankByte(char c) { return c == ' ' || c == '\t'; }
+
 std::string_view Trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  while (!s.empty() && IsBlankByte(s.front())) s.remove_prefix(1);
+  while (!s.empty() && IsBlankByte(s.back())) s.remove_suffix(1);
   return s;
+}
+
+// The first byte of `line` at or after `at` that is not a blank, else its size.
+std::size_t SkipBlanks(std::string_view line, std::size_t at) {
+  while (at < line.size() && IsBlankByte(line[at])) ++at;
+  return at;
 }
 
 // A short, escaped excerpt of the offending cell (error.hpp): a file's bytes
@@ -132,8 +141,7 @@ struct HeaderCell {
 
 HeaderCell NextHeaderCell(std::string_view line, std::size_t start) {
   HeaderCell cell;
-  std::size_t at = start;
-  while (at < line.size() && (line[at] == ' ' || line[at] == '\t')) ++at;
+  std::size_t at = SkipBlanks(line, start);
   if (at == line.size() || line[at] != '"') {
     const std::size_t comma = line.find(',', start);
     cell.name = Trim(line.substr(start, comma == line.npos ? line.npos : comma - start));
@@ -160,7 +168,7 @@ HeaderCell NextHeaderCell(std::string_view line, std::size_t start) {
     }
     cell.name.push_back(line[at++]);
   }
-  while (at < line.size() && (line[at] == ' ' || line[at] == '\t')) ++at;
+  at = SkipBlanks(line, at);
   if (at < line.size() && line[at] != ',') {
     cell.error_at = at;
     cell.expected = "a comma or the end of the line after a quoted column name";
@@ -410,7 +418,10 @@ void WriteCsv(const std::string& path, const TimeSeries& series, OutputBatch* ba
       continue;
     }
     header += '"';
-    for (const char c : name) header += c == '"' ? std::string("\"\"") : std::string(1, c);
+    for (const char c : name) {
+      if (c == '"') header += '"';  // "" is one quote inside quotes
+      header += c;
+    }
     header += '"';
   }
   header += '\n';
