@@ -424,38 +424,64 @@ void WriteCsv(const std::string& path, const TimeSeries& series, OutputBatch* ba
     }
     header += '"';
   }
+  // Every line within ReadCsv's bound, checked before anything is written
+  // (a descriptor such as stdout is written as it goes): without it, about
+  // 50,000 channels made a file that its own reader refuses.
+  const auto too_long = [&](const std::string& line_name, std::size_t bytes) {
+    ThrowInvalid("WriteCsv(" + path + ")",
+                 "lines of at most " + std::to_string(kMaxCsvLineBytes) +
+                     " bytes (kMaxCsvLineBytes, what ReadCsv reads back)",
+                 line_name + " of " + std::to_string(bytes) + " bytes (" + std::to_string(cols) +
+                     " channels)");
+  };
+  if (header.size() > kMaxCsvLineBytes) too_long("a header", header.size());
   header += '\n';
+  // One row per line: 13 significant digits, as printf("%.12e"). The time
+  // gets more when 13 would not resolve its step to 1e-6 of the step (the
+  // reader's tolerance): a record starting at t = 1e9 s at 5 kHz was
+  // written as 501 equal stamps. 17 digits round-trip any double.
+  int time_precision = 12;
+  if (rows >= 2) {
+    const double span = std::max(std::abs(series.time_s(0)), std::abs(series.time_s(rows - 1)));
+    const double step =
+        (series.time_s(rows - 1) - series.time_s(0)) / static_cast<double>(rows - 1);
+    if (step > 0.0 && span > 0.0) {
+      const double needed = std::ceil(std::log10(span / step)) + 6.0;
+      time_precision = static_cast<int>(std::clamp(needed, 12.0, 16.0));
+    }
+  }
+  // The longest a cell prints: "-d." + 16 digits + "e+308" for the time,
+  // "-d." + 12 + "e+308" for a value, and a comma before each value.
+  constexpr std::size_t kTimeCellBytes = 24, kValueCellBytes = 21;
+  const std::size_t row_bound = kTimeCellBytes + static_cast<std::size_t>(cols) * kValueCellBytes;
+  std::vector<char> buffer(row_bound + 1);
+  const auto format_row = [&](Eigen::Index i) {
+    char* p = buffer.data();
+    char* const end = buffer.data() + buffer.size();
+    for (Eigen::Index j = -1; j < cols; ++j) {
+      if (j >= 0) *p++ = ',';
+      const double v = j < 0 ? series.time_s(i) : series.values(i, j);
+      p = std::to_chars(p, end, v, std::chars_format::scientific, j < 0 ? time_precision : 12).ptr;
+    }
+    return static_cast<std::size_t>(p - buffer.data());
+  };
+  if (row_bound > kMaxCsvLineBytes) {
+    // Only so wide a file pays for formatting twice: most values print
+    // shorter than the bound (a positive one with a two-digit exponent, 19).
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      const std::size_t bytes = format_row(i);
+      if (bytes > kMaxCsvLineBytes)
+        too_long("line " + std::to_string(i + 2), bytes);  // after the header
+    }
+  }
   WriteFileAtomically(
       path,
       [&](std::ostream& os) {
         os.write(header.data(), static_cast<std::streamsize>(header.size()));
-        // One row per line: 13 significant digits, as printf("%.12e"). The time
-        // gets more when 13 would not resolve its step to 1e-6 of the step (the
-        // reader's tolerance): a record starting at t = 1e9 s at 5 kHz was
-        // written as 501 equal stamps. 17 digits round-trip any double.
-        int time_precision = 12;
-        if (rows >= 2) {
-          const double span =
-              std::max(std::abs(series.time_s(0)), std::abs(series.time_s(rows - 1)));
-          const double step =
-              (series.time_s(rows - 1) - series.time_s(0)) / static_cast<double>(rows - 1);
-          if (step > 0.0 && span > 0.0) {
-            const double needed = std::ceil(std::log10(span / step)) + 6.0;
-            time_precision = static_cast<int>(std::clamp(needed, 12.0, 16.0));
-          }
-        }
-        std::vector<char> buffer(static_cast<std::size_t>(cols + 1) * 32 + 1);
         for (Eigen::Index i = 0; i < rows; ++i) {
-          char* p = buffer.data();
-          char* const end = buffer.data() + buffer.size();
-          for (Eigen::Index j = -1; j < cols; ++j) {
-            if (j >= 0) *p++ = ',';
-            const double v = j < 0 ? series.time_s(i) : series.values(i, j);
-            p = std::to_chars(p, end, v, std::chars_format::scientific, j < 0 ? time_precision : 12)
-                    .ptr;
-          }
-          *p++ = '\n';
-          os.write(buffer.data(), p - buffer.data());
+          const std::size_t bytes = format_row(i);
+          buffer[bytes] = '\n';
+          os.write(buffer.data(), static_cast<std::streamsize>(bytes + 1));
         }
       },
       batch);

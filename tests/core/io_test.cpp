@@ -105,6 +105,39 @@ TEST(WriteCsv, RejectsInconsistentSeriesBeforeWriting) {
   EXPECT_TRUE(dir.Entries().empty());
 }
 
+TEST(WriteCsv, WritesOnlyLinesReadCsvReadsBack) {
+  // 50,000 channels of "-1.000000000000e+00,": a 1,000,018-byte row that was
+  // written, and then refused by ReadCsv ("a line of at most 1048576 bytes").
+  const TempDir dir;
+  constexpr Eigen::Index kWide = 50000;
+  TimeSeries series;
+  series.time_s = Eigen::Vector2d(0, 0.5);
+  series.channel_names.resize(kWide);
+  for (Eigen::Index j = 0; j < kWide; ++j) series.channel_names[j] = "c" + std::to_string(j);
+  // Both rows print 18 + 50,000 x 19 = 950,018 bytes: under the bound, though
+  // the widest cells (21 bytes) would not be, so each row's length is checked.
+  series.values = Eigen::MatrixXd::Constant(2, kWide, 1.0);
+  const std::string path = dir.File("wide.csv");
+  WriteCsv(path, series);
+  const TimeSeries back = ReadCsv(path);
+  EXPECT_EQ(back.values, series.values);
+  EXPECT_EQ(back.channel_names, series.channel_names);
+  // Negative values with three-digit exponents: 21 bytes a cell, and the
+  // second row's 1,050,018 bytes pass the bound (1,048,576).
+  series.values.row(1).setConstant(-1e-100);
+  PODID_EXPECT_THROW_WITH(WriteCsv(path, series), std::invalid_argument,
+                          "expected lines of at most 1048576 bytes (kMaxCsvLineBytes, what ReadCsv "
+                          "reads back), got line 3 of 1050018 bytes (50000 channels)");
+  EXPECT_EQ(ReadCsv(path).values, Eigen::MatrixXd::Constant(2, kWide, 1.0));  // untouched
+  // A header alone too long: 2 channels of 600,000-byte names, refused
+  // before any file is created (the values would fit).
+  series.channel_names = {std::string(600000, 'a'), std::string(600000, 'b')};
+  series.values = Eigen::MatrixXd::Zero(2, 2);
+  PODID_EXPECT_THROW_WITH(WriteCsv(dir.File("long.csv"), series), std::invalid_argument,
+                          "got a header of 1200003 bytes (2 channels)");
+  EXPECT_EQ(dir.Entries().size(), 1u);
+}
+
 TEST(ReadCsv, AcceptsCrlfSpacesAndBlankLines) {
   const TempDir dir;
   const auto path = dir.Write("a.csv", "time, w1 ,w2\r\n0, 1,+2\r\n\r\n0.1 ,3, 4e0\r\n");

@@ -51,8 +51,11 @@ inline constexpr std::size_t kMaxReadValues = std::size_t{1} << 27;
 TimeSeries ReadCsv(const std::string& path);
 
 /// Writes `t,<names...>` and the rows with 13 significant digits (%.12e), atomically.
+/// A name ReadCsv would split, trim or take for a number is quoted (RFC 4180).
 /// Throws std::invalid_argument (before touching any file) when the sizes
-/// disagree or a channel name is empty or contains ',', '"' or a line break.
+/// disagree, a channel name cannot be read back (empty, a control character,
+/// a repeat, "t"), or a line would be longer than kMaxCsvLineBytes (about
+/// 50,000 channels).
 /// With a `batch`, the file is staged in it (see OutputBatch).
 void WriteCsv(const std::string& path, const TimeSeries& series, OutputBatch* batch = nullptr);
 
