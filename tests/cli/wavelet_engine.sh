@@ -96,6 +96,23 @@ grep -q "RidgeFrequency: memory: expected at most 2147483648 bytes" "$out/stderr
 grep -q "Cwt: memory: expected at most 1431655765 bytes" "$out/stderr" || fail "whole-transform memory message"
 [ -e "$out/big.csv" ] && fail "a refused transform wrote --scalogram"
 [ $(( $(date +%s) - start )) -le 5 ] || fail "--bins 100000 took more than 5 s"
+# --bins 0 and below were taken for "no --bins" (the log grid, exit 0).
+for bins in 0 -5; do
+  "$podid" cwt "$data" --channel w6 --bins "$bins" -o "$out/bins.csv" 2>"$out/stderr"
+  [ $? -eq 1 ] || fail "--bins $bins not exit 1"
+  grep -q "FrequencyGrid.bins: expected 2..100000, got $bins" "$out/stderr" || fail "--bins $bins message"
+done
+[ -e "$out/bins.csv" ] && fail "a refused --bins wrote -o"
+# A scalogram wider than ReadCsv's lines (1 MiB; 60,000 frequencies print
+# 1,140,018 bytes a row) is refused, not written unreadable.
+awk 'BEGIN { print "t,x"; for (i = 0; i < 200; ++i) printf "%.17g,%.17g\n", i / 5000, cos(0.0628 * i) }' \
+  >"$out/short.csv"
+"$podid" cwt "$out/short.csv" --channel x --bins 60000 --scalogram "$out/wide.csv" \
+  >/dev/null 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--bins 60000 --scalogram not exit 1"
+grep -q "expected lines of at most 1048576 bytes (kMaxCsvLineBytes, what ReadCsv reads back)" \
+  "$out/stderr" || fail "wide scalogram message: $(cat "$out/stderr")"
+[ -e "$out/wide.csv" ] && fail "a refused scalogram was written"
 "$podid" cwt "$data" --channel w6 --bins 2000 --max-memory 100 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--max-memory 100 not exit 1"
 "$podid" cwt "$data" --channel w6 --threads 2 >"$out/t2" || fail "--threads 2 exited $?"
