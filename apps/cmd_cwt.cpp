@@ -35,6 +35,7 @@ struct CwtArguments {
   int bins = 0;
   bool linear = false;  // --bins given (any value: the library checks it; 0 was ignored)
   std::string ridge = "penalised";
+  std::string if_from = "phase";
   int ridges = 1;
   double penalty_s = 0.05;
   double omega0 = 6.0;
@@ -114,6 +115,28 @@ std::vector<std::pair<std::string, Eigen::VectorXd>> SelectSignals(const CwtArgu
   return {{"POM " + ToText(a.pom) + " time mode (V column, energy " +
                ToText(std::round(1000.0 * pod.energy_fraction(a.pom - 1)) / 10.0) + " %)",
            pod.time_modes.col(a.pom - 1)}};
+}
+
+// How many of a ridge's usable IFs lie outside the grid's range, widened by
+// half a grid step at each end (a tone at the top frequency reads a hair above
+// it): the phase derivative measures the signal's frequency wherever the
+// ridge is, and where the ridge holds to an edge of the grid, or lies between
+// components or on noise, that frequency is outside the band analysed.
+struct OutsideGrid {
+  Eigen::Index below = 0, above = 0;
+};
+OutsideGrid CountOutsideGrid(const wavelet::RidgeTrack& track, const Eigen::VectorXd& grid_Hz) {
+  const Eigen::Index n = grid_Hz.size();
+  const double low_Hz = n > 1 ? grid_Hz(0) - 0.5 * (grid_Hz(1) - grid_Hz(0)) : grid_Hz(0);
+  const double high_Hz =
+      n > 1 ? grid_Hz(n - 1) + 0.5 * (grid_Hz(n - 1) - grid_Hz(n - 2)) : grid_Hz(n - 1);
+  OutsideGrid out;
+  for (Eigen::Index j = 0; j < track.size(); ++j) {
+    if (!track.inside_coi(j)) continue;  // screened IFs (NaN) are outside the cone
+    out.below += track.frequency_Hz(j) < low_Hz;
+    out.above += track.frequency_Hz(j) > high_Hz;
+  }
+  return out;
 }
 
 // Prints the IF statistics of one ridge inside the cone of influence.
@@ -204,6 +227,7 @@ void Run(const CwtArguments& a) {
     cwt.frequencies.voices_per_octave = a.voices;
   }
   options.ridge.method = wavelet::ParseRidgeMethod(a.ridge);
+  options.ridge.estimator = wavelet::ParseFrequencyEstimator(a.if_from);
   options.ridge.penalty_s = a.penalty_s;
   options.ridge.ridges = a.ridges;
   std::string why;
@@ -306,7 +330,9 @@ void Run(const CwtArguments& a) {
                       : "",
                   a.synchrosqueeze
                       ? " on the synchrosqueezed |T|, IF at the reassignment's fixed point"
-                      : ", IF from the phase derivative",
+                  : options.ridge.estimator == wavelet::FrequencyEstimator::kPhase
+                      ? ", IF from the phase derivative"
+                      : ", IF from the ridge's scale (refined between grid frequencies)",
                   a.ridges > 1 ? (", up to " + ToText(a.ridges) + " ridges").c_str() : "");
       // Below the lowest frequency whose cone holds a sample (the record's
       // middle) every coefficient is within an e-folding time of an edge:
@@ -336,6 +362,21 @@ void Run(const CwtArguments& a) {
       if (a.ridges > 1) prefix += "ridge " + ToText(r + 1) + ": ";
       if (!prefix.empty()) std::printf("%s\n", prefix.substr(0, prefix.size() - 1).c_str());
       PrintRidge(tracks.back()[r], a.coi_factor, prefix.empty() ? "" : "  ");
+      const OutsideGrid out = CountOutsideGrid(tracks.back()[r], sg.frequencies_Hz);
+      if (out.below + out.above > 0) {
+        const Eigen::Index n = sg.frequencies();
+        std::fprintf(stderr,
+                     "podid: note: %s%ld of %ld IFs inside the cone lie outside the grid's "
+                     "%.6g-%.6g Hz (%ld below, %ld above): where the ridge holds to an edge of "
+                     "the grid, or lies between components or on noise, the %s measures content "
+                     "beyond the grid; widen --fmin/--fmax%s\n",
+                     Escaped(prefix).c_str(), static_cast<long>(out.below + out.above),
+                     static_cast<long>(tracks.back()[r].InsideCoiCount()), sg.frequencies_Hz(0),
+                     sg.frequencies_Hz(n - 1), static_cast<long>(out.below),
+                     static_cast<long>(out.above),
+                     a.synchrosqueeze ? "reassigned frequency" : "phase derivative",
+                     a.synchrosqueeze ? "" : ", or --if scale for IFs on the grid");
+      }
     }
   }
 
@@ -465,6 +506,14 @@ void AddCwtCommand(CLI::App& app) {
   voices->excludes(bins);
   bins->excludes(voices);
   command->add_option("--ridge", a->ridge, "Ridge method: max or penalised")->capture_default_str();
+  auto* if_from =
+      command
+          ->add_option(
+              "--if", a->if_from,
+              "IF along the ridge: phase (the phase derivative of W: exact for a tone,\n"
+              "follows content beyond the grid) or scale (the ridge's scale, refined by the\n"
+              "parabola through log|W| at three scales: always on the grid)")
+          ->capture_default_str();
   command
       ->add_option("--ridges", a->ridges,
                    "Extract this many ridges (1..16), strongest first, each excluding\n"
@@ -516,10 +565,13 @@ void AddCwtCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_flag("--band-limited", a->band_limited,
                     "Decimated output (what identification uses); IF values are unchanged");
-  command->add_flag("--synchrosqueeze", a->synchrosqueeze,
-                    "Ridges of the synchrosqueezed transform |T| (Daubechies, Lu & Wu 2011):\n"
-                    "the IF where the reassignment has its fixed point, not quantised to the\n"
-                    "grid; --scalogram and --plot show |T|");
+  auto* synchrosqueeze =
+      command->add_flag("--synchrosqueeze", a->synchrosqueeze,
+                        "Ridges of the synchrosqueezed transform |T| (Daubechies, Lu & Wu 2011):\n"
+                        "the IF where the reassignment has its fixed point, not quantised to the\n"
+                        "grid; --scalogram and --plot show |T|");
+  if_from->excludes(synchrosqueeze);
+  synchrosqueeze->excludes(if_from);
   command->add_option("-o,--output", a->output, "Ridge CSV: t,f_Hz,amplitude,inside_coi");
   command->add_option("--inverse", a->inverse,
                       "In-band part of each signal by the inverse CWT (2 Re sum_k W ds/s / C:\n"

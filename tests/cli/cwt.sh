@@ -233,4 +233,36 @@ std=$(echo "$stats" | sed -n 's/.*std \([0-9.e+-]*\) Hz.*/\1/p')
 # The same ridge as at the record's own scale, 33-40 Hz x 1e202.
 awk -v m="$mean" -v s="$std" 'BEGIN { exit !(m > 33e202 && m < 40e202 && s > 0 && s < 7e202) }' \
   || fail "IF mean $mean, std $std Hz at the 1e-202 scale"
+# A 300 Hz tone analysed on 100-200 Hz: the ridge holds to the grid's top,
+# where the phase derivative reads the tone (300 Hz, outside the grid) and a
+# note says so; --if scale gives the ridge's grid frequency, 200 Hz. On
+# 100-400 Hz both read 300 Hz in the record's middle, each exact for a tone
+# (docs/wavelet.md): to 1e-9, which covers the FFT's rounding and the CSV's 13
+# digits (measured 6e-12 and 0); and there is no note.
+awk 'BEGIN { print "t,x"; for (i = 0; i <= 5000; ++i)
+  printf "%.17g,%.17g\n", i / 5000, cos(2 * 3.141592653589793 * 300 * i / 5000) }' >"$out/tone300.csv"
+"$podid" cwt "$out/tone300.csv" --channel x --fmin 100 --fmax 200 >"$out/edge" 2>"$out/edge_err" \
+  || fail "cwt of a tone above the grid exited $?"
+grep -q "mean 299.9[0-9]* Hz" "$out/edge" || fail "phase IF above the grid: $(grep mean "$out/edge")"
+grep -q "podid: note: 4865 of 4865 IFs inside the cone lie outside the grid's 100-200 Hz (0 below, 4865 above)" \
+  "$out/edge_err" || fail "no outside-the-grid note: $(cat "$out/edge_err")"
+grep -q -- "--if scale for IFs on the grid" "$out/edge_err" || fail "note without --if scale"
+"$podid" cwt "$out/tone300.csv" --channel x --fmin 100 --fmax 200 --if scale >"$out/edge" \
+  2>"$out/edge_err" || fail "cwt --if scale exited $?"
+grep -q "IF from the ridge's scale" "$out/edge" || fail "--if scale not reported"
+grep -q "mean 200 Hz, std 0 Hz" "$out/edge" || fail "scale IF at the grid's top: $(grep mean "$out/edge")"
+[ -s "$out/edge_err" ] && fail "a note with --if scale: $(cat "$out/edge_err")"
+for if_from in phase scale; do
+  "$podid" cwt "$out/tone300.csv" --channel x --fmin 100 --fmax 400 --if "$if_from" -o "$out/in.csv" \
+    >/dev/null 2>"$out/in_err" || fail "cwt --if $if_from in band exited $?"
+  [ -s "$out/in_err" ] && fail "a note for a tone inside the grid: $(cat "$out/in_err")"
+  awk -F, -v tol=1e-9 \
+    'NR > 1 && $1 >= 0.25 && $1 <= 0.75 && ($2 / 300 - 1 > tol || 1 - $2 / 300 > tol) { bad = 1 }
+     END { exit bad }' "$out/in.csv" || fail "--if $if_from: IF of the 300 Hz tone off by more than its tolerance"
+done
+"$podid" cwt "$out/tone300.csv" --channel x --if scale --synchrosqueeze 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--if with --synchrosqueeze not exit 1"
+"$podid" cwt "$out/tone300.csv" --channel x --if bogus 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--if bogus not exit 1"
+grep -q 'expected one of phase, scale, got "bogus"' "$out/stderr" || fail "--if bogus message"
 echo "cli.cwt: ok"
