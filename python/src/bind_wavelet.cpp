@@ -1,5 +1,5 @@
 // podid.cwt(x, step_s, ...), podid.ridges(...), podid.instantaneous_frequency(...),
-// podid.synchrosqueeze(...), podid.inverse_cwt(scalogram): the Morlet CWT, its
+// podid.synchrosqueeze(...), podid.inverse_cwt(scalogram): the Morlet or Morse CWT, its
 // ridges, the IF, the synchrosqueezed transform and the inverse CWT of a 1-D
 // array (docs/wavelet.md).
 #include <pybind11/eigen.h>
@@ -32,6 +32,13 @@ std::string PythonNames(std::string message) {
       {"FrequencyGrid.max_frequency_Hz", "fmax"},
       {"FrequencyGrid.voices_per_octave", "voices"},
       {"MorletWavelet.omega0", "omega0"},
+      {"MorletWavelet.gamma", "gamma"},
+      {"MorletWavelet.beta", "beta"},
+      {"RidgeOptions.penalty_s", "penalty_s"},
+      {"RidgeOptions.ridges", "count"},
+      {"ridge method", "method"},
+      {"frequency estimator", "estimator"},
+      {"scale convention", "scale_convention"},
       {"CwtOptions.coi_factor", "coi_factor"},
       {"CwtOptions.threads", "threads"},
       {"min_frequency_Hz", "fmin"},
@@ -56,14 +63,35 @@ auto WithPythonNames(F&& compute) {
   }
 }
 
-wavelet::CwtOptions MakeCwtOptions(double fmin_Hz, double fmax_Hz, int voices, double omega0,
-                                   const std::string& padding, double coi_factor, int threads) {
+// The wavelet's keywords (the CLI's --wavelet, --omega0, --gamma, --beta,
+// --normalisation, --scale-convention), shared by every function.
+struct WaveletArguments {
+  std::string family = "morlet";
+  double omega0 = 6.0, gamma = 3.0, beta = 20.0;
+  std::string normalisation = "amplitude", convention = "ridge";
+};
+
+wavelet::CwtOptions MakeCwtOptions(double fmin_Hz,
+                                   double fmax_Hz,
+                                   int voices,
+                                   const WaveletArguments& w,
+                                   const std::string& padding,
+                                   double coi_factor,
+                                   int threads) {
   wavelet::CwtOptions options;
   options.frequencies.min_frequency_Hz = fmin_Hz;
   options.frequencies.max_frequency_Hz = fmax_Hz;
   options.frequencies.voices_per_octave = voices;
-  options.wavelet.omega0 = omega0;
-  options.padding = wavelet::ParsePadding(padding);
+  options.wavelet.omega0 = w.omega0;
+  options.wavelet.gamma = w.gamma;
+  options.wavelet.beta = w.beta;
+  WithPythonNames([&] {
+    options.wavelet.family = wavelet::ParseWaveletFamily(w.family);
+    options.wavelet.normalisation = wavelet::ParseNormalisation(w.normalisation);
+    options.wavelet.convention = wavelet::ParseScaleConvention(w.convention);
+    options.padding = wavelet::ParsePadding(padding);
+    return 0;
+  });
   options.coi_factor = coi_factor;
   options.threads = threads;
   std::string why;
@@ -71,15 +99,26 @@ wavelet::CwtOptions MakeCwtOptions(double fmin_Hz, double fmax_Hz, int voices, d
   return options;
 }
 
-// Keyword arguments shared by the three functions (the CLI's names).
+// Keyword arguments shared by the functions (the CLI's names). The wavelet's
+// come last: the earlier arguments keep their positions.
+#define PODID_WAVELET_KWARGS                                                     \
+  py::arg("wavelet") = "morlet", py::arg("gamma") = 3.0, py::arg("beta") = 20.0, \
+  py::arg("normalisation") = "amplitude", py::arg("scale_convention") = "ridge"
+#define PODID_WAVELET_PARAMETERS                                                          \
+  const std::string &family, double gamma, double beta, const std::string &normalisation, \
+      const std::string &convention
+#define PODID_WAVELET_ARGUMENTS \
+  WaveletArguments { family, omega0, gamma, beta, normalisation, convention }
 // The CLI's defaults (podid cwt): zero padding, cone factor 2 (docs/wavelet.md).
-#define PODID_CWT_KWARGS                                                                       \
-  py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("voices") = 32, py::arg("omega0") = 6.0, \
-      py::arg("padding") = "zero", py::arg("coi_factor") = 2.0, py::arg("threads") = 1
+#define PODID_CWT_KWARGS                                                             \
+  py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("voices") = 32,           \
+  py::arg("omega0") = 6.0, py::arg("padding") = "zero", py::arg("coi_factor") = 2.0, \
+  py::arg("threads") = 1, PODID_WAVELET_KWARGS
 // The wavelet objective's (RidgeFrequencyOptions): reflect padding, cone factor 1.
-#define PODID_OBJECTIVE_KWARGS                                                                 \
-  py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("voices") = 32, py::arg("omega0") = 6.0, \
-      py::arg("padding") = "reflect", py::arg("coi_factor") = 1.0, py::arg("threads") = 1
+#define PODID_OBJECTIVE_KWARGS                                                          \
+  py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("voices") = 32,              \
+  py::arg("omega0") = 6.0, py::arg("padding") = "reflect", py::arg("coi_factor") = 1.0, \
+  py::arg("threads") = 1, PODID_WAVELET_KWARGS
 
 }  // namespace
 
@@ -106,26 +145,35 @@ void BindWavelet(py::module_& m) {
 
   m.def(
       "cwt",
-      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double fmin, double fmax, int voices,
-         double omega0, const std::string& padding, double coi_factor, int threads) {
-        const wavelet::CwtOptions options =
-            MakeCwtOptions(fmin, fmax, voices, omega0, padding, coi_factor, threads);
+      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double fmin, double fmax,
+         int voices, double omega0, const std::string& padding, double coi_factor, int threads,
+         PODID_WAVELET_PARAMETERS) {
+        const wavelet::CwtOptions options = MakeCwtOptions(
+            fmin, fmax, voices, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
         py::gil_scoped_release release;
         return WithPythonNames([&] { return wavelet::Cwt(x, step_s, options); });
       },
       py::arg("x"), py::arg("step_s"), PODID_CWT_KWARGS,
-      "Morlet CWT of x (1-D, sampled every step_s) on a log grid fmin..fmax Hz.");
+      "CWT of x (1-D, sampled every step_s) on a log grid fmin..fmax Hz: Morlet (omega0) or, "
+      "with wavelet=\"morse\", generalised Morse (gamma, beta); normalisation \"amplitude\" "
+      "(L1) or \"energy\" (L2); scale_convention \"ridge\" or \"peak\" (MATLAB, PyWavelets).");
 
   m.def(
       "ridges",
-      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, int count, double fmin, double fmax,
-         int voices, double omega0, const std::string& padding, double coi_factor, int threads) {
-        const wavelet::CwtOptions options =
-            MakeCwtOptions(fmin, fmax, voices, omega0, padding, coi_factor, threads);
+      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, int count, double fmin,
+         double fmax, int voices, double omega0, const std::string& padding, double coi_factor,
+         int threads, PODID_WAVELET_PARAMETERS, const std::string& method, double penalty_s,
+         const std::string& estimator) {
+        const wavelet::CwtOptions options = MakeCwtOptions(
+            fmin, fmax, voices, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
         wavelet::RidgeOptions ridge;
         ridge.ridges = count;
+        ridge.method = WithPythonNames([&] { return wavelet::ParseRidgeMethod(method); });
+        ridge.penalty_s = penalty_s;
+        ridge.estimator =
+            WithPythonNames([&] { return wavelet::ParseFrequencyEstimator(estimator); });
         std::string why;
-        if (!ridge.IsValid(&why)) throw std::invalid_argument("count: " + why);
+        if (!ridge.IsValid(&why)) throw std::invalid_argument(PythonNames(why));
         py::gil_scoped_release release;
         wavelet::CwtTransform transform(options);
         wavelet::Scalogram scalogram;
@@ -140,7 +188,11 @@ void BindWavelet(py::module_& m) {
         return tracks;
       },
       py::arg("x"), py::arg("step_s"), py::arg("count") = 1, PODID_CWT_KWARGS,
-      "The `count` strongest penalised ridges of x's CWT, strongest first.");
+      py::arg("method") = "penalised", py::arg("penalty_s") = 0.05, py::arg("estimator") = "phase",
+      "The `count` strongest ridges of x's CWT, strongest first: method \"penalised\" (dynamic "
+      "programming, a one-e-fold jump costing penalty_s) or \"max\"; the IF from the "
+      "\"phase\" derivative (follows content beyond the grid) or the ridge's \"scale\" "
+      "(refined between grid frequencies, always on the grid).");
 
   py::class_<wavelet::SynchrosqueezedTransform>(m, "SynchrosqueezedTransform",
                                                 "T(t, f) and the reassignment it was built from.")
@@ -157,7 +209,7 @@ void BindWavelet(py::module_& m) {
             wavelet::RidgeOptions ridge;
             ridge.ridges = count;
             std::string why;
-            if (!ridge.IsValid(&why)) throw std::invalid_argument("count: " + why);
+            if (!ridge.IsValid(&why)) throw std::invalid_argument(PythonNames(why));
             py::gil_scoped_release release;
             return wavelet::SynchrosqueezedRidges(sst, ridge);
           },
@@ -169,9 +221,9 @@ void BindWavelet(py::module_& m) {
       "synchrosqueeze",
       [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double threshold, double fmin,
          double fmax, int voices, double omega0, const std::string& padding, double coi_factor,
-         int threads) {
-        const wavelet::CwtOptions options =
-            MakeCwtOptions(fmin, fmax, voices, omega0, padding, coi_factor, threads);
+         int threads, PODID_WAVELET_PARAMETERS) {
+        const wavelet::CwtOptions options = MakeCwtOptions(
+            fmin, fmax, voices, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
         wavelet::SynchrosqueezeOptions squeeze;
         squeeze.relative_threshold = threshold;
         std::string why;
@@ -187,7 +239,7 @@ void BindWavelet(py::module_& m) {
         return out;
       },
       py::arg("x"), py::arg("step_s"), py::arg("threshold") = 1e-6, PODID_CWT_KWARGS,
-      "Synchrosqueezed Morlet CWT of x (Daubechies, Lu & Wu 2011): each coefficient with |W| "
+      "Synchrosqueezed CWT of x (Daubechies, Lu & Wu 2011): each coefficient with |W| "
       "above threshold x max |W| moved to the grid frequency of its IF.");
 
   m.def(
@@ -203,11 +255,13 @@ void BindWavelet(py::module_& m) {
 
   m.def(
       "instantaneous_frequency",
-      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double fmin, double fmax, int voices,
-         double omega0, const std::string& padding, double coi_factor, int threads) {
+      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double fmin, double fmax,
+         int voices, double omega0, const std::string& padding, double coi_factor, int threads,
+         PODID_WAVELET_PARAMETERS) {
         wavelet::RidgeFrequencyOptions options;
         const bool band_limited = options.cwt.band_limited;
-        options.cwt = MakeCwtOptions(fmin, fmax, voices, omega0, padding, coi_factor, threads);
+        options.cwt = MakeCwtOptions(fmin, fmax, voices, PODID_WAVELET_ARGUMENTS, padding,
+                                     coi_factor, threads);
         options.cwt.band_limited = band_limited;
         py::gil_scoped_release release;
         return WithPythonNames([&] { return wavelet::RidgeFrequency(x, step_s, options); });

@@ -5,6 +5,7 @@ import json
 import math
 import os
 import pathlib
+import re
 
 import numpy as np
 import pytest
@@ -146,6 +147,68 @@ def test_cwt_and_two_ridges_of_two_tones():
     tracks = podid.ridges(x, step, count=2, fmin=10, fmax=200)
     found = sorted(float(np.median(tr.frequency_Hz[(tr.time_s > 1) & (tr.time_s < 3)])) for tr in tracks)
     assert abs(found[0] - 25.0) < TWO_TONE_TOLERANCE_HZ and abs(found[1] - 90.0) < TWO_TONE_TOLERANCE_HZ
+
+
+# 2 pi f s, a scale's frequency times the scale, against its analytic value:
+# Morlet's omega0 (the peak of its spectrum, and the ridge of a tone with L1
+# normalisation), Torrence & Compo's (omega0 + sqrt(2 + omega0^2)) / 2 for
+# the ridge with L2; generalised Morse's peak (beta / gamma)^(1 / gamma) and
+# its L2 ridge ((beta + 1/2) / gamma)^(1 / gamma), the maximum of
+# sqrt(u) u^beta exp(-u^gamma). Only rounding separates them: 1e-12 relative.
+SCALE_FREQUENCY_TOLERANCE = 1e-12
+MORLET_OMEGA0, MORSE_GAMMA, MORSE_BETA = 6.0, 3.0, 20.0
+
+
+@pytest.mark.parametrize("wavelet,normalisation,convention,expected", [
+    ("morlet", "amplitude", "ridge", MORLET_OMEGA0),
+    ("morlet", "energy", "ridge", (MORLET_OMEGA0 + math.sqrt(2 + MORLET_OMEGA0 ** 2)) / 2),
+    ("morlet", "energy", "peak", MORLET_OMEGA0),
+    ("morse", "amplitude", "ridge", (MORSE_BETA / MORSE_GAMMA) ** (1 / MORSE_GAMMA)),
+    ("morse", "energy", "ridge", ((MORSE_BETA + 0.5) / MORSE_GAMMA) ** (1 / MORSE_GAMMA)),
+    ("morse", "energy", "peak", (MORSE_BETA / MORSE_GAMMA) ** (1 / MORSE_GAMMA)),
+])
+def test_scale_frequency_conventions_match_their_analytic_values(wavelet, normalisation, convention,
+                                                                expected):
+    step = 1e-3
+    x = np.cos(2 * math.pi * 40.0 * np.arange(1000) * step)
+    sc = podid.cwt(x, step, fmin=20, fmax=80, wavelet=wavelet, omega0=MORLET_OMEGA0, gamma=MORSE_GAMMA,
+                   beta=MORSE_BETA, normalisation=normalisation, scale_convention=convention)
+    product = 2 * math.pi * sc.frequencies_Hz * sc.scales_s
+    assert np.max(np.abs(product / expected - 1)) < SCALE_FREQUENCY_TOLERANCE
+
+
+def test_ridge_options_morse_wavelet_and_the_scale_estimator_on_tones():
+    step = 1e-3
+    t = np.arange(4000) * step
+    middle = (t > 1.0) & (t < 3.0)
+    tone = np.cos(2 * math.pi * 40.0 * t)
+    # Each estimator, wavelet and method reads a tone on the grid exactly
+    # (the scale's parabola is exact for a tone with L1, docs/wavelet.md).
+    for options in (dict(wavelet="morse"), dict(estimator="scale"), dict(method="max"),
+                    dict(penalty_s=0.0)):
+        (track,) = podid.ridges(tone, step, fmin=20, fmax=80, **options)
+        assert np.max(np.abs(track.frequency_Hz[middle] - 40.0)) < TONE_IF_TOLERANCE_HZ, options
+    # A 100 Hz tone above a 20-80 Hz grid: the ridge holds to the grid's top;
+    # the phase derivative reads the tone, the scale the grid's top frequency.
+    high = np.cos(2 * math.pi * 100.0 * t)
+    (phase,) = podid.ridges(high, step, fmin=20, fmax=80)
+    (scale,) = podid.ridges(high, step, fmin=20, fmax=80, estimator="scale")
+    assert np.all(phase.grid_frequency_Hz[middle] == scale.grid_frequency_Hz[middle])
+    top = float(np.max(podid.cwt(high, step, fmin=20, fmax=80).frequencies_Hz))
+    assert np.all(scale.frequency_Hz[middle] == top)
+    # W of a tone is that tone at every scale: exact off the grid too.
+    assert np.max(np.abs(phase.frequency_Hz[middle] - 100.0)) < TONE_IF_TOLERANCE_HZ
+    # Bad options are named by their keyword.
+    for options, message in ((dict(method="viterbi"), "method: expected one of max, penalised"),
+                             (dict(estimator="hilbert"), "estimator: expected one of phase, scale"),
+                             (dict(penalty_s=-1.0), "penalty_s: expected a finite value >= 0"),
+                             (dict(count=17), "count: expected 1..16"),
+                             (dict(wavelet="haar"), "wavelet: expected one of morlet, morse"),
+                             (dict(wavelet="morse", gamma=0.5), "gamma: expected a value in [1, 20]"),
+                             (dict(scale_convention="centre"), "scale_convention: expected one of ridge, peak"),
+                             (dict(padding="mirror"), "padding: expected one of reflect, zero, periodic")):
+        with pytest.raises(ValueError, match=re.escape(message)):
+            podid.ridges(tone, step, fmin=20, fmax=80, **options)
 
 
 # The synchrosqueezed ridges of two tones in 0.3-1.7 s: the IF at the
