@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -32,8 +33,7 @@ struct CwtArguments {
   double fmin_Hz = 10.0;
   double fmax_Hz = 120.0;
   int voices = 32;
-  int bins = 0;
-  bool linear = false;  // --bins given (any value: the library checks it; 0 was ignored)
+  std::optional<int> bins;  // given: the linear grid (any value: the library checks it)
   std::string ridge = "penalised";
   std::string if_from = "phase";
   int ridges = 1;
@@ -220,9 +220,9 @@ void Run(const CwtArguments& a) {
   cwt.memory_budget_bytes = a.max_memory_MB * 1048576.0 * 16.0 / cell_bytes;
   cwt.frequencies.min_frequency_Hz = a.fmin_Hz;
   cwt.frequencies.max_frequency_Hz = a.fmax_Hz;
-  if (a.linear) {
+  if (a.bins) {
     cwt.frequencies.spacing = wavelet::FrequencySpacing::kLinear;
-    cwt.frequencies.bins = a.bins;
+    cwt.frequencies.bins = *a.bins;
   } else {
     cwt.frequencies.voices_per_octave = a.voices;
   }
@@ -318,7 +318,7 @@ void Run(const CwtArguments& a) {
                   cwt.wavelet.Describe().c_str(), wavelet::ToString(cwt.wavelet.normalisation),
                   static_cast<long>(sg.frequencies()), sg.frequencies_Hz(0),
                   sg.frequencies_Hz(sg.frequencies() - 1),
-                  a.linear ? "linear" : (ToText(a.voices) + " voices/octave").c_str(),
+                  a.bins ? "linear" : (ToText(a.voices) + " voices/octave").c_str(),
                   wavelet::ToString(cwt.padding),
                   !a.band_limited ? ""
                   : sg.decimation > 1
@@ -463,7 +463,7 @@ void Run(const CwtArguments& a) {
                  (a.synchrosqueeze ? ", synchrosqueezed)" : ")");
     axes.x_label = "t (s)";
     axes.y_label = "f (Hz)";
-    axes.log_y = !a.linear;
+    axes.log_y = !a.bins;
     const PlotOutcome outcome = PlotHeatMap(
         a.plot, axes, symbol, t, sg.frequencies_Hz, z,
         {{"ridge IF (inside cone)", track.time_s, ridge_f}, {"cone of influence", coi_time_s, coi}},
@@ -580,8 +580,7 @@ void AddCwtCommand(CLI::App& app) {
   command->add_option("--scalogram", a->scalogram,
                       "|W| (|T| with --synchrosqueeze) CSV: t, one column per frequency");
   command->add_option("--plot", a->plot, "Scalogram PNG with the ridge (needs gnuplot)");
-  command->callback([a, bins] {
-    a->linear = bins->count() > 0;
+  command->callback([a] {
     if (a->channel.empty() && a->pom == 0) {
       ThrowInvalid("cwt", "--channel NAME or --pom K", "neither");
     }
