@@ -64,11 +64,12 @@ auto WithPythonNames(F&& compute) {
 }
 
 // The wavelet's keywords (the CLI's --wavelet, --omega0, --gamma, --beta,
-// --normalisation, --scale-convention), shared by every function.
+// --normalisation, --scale-convention), shared by every function; their
+// defaults are PODID_WAVELET_KWARGS's and omega0's.
 struct WaveletArguments {
-  std::string family = "morlet";
-  double omega0 = 6.0, gamma = 3.0, beta = 20.0;
-  std::string normalisation = "amplitude", convention = "ridge";
+  std::string family;
+  double omega0, gamma, beta;
+  std::string normalisation, convention;
 };
 
 wavelet::CwtOptions MakeCwtOptions(double fmin_Hz,
@@ -168,10 +169,12 @@ void BindWavelet(py::module_& m) {
             fmin, fmax, voices, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
         wavelet::RidgeOptions ridge;
         ridge.ridges = count;
-        ridge.method = WithPythonNames([&] { return wavelet::ParseRidgeMethod(method); });
         ridge.penalty_s = penalty_s;
-        ridge.estimator =
-            WithPythonNames([&] { return wavelet::ParseFrequencyEstimator(estimator); });
+        WithPythonNames([&] {
+          ridge.method = wavelet::ParseRidgeMethod(method);
+          ridge.estimator = wavelet::ParseFrequencyEstimator(estimator);
+          return 0;
+        });
         std::string why;
         if (!ridge.IsValid(&why)) throw std::invalid_argument(PythonNames(why));
         py::gil_scoped_release release;
