@@ -1,4 +1,4 @@
-// podid cwt: Morlet wavelet transform of one channel (or one POD time mode),
+// podid cwt: Morlet or Morse wavelet transform of one channel (or one POD time mode),
 // its ridge, and the instantaneous frequency along it (docs/wavelet.md).
 #include <algorithm>
 #include <cmath>
@@ -21,6 +21,7 @@
 #include "podid/wavelet/cwt.hpp"
 #include "podid/wavelet/ridge.hpp"
 #include "podid/wavelet/synthesis.hpp"
+#include "wavelet_arguments.hpp"
 
 namespace podid::cli {
 namespace {
@@ -38,10 +39,7 @@ struct CwtArguments {
   std::string if_from = "phase";
   int ridges = 1;
   double penalty_s = 0.05;
-  double omega0 = 6.0;
-  std::string wavelet = "morlet";
-  double gamma = 3.0;
-  double beta = 20.0;
+  WaveletArguments wavelet;  // --wavelet, --omega0, --gamma, --beta
   std::string padding = "zero";
   std::string normalisation = "amplitude";
   std::string scale_convention = "ridge";
@@ -203,10 +201,7 @@ void Run(const CwtArguments& a) {
   wavelet::RidgeFrequencyOptions options;
   wavelet::CwtOptions& cwt = options.cwt;
   cwt.band_limited = a.band_limited;
-  cwt.wavelet.family = wavelet::ParseWaveletFamily(a.wavelet);
-  cwt.wavelet.omega0 = a.omega0;
-  cwt.wavelet.gamma = a.gamma;
-  cwt.wavelet.beta = a.beta;
+  a.wavelet.ApplyTo(&cwt.wavelet);
   cwt.wavelet.normalisation = wavelet::ParseNormalisation(a.normalisation);
   cwt.wavelet.convention = wavelet::ParseScaleConvention(a.scale_convention);
   cwt.padding = wavelet::ParsePadding(a.padding);
@@ -524,17 +519,7 @@ void AddCwtCommand(CLI::App& app) {
                    "Penalised ridge: cost (s) of a jump of one e-fold in frequency")
       ->capture_default_str()
       ->check(NumberIn({0.0}));
-  command->add_option("--wavelet", a->wavelet, "morlet or morse (generalised Morse, MATLAB's default)")
-      ->capture_default_str();
-  command->add_option("--omega0", a->omega0, "Morlet centre frequency")
-      ->capture_default_str()
-      ->check(NumberIn({wavelet::kMinOmega0}, {wavelet::kMaxOmega0}));
-  command->add_option("--gamma", a->gamma, "Morse symmetry gamma")
-      ->capture_default_str()
-      ->check(NumberIn({wavelet::kMinMorseGamma}, {wavelet::kMaxMorseGamma}));
-  command->add_option("--beta", a->beta, "Morse decay beta (beta/gamma <= 100)")
-      ->capture_default_str()
-      ->check(NumberIn({wavelet::kMinMorseBeta}, {wavelet::kMaxMorseBeta}));
+  a->wavelet.AddTo(*command);
   command->add_option("--padding", a->padding, "reflect, zero or periodic")->capture_default_str();
   command->add_option("--normalisation", a->normalisation, "amplitude (L1) or energy (L2)")
       ->capture_default_str();

@@ -56,6 +56,7 @@ void ObjectiveArguments::AddTo(CLI::App& command) {
   command.add_option("--penalty", penalty_s, "Ridge penalty of the wavelet term (s)")
       ->capture_default_str()
       ->check(NumberIn({0.0}));
+  wavelet.AddTo(command, " of the wavelet term");
   command.add_option("--start", starts, "Start value of a parameter, e.g. --start knl=40 (repeatable)")
       ->type_name("NAME=VALUE");
 }
@@ -103,6 +104,7 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin_Hz;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax_Hz;
   options.ridge.ridge.penalty_s = penalty_s;
+  wavelet.ApplyTo(&options.ridge.cwt.wavelet);
   options.ridge.cwt.threads = ridge_threads;
   auto objective = std::make_unique<ident::ObjectiveFunction>(document, data, options);
   // Under MPI every rank builds the objective; rank 0 speaks for them.

@@ -10,6 +10,7 @@
 #include "cli_common.hpp"
 #include "data_arguments.hpp"
 #include "podid/ident/objective.hpp"
+#include "wavelet_arguments.hpp"
 
 namespace podid::cli {
 
@@ -28,6 +29,7 @@ struct ObjectiveArguments {
   double fmin_Hz = 10.0;
   double fmax_Hz = 120.0;
   double penalty_s = 0.05;
+  WaveletArguments wavelet;         ///< the wavelet term's --wavelet, --omega0, --gamma, --beta
   std::vector<std::string> starts;  ///< name=value
   /// The ridge's CwtOptions::threads (not an option: identify gives a single
   /// start two threads, see cmd_identify.cpp).

@@ -74,10 +74,11 @@ ModeRidges PrepareModeRidges(const PodResult& pod, const Eigen::VectorXd& noise_
   for (int k = 0; k < modes; ++k) {
     out.options.push_back(BandOf(k, modes, pod, step_s, options, &peaks_Hz, &out.notes));
     const wavelet::CwtOptions& cwt = out.options.back().cwt;
-    // The record must hold the cone of influence at the lowest frequency:
-    // 2 * coi_factor * sqrt(2) s(f_min).
+    // The record must hold the cone of influence at the lowest frequency, at
+    // both ends: 2 * coi_factor * the wavelet's e-folding time (sqrt(2) s for
+    // Morlet, longer for Morse gamma 3 beta 20).
     const double s_min = cwt.wavelet.FrequencyToScale_s(cwt.frequencies.min_frequency_Hz);
-    const double needed = 2.0 * cwt.coi_factor * wavelet::MorletWavelet::ConeOfInfluence_s(s_min);
+    const double needed = 2.0 * cwt.coi_factor * cwt.wavelet.ConeOfInfluenceTime_s(s_min);
     if (duration_s <= needed) {
       ThrowInvalid("measured data", "a record longer than " + ToText(needed) +
                        " s for the wavelet objective's lowest frequency " +

@@ -22,6 +22,7 @@
 #include "podid/ident/landscape.hpp"
 #include "podid/ident/measured_record.hpp"
 #include "podid/ident/objective.hpp"
+#include "podid/wavelet/cwt.hpp"
 
 namespace py = pybind11;
 
@@ -61,12 +62,33 @@ ident::NamedObjective ParseWeighting(const std::string& text) {
   return {text, w};
 }
 
-std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case_, const Measured& measured,
-                                                         const std::vector<std::string>& weightings, int modes,
-                                                         double fmin, double fmax, bool raw_sigma,
+// The wavelet term's wavelet: the keywords wavelet, omega0, gamma, beta (the
+// CLI's --wavelet, --omega0, --gamma, --beta of identify and landscape).
+struct ObjectiveWavelet {
+  std::string family;
+  double omega0, gamma, beta;
+};
+
+// Last in each signature, so that the earlier keywords keep their positions.
+#define PODID_OBJECTIVE_WAVELET_KWARGS                                            \
+  py::arg("wavelet") = "morlet", py::arg("omega0") = 6.0, py::arg("gamma") = 3.0, \
+  py::arg("beta") = 20.0
+#define PODID_OBJECTIVE_WAVELET_PARAMETERS \
+  const std::string &family, double omega0, double gamma, double beta
+#define PODID_OBJECTIVE_WAVELET_ARGUMENTS \
+  ObjectiveWavelet { family, omega0, gamma, beta }
+
+std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case_,
+                                                         const Measured& measured,
+                                                         const std::vector<std::string>& weightings,
+                                                         int modes,
+                                                         double fmin,
+                                                         double fmax,
+                                                         bool raw_sigma,
                                                          bool keep_mean,
                                                          const std::vector<std::string>& set,
-                                                         int ridge_threads) {
+                                                         int ridge_threads,
+                                                         const ObjectiveWavelet& w) {
   ident::ObjectiveOptions options;
   options.weightings.clear();
   for (const std::string& w : weightings) {
@@ -83,6 +105,13 @@ std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax;
   options.ridge.cwt.threads = ridge_threads;  // checked by the objective (1..256)
+  wavelet::MorletWavelet& psi = options.ridge.cwt.wavelet;
+  psi.family = wavelet::ParseWaveletFamily(w.family);  // its message names `wavelet`
+  psi.omega0 = w.omega0;
+  psi.gamma = w.gamma;
+  psi.beta = w.beta;
+  std::string why;
+  if (!psi.IsValid(&why)) throw std::invalid_argument(PythonNames(why));
   CaseDocument document = LoadCase(case_, set);
   const TimeSeries data = PrepareMeasured(document, measured);
   py::gil_scoped_release release;
@@ -125,14 +154,24 @@ void BindIdent(py::module_& m) {
       m, "Objective",
       "The objective(s) of a case against a measured record: one simulation per evaluation\n"
       "gives the value of every weighting (docs/method.md).")
-      .def(py::init(&BuildObjective), py::arg("case"), py::arg("measured"),
+      .def(py::init([](const std::string& case_, const Measured& measured,
+                       const std::vector<std::string>& weightings, int modes, double fmin,
+                       double fmax, bool raw_sigma, bool keep_mean,
+                       const std::vector<std::string>& set, int ridge_threads,
+                       PODID_OBJECTIVE_WAVELET_PARAMETERS) {
+             return BuildObjective(case_, measured, weightings, modes, fmin, fmax, raw_sigma,
+                                   keep_mean, set, ridge_threads,
+                                   PODID_OBJECTIVE_WAVELET_ARGUMENTS);
+           }),
+           py::arg("case"), py::arg("measured"),
            py::arg("weightings") = std::vector<std::string>{"full"}, py::arg("modes") = 1,
            py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("raw_sigma") = false,
-           py::arg("keep_mean") = false,
-           py::arg("set") = std::vector<std::string>{}, py::arg("ridge_threads") = 1,
+           py::arg("keep_mean") = false, py::arg("set") = std::vector<std::string>{},
+           py::arg("ridge_threads") = 1, PODID_OBJECTIVE_WAVELET_KWARGS,
            "case: a case-file path or TOML text; measured: a file path or a TimeSeries;\n"
            "weightings: presets (full, time-free, wavelet) or terms like \"U,S,IF:1,1,0.5\";\n"
-           "ridge_threads: 2 runs a long record's ridge on two threads (the same values).")
+           "ridge_threads: 2 runs a long record's ridge on two threads (the same values);\n"
+           "wavelet: the IF term's wavelet, morlet (omega0) or morse (gamma, beta).")
       .def_property_readonly("parameter_names",
                              [](const ident::ObjectiveFunction& f) {
                                std::vector<std::string> names;
@@ -176,10 +215,12 @@ void BindIdent(py::module_& m) {
       [](const std::string& case_, const Measured& measured, const std::string& objective,
          const std::map<std::string, double>& start, int multistart, const std::string& algorithm,
          int max_evaluations, double xtol, std::uint64_t seed, int modes, double fmin, double fmax,
-         int threads, const py::object& progress, bool keep_mean, const std::vector<std::string>& set,
-         int ridge_threads) {
+         int threads, const py::object& progress, bool keep_mean,
+         const std::vector<std::string>& set, int ridge_threads,
+         PODID_OBJECTIVE_WAVELET_PARAMETERS) {
         const auto f =
-            BuildObjective(case_, measured, {objective}, modes, fmin, fmax, false, keep_mean, set, ridge_threads);
+            BuildObjective(case_, measured, {objective}, modes, fmin, fmax, false, keep_mean, set,
+                           ridge_threads, PODID_OBJECTIVE_WAVELET_ARGUMENTS);
         ident::IdentifyOptions options;
         options.algorithm = ident::ParseAlgorithm(algorithm);
         options.start = ValuesFrom(*f, start);
@@ -235,6 +276,7 @@ void BindIdent(py::module_& m) {
       py::arg("seed") = 1, py::arg("modes") = 1, py::arg("fmin") = 10.0, py::arg("fmax") = 120.0,
       py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("keep_mean") = false,
       py::arg("set") = std::vector<std::string>{}, py::arg("ridge_threads") = 1,
+      PODID_OBJECTIVE_WAVELET_KWARGS,
       "Identify the case's parameters from a measured record, as `podid identify` does.\n"
       "Returns a dict: 'parameters' {name: value}, 'usable', 'termination', 'summary' (the full\n"
       "report), objectives and counts. progress(done, total) is called after each evaluation.");
@@ -244,8 +286,10 @@ void BindIdent(py::module_& m) {
       [](const std::string& case_, const Measured& measured, const std::string& param, double lower,
          double upper, int points, const std::vector<std::string>& objectives,
          const std::map<std::string, double>& base, int threads, const py::object& progress,
-         int modes, double fmin, double fmax, bool keep_mean, const std::vector<std::string>& set) {
-        const auto f = BuildObjective(case_, measured, objectives, modes, fmin, fmax, false, keep_mean, set, 1);
+         int modes, double fmin, double fmax, bool keep_mean, const std::vector<std::string>& set,
+         PODID_OBJECTIVE_WAVELET_PARAMETERS) {
+        const auto f = BuildObjective(case_, measured, objectives, modes, fmin, fmax, false,
+                                      keep_mean, set, 1, PODID_OBJECTIVE_WAVELET_ARGUMENTS);
         ident::LandscapeOptions options;
         options.x.parameter = f->ParameterIndex(param, "param");
         options.x.lower = lower;
@@ -284,11 +328,14 @@ void BindIdent(py::module_& m) {
         return out;
       },
       py::arg("case"), py::arg("measured"), py::arg("param"), py::arg("lower"), py::arg("upper"),
-      py::arg("points") = 101, py::arg("objectives") = std::vector<std::string>{"full", "time-free", "wavelet"},
+      py::arg("points") = 101,
+      py::arg("objectives") = std::vector<std::string>{"full", "time-free", "wavelet"},
       py::arg("base") = std::map<std::string, double>{}, py::arg("threads") = 0,
-      py::arg("progress") = py::none(), py::arg("modes") = 1, py::arg("fmin") = 10.0, py::arg("fmax") = 120.0,
-      py::arg("keep_mean") = false, py::arg("set") = std::vector<std::string>{},
-      "Objectives over a 1-D grid of `param` (one simulation per point for all objectives): a dict\n"
+      py::arg("progress") = py::none(), py::arg("modes") = 1, py::arg("fmin") = 10.0,
+      py::arg("fmax") = 120.0, py::arg("keep_mean") = false,
+      py::arg("set") = std::vector<std::string>{}, PODID_OBJECTIVE_WAVELET_KWARGS,
+      "Objectives over a 1-D grid of `param` (one simulation per point for all objectives): a "
+      "dict\n"
       "with 'x', 'values' {objective: array (NaN where a point failed)} and 'metrics'.");
 }
 

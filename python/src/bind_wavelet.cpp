@@ -19,10 +19,7 @@
 namespace py = pybind11;
 
 namespace podid::python {
-namespace {
 
-// The library's field names in a message (FrequencyGrid.min_frequency_Hz)
-// as this module's keyword arguments (fmin), which the caller typed.
 std::string PythonNames(std::string message) {
   // Longest first: a shorter name is part of a longer one.
   static constexpr std::pair<std::string_view, std::string_view> kNames[] = {
@@ -52,6 +49,8 @@ std::string PythonNames(std::string message) {
   }
   return message;
 }
+
+namespace {
 
 // Runs `compute`, its std::invalid_argument (a ValueError) in Python's names.
 template <typename F>

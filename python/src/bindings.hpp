@@ -14,6 +14,11 @@ void BindWavelet(pybind11::module_& m);
 void BindModel(pybind11::module_& m);
 void BindIdent(pybind11::module_& m);
 
+/// The library's field names in a message (FrequencyGrid.min_frequency_Hz,
+/// MorletWavelet.beta) as the module's keyword arguments (fmin, beta), which
+/// the caller typed (bind_wavelet.cpp).
+std::string PythonNames(std::string message);
+
 /// A case-file path, or TOML text when `case_` holds a newline, with
 /// `--set`-style "key=value" overrides (module.cpp).
 CaseDocument LoadCase(const std::string& case_, const std::vector<std::string>& set);

@@ -317,6 +317,28 @@ def test_identify_finds_the_true_knl():
     assert "Identification summary" in r["summary"]
 
 
+def test_the_wavelet_term_takes_a_morse_wavelet():
+    # MATLAB's default Morse wavelet (gamma 3, beta 20) in the IF term, as
+    # `podid identify --wavelet morse`: knl within the same 0.5 %, and the
+    # landscape's minimum at 50 on a 1-wide grid.
+    r = podid.identify(CASE, MEASURED_1S, objective="wavelet", start={"knl": 25.0}, wavelet="morse")
+    assert r["usable"], r["message"]
+    assert abs(r.parameters["knl"] / 50.0 - 1) < KNL_TOLERANCE
+    land = podid.landscape(CASE, MEASURED_1S, "knl", 40.0, 60.0, points=21, objectives=["wavelet"],
+                           wavelet="morse", gamma=3.0, beta=20.0)
+    assert land["metrics"]["wavelet"]["global_minimiser"] == 50.0
+    # The keywords reach the objective: Morse's IF term is not Morlet's.
+    terms = [podid.Objective(CASE, MEASURED_1S, weightings=["wavelet"], wavelet=w).evaluate({"knl": 45.0})["terms"]
+             for w in ("morlet", "morse")]
+    assert terms[0]["IF"] > 0 and terms[1]["IF"] > 0 and terms[0]["IF"] != terms[1]["IF"]
+    with pytest.raises(ValueError, match="wavelet: expected one of morlet, morse"):
+        podid.Objective(CASE, MEASURED_1S, weightings=["wavelet"], wavelet="mexhat")
+    with pytest.raises(ValueError, match=r"^beta / gamma: expected <= 100, got 200"):
+        podid.identify(CASE, MEASURED_1S, wavelet="morse", gamma=1.0, beta=200.0)
+    with pytest.raises(ValueError, match=r"^omega0: expected >= 5, got 4"):
+        podid.landscape(CASE, MEASURED_1S, "knl", 40.0, 60.0, points=3, omega0=4.0)
+
+
 def test_one_objective_serves_several_weightings():
     both = podid.Objective(CASE, MEASURED_01S, weightings=["full", "time-free", "U,S:1,2"])
     e = both.evaluate({"knl": 40.0})

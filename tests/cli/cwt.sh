@@ -158,7 +158,7 @@ awk -v m="$mean" 'BEGIN { exit !(m > 33 && m < 40) }' || fail "Morse mean IF $me
 grep -q -- '--gamma: expected a number in \[1, 20\], got "0.5"' "$out/stderr" || fail "gamma message"
 "$podid" cwt "$data" --channel w6 --wavelet mexh 2>"$out/stderr"
 [ $? -eq 1 ] || fail "unknown wavelet not exit 1"
-grep -q "expected one of morlet, morse" "$out/stderr" || fail "wavelet message"
+grep -q -- "--wavelet: expected one of morlet, morse" "$out/stderr" || fail "wavelet message"
 
 # Bad input: exit 1 with a one-line message saying what was expected.
 "$podid" cwt "$data" --channel w9 2>"$out/stderr" && fail "unknown channel accepted"

@@ -71,4 +71,26 @@ grep -Eq "^full +[0-9]+ +50 " "$out/stdout" || fail "full minimiser not 50"
   --range 0:100 2>"$out/stderr"
 [ $? -eq 1 ] || fail "bad range not exit 1"
 grep -q "LOWER:UPPER:POINTS" "$out/stderr" || fail "range message"
+# The wavelet term with MATLAB's default Morse wavelet (gamma 3, beta 20):
+# knl within 0.5 % of 50 from 25 on the 1 s record, and the landscape's
+# wavelet minimum at 50 on a 1-wide grid; a bad family, or beta / gamma > 100,
+# exits 1 naming the option and writes nothing.
+"$podid" identify examples/beam.toml --measured tests/data/measured_knl50_T1.0.csv --objective wavelet \
+  --start knl=25 --wavelet morse >"$out/stdout" 2>/dev/null || fail "identify --wavelet morse exited $?"
+knl=$(sed -n 's/.* knl = \([0-9.]*\) .*/\1/p' "$out/stdout")
+awk -v k="$knl" 'BEGIN { exit !(k > 49.75 && k < 50.25) }' || fail "Morse knl '$knl'"
+"$podid" landscape examples/beam.toml --measured tests/data/measured_knl50_T1.0.csv --param knl \
+  --range 40:60:21 --objective wavelet --wavelet morse -o "$out/morse.csv" >/dev/null 2>&1 ||
+  fail "landscape --wavelet morse exited $?"
+best=$(tail -n +2 "$out/morse.csv" | sort -t, -k2 -g | head -1 | cut -d, -f1)
+[ "$best" = "50" ] || fail "Morse landscape minimum at '$best'"
+"$podid" identify examples/beam.toml --measured tests/data/measured_knl50_T1.0.csv --objective wavelet \
+  --wavelet mexhat --json "$out/bad.json" 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--wavelet mexhat not exit 1"
+grep -q -- "--wavelet: expected one of morlet, morse" "$out/stderr" || fail "--wavelet message: $(cat "$out/stderr")"
+"$podid" identify examples/beam.toml --measured tests/data/measured_knl50_T1.0.csv --objective wavelet \
+  --wavelet morse --gamma 1 --beta 200 --json "$out/bad.json" 2>"$out/stderr"
+[ $? -eq 1 ] || fail "beta / gamma 200 not exit 1"
+grep -q -- "--gamma/--beta: .*expected <= 100, got 200" "$out/stderr" || fail "--beta message: $(cat "$out/stderr")"
+[ -e "$out/bad.json" ] && fail "output written on error"
 echo "simulate_identify: all checks passed"

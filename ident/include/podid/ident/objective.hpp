@@ -6,7 +6,7 @@
 //       = sum_k (sigma_sim,k - sigma_meas,k)^2                       raw, as eq. 19
 //   dV  = sum_k sum_n (V_sim(n,k) - V_meas(n,k))^2                   right-singular vectors
 //   dIF = sum_k D sum_j ((f_sim,k(t_j) - f_meas,k(t_j)) / f_meas,k(t_j))^2
-//         the instantaneous frequency of V's column k along its Morlet ridge,
+//         the instantaneous frequency of V's column k along its Morlet (or Morse) ridge,
 //         over the output times j where both ridges are inside the cone of
 //         influence. Sec. 4.3.2 puts the IFs "in place of the right-singular
 //         vectors": like dV, dIF is a sum over the record's samples (D = the
@@ -101,7 +101,7 @@ struct ObjectiveOptions {
   }
   double failure_value = kDefaultFailureValue;  ///< see kDefaultFailureValue, > 0
   /// The IF extraction (used when a weighting needs it): 10-120 Hz, 32 voices,
-  /// band-limited Morlet CWT, penalised ridge.
+  /// band-limited Morlet CWT (ridge.cwt.wavelet: Morse too), penalised ridge.
   wavelet::RidgeFrequencyOptions ridge;
   /// Several modes: the IF band of mode k + 1 (index k). Mode 1 always uses
   /// `ridge`'s band; a mode >= 2 without an entry here (or with follow()) gets
