@@ -39,10 +39,9 @@ struct CwtArguments {
   std::string if_from = "phase";
   int ridges = 1;
   double penalty_s = 0.05;
-  WaveletArguments wavelet;  // --wavelet, --omega0, --gamma, --beta
+  WaveletArguments
+      wavelet;  // --wavelet, --omega0, --gamma, --beta, --normalisation, --scale-convention
   std::string padding = "zero";
-  std::string normalisation = "amplitude";
-  std::string scale_convention = "ridge";
   double coi_factor = 2.0;
   bool band_limited = false;
   bool synchrosqueeze = false;
@@ -202,8 +201,6 @@ void Run(const CwtArguments& a) {
   wavelet::CwtOptions& cwt = options.cwt;
   cwt.band_limited = a.band_limited;
   a.wavelet.ApplyTo(&cwt.wavelet);
-  cwt.wavelet.normalisation = wavelet::ParseNormalisation(a.normalisation);
-  cwt.wavelet.convention = wavelet::ParseScaleConvention(a.scale_convention);
   cwt.padding = wavelet::ParsePadding(a.padding);
   cwt.coi_factor = a.coi_factor;
   cwt.threads = a.threads;
@@ -521,14 +518,6 @@ void AddCwtCommand(CLI::App& app) {
       ->check(NumberIn({0.0}));
   a->wavelet.AddTo(*command);
   command->add_option("--padding", a->padding, "reflect, zero or periodic")->capture_default_str();
-  command->add_option("--normalisation", a->normalisation, "amplitude (L1) or energy (L2)")
-      ->capture_default_str();
-  command
-      ->add_option("--scale-convention", a->scale_convention,
-                   "Frequency of a scale: ridge (Torrence & Compo: where a tone peaks) or\n"
-                   "peak (MATLAB, PyWavelets: the wavelet's centre frequency); they differ\n"
-                   "only with --normalisation energy (1.35 % for Morlet omega0 6)")
-      ->capture_default_str();
   command
       ->add_option("--coi-factor", a->coi_factor,
                    "Widen the cone of influence (1 = Torrence & Compo; 2 keeps the worst\n"

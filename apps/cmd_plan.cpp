@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -17,6 +18,7 @@
 #include "podid/core/io.hpp"
 #include "podid/wavelet/cwt.hpp"
 #include "podid/wavelet/plans.hpp"
+#include "wavelet_arguments.hpp"
 
 namespace podid::cli {
 namespace {
@@ -35,7 +37,8 @@ struct PlanArguments {
   double fmin_Hz = 10.0;
   double fmax_Hz = 120.0;
   int voices = 32;
-  double omega0 = 6.0;
+  std::optional<int> bins;   // given: cwt's linear grid
+  WaveletArguments wavelet;  // --wavelet, --omega0, --gamma, --beta as cwt takes them
   std::string padding;  // empty: cwt's default (zero) and identification's (reflect)
   std::string effort = "measure";
 };
@@ -78,11 +81,16 @@ void Run(const PlanArguments& a) {
     if (a.padding.empty()) paddings = {"zero", "reflect"};
     for (const std::string& padding : paddings) {
       wavelet::CwtOptions options;
-      options.wavelet.omega0 = a.omega0;
+      a.wavelet.ApplyTo(&options.wavelet);
       options.padding = wavelet::ParsePadding(padding);
       options.frequencies.min_frequency_Hz = a.fmin_Hz;
       options.frequencies.max_frequency_Hz = std::min(a.fmax_Hz, 0.5 / step);
-      options.frequencies.voices_per_octave = a.voices;
+      if (a.bins) {
+        options.frequencies.spacing = wavelet::FrequencySpacing::kLinear;
+        options.frequencies.bins = *a.bins;
+      } else {
+        options.frequencies.voices_per_octave = a.voices;
+      }
       std::string why;
       if (!options.IsValid(&why)) throw std::invalid_argument("plan: " + why);
       for (bool band_limited : {false, true}) {
@@ -149,11 +157,11 @@ void AddPlanCommand(CLI::App& app) {
   command->add_option("--fmax", a->fmax_Hz, "Highest analysis frequency (Hz), capped at Nyquist")
       ->capture_default_str()
       ->check(NumberIn({0.0, true}));
-  command->add_option("--voices", a->voices, "Frequencies per octave, as for cwt")
-      ->capture_default_str();
-  command->add_option("--omega0", a->omega0, "Morlet centre frequency, as for cwt")
-      ->capture_default_str()
-      ->check(NumberIn({wavelet::kMinOmega0}, {wavelet::kMaxOmega0}));
+  auto* voices = command->add_option("--voices", a->voices, "Frequencies per octave, as for cwt")
+                     ->capture_default_str();
+  command->add_option("--bins", a->bins, "Linear grid of this many frequencies, as for cwt")
+      ->excludes(voices);
+  a->wavelet.AddTo(*command, " to plan for, as for cwt");
   command->add_option("--padding", a->padding,
                       "reflect, zero or periodic (default: both cwt's zero and\n"
                       "identification's reflect)");

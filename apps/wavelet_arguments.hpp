@@ -1,6 +1,7 @@
 #pragma once
-// The wavelet options `podid cwt` takes and the wavelet term of `podid
-// identify` and `podid landscape` shares: --wavelet, --omega0, --gamma, --beta.
+// The wavelet options `podid cwt` and `podid plan` take and the wavelet term
+// of `podid identify` and `podid landscape` shares: --wavelet, --omega0,
+// --gamma, --beta, --normalisation, --scale-convention.
 
 #include <CLI/CLI.hpp>
 #include <string>
@@ -14,13 +15,14 @@ struct WaveletArguments {
   double omega0 = 6.0;
   double gamma = 3.0;
   double beta = 20.0;
+  std::string normalisation = "amplitude";
+  std::string convention = "ridge";
 
-  /// Adds the four options; `what` ends --wavelet's help ("" or " of the wavelet term").
+  /// Adds the options; `what` follows "Wavelet" in --wavelet's help ("" or " of the wavelet term").
   void AddTo(CLI::App& command, const std::string& what = "");
-  /// Sets the family and its parameters in *wavelet (normalisation and
-  /// convention are left alone). Throws std::invalid_argument naming the
-  /// option: an unknown family, or a wavelet MorletWavelet::IsValid refuses
-  /// (Morlet omega0 < 5 without correction, Morse beta / gamma > 100).
+  /// Sets *wavelet from them. Throws std::invalid_argument naming the
+  /// option: an unknown name, or a wavelet MorletWavelet::IsValid refuses
+  /// (Morse beta / gamma > 100; the bounds of each number CLI11 checks).
   void ApplyTo(wavelet::MorletWavelet* wavelet) const;
 };
 

@@ -62,21 +62,24 @@ ident::NamedObjective ParseWeighting(const std::string& text) {
   return {text, w};
 }
 
-// The wavelet term's wavelet: the keywords wavelet, omega0, gamma, beta (the
-// CLI's --wavelet, --omega0, --gamma, --beta of identify and landscape).
+// The wavelet term's wavelet: the keywords wavelet, omega0, gamma, beta,
+// normalisation, scale_convention (the CLI's options of identify and landscape).
 struct ObjectiveWavelet {
   std::string family;
   double omega0, gamma, beta;
+  std::string normalisation, convention;
 };
 
 // Last in each signature, so that the earlier keywords keep their positions.
 #define PODID_OBJECTIVE_WAVELET_KWARGS                                            \
   py::arg("wavelet") = "morlet", py::arg("omega0") = 6.0, py::arg("gamma") = 3.0, \
-  py::arg("beta") = 20.0
-#define PODID_OBJECTIVE_WAVELET_PARAMETERS \
-  const std::string &family, double omega0, double gamma, double beta
+  py::arg("beta") = 20.0, py::arg("normalisation") = "amplitude",                 \
+  py::arg("scale_convention") = "ridge"
+#define PODID_OBJECTIVE_WAVELET_PARAMETERS                             \
+  const std::string &family, double omega0, double gamma, double beta, \
+      const std::string &normalisation, const std::string &convention
 #define PODID_OBJECTIVE_WAVELET_ARGUMENTS \
-  ObjectiveWavelet { family, omega0, gamma, beta }
+  ObjectiveWavelet { family, omega0, gamma, beta, normalisation, convention }
 
 std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case_,
                                                          const Measured& measured,
@@ -106,10 +109,16 @@ std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax;
   options.ridge.cwt.threads = ridge_threads;  // checked by the objective (1..256)
   wavelet::MorletWavelet& psi = options.ridge.cwt.wavelet;
-  psi.family = wavelet::ParseWaveletFamily(w.family);  // its message names `wavelet`
   psi.omega0 = w.omega0;
   psi.gamma = w.gamma;
   psi.beta = w.beta;
+  try {
+    psi.family = wavelet::ParseWaveletFamily(w.family);
+    psi.normalisation = wavelet::ParseNormalisation(w.normalisation);
+    psi.convention = wavelet::ParseScaleConvention(w.convention);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(PythonNames(e.what()));  // "scale convention" -> scale_convention
+  }
   std::string why;
   if (!psi.IsValid(&why)) throw std::invalid_argument(PythonNames(why));
   CaseDocument document = LoadCase(case_, set);

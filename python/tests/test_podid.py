@@ -327,16 +327,22 @@ def test_the_wavelet_term_takes_a_morse_wavelet():
     land = podid.landscape(CASE, MEASURED_1S, "knl", 40.0, 60.0, points=21, objectives=["wavelet"],
                            wavelet="morse", gamma=3.0, beta=20.0)
     assert land["metrics"]["wavelet"]["global_minimiser"] == 50.0
-    # The keywords reach the objective: Morse's IF term is not Morlet's.
-    terms = [podid.Objective(CASE, MEASURED_1S, weightings=["wavelet"], wavelet=w).evaluate({"knl": 45.0})["terms"]
-             for w in ("morlet", "morse")]
-    assert terms[0]["IF"] > 0 and terms[1]["IF"] > 0 and terms[0]["IF"] != terms[1]["IF"]
+    # The keywords reach the objective: Morse's IF term is not Morlet's, nor
+    # is the energy-normalised one (its ridge weights |W| by sqrt(s)).
+    terms = [podid.Objective(CASE, MEASURED_1S, weightings=["wavelet"], **kw).evaluate({"knl": 45.0})["terms"]
+             for kw in ({}, {"wavelet": "morse"}, {"normalisation": "energy"})]
+    assert all(t["IF"] > 0 for t in terms)
+    assert terms[0]["IF"] != terms[1]["IF"] and terms[0]["IF"] != terms[2]["IF"]
     with pytest.raises(ValueError, match="wavelet: expected one of morlet, morse"):
         podid.Objective(CASE, MEASURED_1S, weightings=["wavelet"], wavelet="mexhat")
     with pytest.raises(ValueError, match=r"^beta / gamma: expected <= 100, got 200"):
         podid.identify(CASE, MEASURED_1S, wavelet="morse", gamma=1.0, beta=200.0)
     with pytest.raises(ValueError, match=r"^omega0: expected >= 5, got 4"):
         podid.landscape(CASE, MEASURED_1S, "knl", 40.0, 60.0, points=3, omega0=4.0)
+    with pytest.raises(ValueError, match="scale_convention: expected one of ridge, peak"):
+        podid.Objective(CASE, MEASURED_1S, weightings=["wavelet"], scale_convention="matlab")
+    with pytest.raises(ValueError, match="normalisation: expected one of amplitude, energy"):
+        podid.identify(CASE, MEASURED_1S, normalisation="l2")
 
 
 def test_one_objective_serves_several_weightings():

@@ -146,7 +146,7 @@ awk -v r="$fr" -v p="$fp" 'BEGIN { q = p / r; exit !(q < 1.0 && q > 0.96) }' \
   || fail "peak label $fp Hz not 1-4 % below ridge label $fr Hz"
 "$podid" cwt "$data" --channel w6 --scale-convention matlab 2>"$out/stderr"
 [ $? -eq 1 ] || fail "bad convention not exit 1"
-grep -q "expected one of ridge, peak" "$out/stderr" || fail "convention message"
+grep -q -- "--scale-convention: expected one of ridge, peak" "$out/stderr" || fail "convention message"
 
 # The generalised Morse wavelet (MATLAB's default gamma 3, beta 20) sees the same mode.
 "$podid" cwt "$data" --channel w6 --wavelet morse >"$out/stdout" || fail "cwt --wavelet morse exited $?"

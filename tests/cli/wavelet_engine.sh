@@ -48,6 +48,21 @@ grep -q "expected --samples N" "$out/stderr" || fail "--fs without --samples: $(
 # samples), so cwt's zero padding plans 4608 points instead of 9216.
 "$podid" plan "$data" --decimate 2 --padding zero >"$out/plan7" || fail "plan --decimate exited $?"
 grep -q "FFT lengths 4608 real" "$out/plan7" || fail "plan --decimate: $(cat "$out/plan7")"
+# plan takes cwt's wavelet and grid options: Morse gamma 3 beta 20 lasts
+# longer than Morlet omega0 6 (its cone is 1.30x Morlet's at a frequency), so
+# cwt --wavelet morse pads 5001 samples to 10240 points, not 9216; planned
+# once, its plans are found.
+"$podid" plan "$data" --padding zero --wavelet morse >"$out/morse1" || fail "plan --wavelet morse exited $?"
+grep -q "FFT lengths 10240 real, 10240 complex forward, 512 complex, 10240 complex, 64 x 160 complex" \
+  "$out/morse1" || fail "plan --wavelet morse: $(cat "$out/morse1")"
+"$podid" plan "$data" --padding zero --wavelet morse >"$out/morse2" || fail "second plan --wavelet morse exited $?"
+grep -q "measured 0 plan(s)" "$out/morse2" || fail "Morse plans measured again: $(cat "$out/morse2")"
+"$podid" plan "$data" --padding zero --bins 100 --voices 12 2>"$out/stderr"
+[ $? -eq 1 ] || fail "plan --bins with --voices not exit 1"
+"$podid" plan "$data" --padding zero --normalisation l2 2>"$out/stderr"
+[ $? -eq 1 ] || fail "plan --normalisation l2 not exit 1"
+grep -q -- "--normalisation: expected one of amplitude, energy, got \"l2\"" "$out/stderr" ||
+  fail "--normalisation message: $(cat "$out/stderr")"
 "$podid" plan --samples 999 --fs 1000 --effort fast 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--effort fast not exit 1"
 grep -q "effort: fast not in {measure,patient}" "$out/stderr" || fail "--effort message: $(cat "$out/stderr")"
