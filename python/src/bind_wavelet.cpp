@@ -5,6 +5,7 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -28,6 +29,7 @@ std::string PythonNames(std::string message) {
       {"FrequencyGrid.min_frequency_Hz", "fmin"},
       {"FrequencyGrid.max_frequency_Hz", "fmax"},
       {"FrequencyGrid.voices_per_octave", "voices"},
+      {"FrequencyGrid.bins", "bins"},
       {"MorletWavelet.omega0", "omega0"},
       {"MorletWavelet.gamma", "gamma"},
       {"MorletWavelet.beta", "beta"},
@@ -74,6 +76,7 @@ struct WaveletArguments {
 wavelet::CwtOptions MakeCwtOptions(double fmin_Hz,
                                    double fmax_Hz,
                                    int voices,
+                                   std::optional<int> bins,
                                    const WaveletArguments& w,
                                    const std::string& padding,
                                    double coi_factor,
@@ -81,7 +84,12 @@ wavelet::CwtOptions MakeCwtOptions(double fmin_Hz,
   wavelet::CwtOptions options;
   options.frequencies.min_frequency_Hz = fmin_Hz;
   options.frequencies.max_frequency_Hz = fmax_Hz;
-  options.frequencies.voices_per_octave = voices;
+  if (bins) {  // the CLI's --bins: a linear grid instead of the log one
+    options.frequencies.spacing = wavelet::FrequencySpacing::kLinear;
+    options.frequencies.bins = *bins;
+  } else {
+    options.frequencies.voices_per_octave = voices;
+  }
   options.wavelet.omega0 = w.omega0;
   options.wavelet.gamma = w.gamma;
   options.wavelet.beta = w.beta;
@@ -100,13 +108,14 @@ wavelet::CwtOptions MakeCwtOptions(double fmin_Hz,
 }
 
 // Keyword arguments shared by the functions (the CLI's names). The wavelet's
-// come last: the earlier arguments keep their positions.
+// and bins (a linear grid) come last: the earlier arguments keep their positions.
 #define PODID_WAVELET_KWARGS                                                     \
   py::arg("wavelet") = "morlet", py::arg("gamma") = 3.0, py::arg("beta") = 20.0, \
-  py::arg("normalisation") = "amplitude", py::arg("scale_convention") = "ridge"
+  py::arg("normalisation") = "amplitude", py::arg("scale_convention") = "ridge", \
+  py::arg("bins") = py::none()
 #define PODID_WAVELET_PARAMETERS                                                          \
   const std::string &family, double gamma, double beta, const std::string &normalisation, \
-      const std::string &convention
+      const std::string &convention, std::optional<int> bins
 #define PODID_WAVELET_ARGUMENTS \
   WaveletArguments { family, omega0, gamma, beta, normalisation, convention }
 // The CLI's defaults (podid cwt): zero padding, cone factor 2 (docs/wavelet.md).
@@ -149,12 +158,13 @@ void BindWavelet(py::module_& m) {
          int voices, double omega0, const std::string& padding, double coi_factor, int threads,
          PODID_WAVELET_PARAMETERS) {
         const wavelet::CwtOptions options = MakeCwtOptions(
-            fmin, fmax, voices, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
+            fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
         py::gil_scoped_release release;
         return WithPythonNames([&] { return wavelet::Cwt(x, step_s, options); });
       },
       py::arg("x"), py::arg("step_s"), PODID_CWT_KWARGS,
-      "CWT of x (1-D, sampled every step_s) on a log grid fmin..fmax Hz: Morlet (omega0) or, "
+      "CWT of x (1-D, sampled every step_s) on a log grid fmin..fmax Hz (voices per octave; "
+      "bins=N: N linearly spaced frequencies): Morlet (omega0) or, "
       "with wavelet=\"morse\", generalised Morse (gamma, beta); normalisation \"amplitude\" "
       "(L1) or \"energy\" (L2); scale_convention \"ridge\" or \"peak\" (MATLAB, PyWavelets).");
 
@@ -165,7 +175,7 @@ void BindWavelet(py::module_& m) {
          int threads, PODID_WAVELET_PARAMETERS, const std::string& method, double penalty_s,
          const std::string& estimator) {
         const wavelet::CwtOptions options = MakeCwtOptions(
-            fmin, fmax, voices, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
+            fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
         wavelet::RidgeOptions ridge;
         ridge.ridges = count;
         ridge.penalty_s = penalty_s;
@@ -225,7 +235,7 @@ void BindWavelet(py::module_& m) {
          double fmax, int voices, double omega0, const std::string& padding, double coi_factor,
          int threads, PODID_WAVELET_PARAMETERS) {
         const wavelet::CwtOptions options = MakeCwtOptions(
-            fmin, fmax, voices, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
+            fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
         wavelet::SynchrosqueezeOptions squeeze;
         squeeze.relative_threshold = threshold;
         std::string why;
@@ -262,7 +272,7 @@ void BindWavelet(py::module_& m) {
          PODID_WAVELET_PARAMETERS) {
         wavelet::RidgeFrequencyOptions options;
         const bool band_limited = options.cwt.band_limited;
-        options.cwt = MakeCwtOptions(fmin, fmax, voices, PODID_WAVELET_ARGUMENTS, padding,
+        options.cwt = MakeCwtOptions(fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding,
                                      coi_factor, threads);
         options.cwt.band_limited = band_limited;
         py::gil_scoped_release release;

@@ -149,6 +149,31 @@ def test_cwt_and_two_ridges_of_two_tones():
     assert abs(found[0] - 25.0) < TWO_TONE_TOLERANCE_HZ and abs(found[1] - 90.0) < TWO_TONE_TOLERANCE_HZ
 
 
+# A cosine on its grid frequency has |W| = 1 (L1 normalisation: half of
+# Morlet's psi^(omega0) = 2); in the record's middle, far from both ends, only
+# rounding is left (measured 4e-15).
+UNIT_COSINE_TOLERANCE = 1e-12
+
+
+def test_bins_give_a_linear_grid_as_the_cli_does():
+    step = 1e-3
+    t = np.arange(4000) * step
+    x = np.cos(2 * math.pi * 40.0 * t)
+    sc = podid.cwt(x, step, fmin=20, fmax=80, bins=61)
+    np.testing.assert_allclose(sc.frequencies_Hz, np.linspace(20.0, 80.0, 61), rtol=1e-15, atol=0)
+    row = np.abs(sc.coefficients[2000])
+    assert np.argmax(row) == 20 and abs(row[20] - 1) < UNIT_COSINE_TOLERANCE
+    middle = lambda tr: (tr.time_s > 1) & (tr.time_s < 3)
+    track = podid.ridges(x, step, fmin=20, fmax=80, bins=61)[0]
+    assert np.all(track.grid_frequency_Hz[middle(track)] == 40.0)
+    assert np.max(np.abs(track.frequency_Hz[middle(track)] - 40.0)) < TONE_IF_TOLERANCE_HZ
+    track = podid.instantaneous_frequency(x, step, fmin=20, fmax=80, bins=61)
+    assert np.max(np.abs(track.frequency_Hz[middle(track)] - 40.0)) < TONE_IF_TOLERANCE_HZ
+    assert len(podid.cwt(x, step, fmin=20, fmax=80).frequencies_Hz) == 65  # no bins: 32 voices, 2 octaves
+    with pytest.raises(ValueError, match="^bins: expected 2..100000, got 1"):
+        podid.synchrosqueeze(x, step, bins=1)
+
+
 # 2 pi f s, a scale's frequency times the scale, against its analytic value:
 # Morlet's omega0 (the peak of its spectrum, and the ridge of a tone with L1
 # normalisation), Torrence & Compo's (omega0 + sqrt(2 + omega0^2)) / 2 for
