@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
-#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -74,8 +73,7 @@ void Run(const PlanArguments& a) {
   }
   // The lengths of the full-rate transform (podid cwt) and of the
   // band-limited one (identification, cwt --band-limited).
-  std::set<int> forward, backward, complex_forward;
-  std::set<std::pair<int, int>> interleaved;
+  wavelet::FftLengths lengths;
   for (const auto& [n, step] : records) {
     std::vector<std::string> paddings = {a.padding};
     if (a.padding.empty()) paddings = {"zero", "reflect"};
@@ -95,20 +93,10 @@ void Run(const PlanArguments& a) {
       if (!options.IsValid(&why)) throw std::invalid_argument("plan: " + why);
       for (bool band_limited : {false, true}) {
         options.band_limited = band_limited;
-        const wavelet::FftLengths lengths = wavelet::CwtFftLengths(options, n, step);
-        forward.insert(lengths.real_forward.begin(), lengths.real_forward.end());
-        backward.insert(lengths.complex_backward.begin(), lengths.complex_backward.end());
-        complex_forward.insert(lengths.complex_forward.begin(), lengths.complex_forward.end());
-        interleaved.insert(lengths.interleaved_backward.begin(),
-                           lengths.interleaved_backward.end());
+        wavelet::MergeFftLengths(wavelet::CwtFftLengths(options, n, step), &lengths);
       }
     }
   }
-  wavelet::FftLengths lengths;
-  lengths.real_forward.assign(forward.begin(), forward.end());
-  lengths.complex_backward.assign(backward.begin(), backward.end());
-  lengths.complex_forward.assign(complex_forward.begin(), complex_forward.end());
-  lengths.interleaved_backward.assign(interleaved.begin(), interleaved.end());
   const wavelet::PlanEffort effort =
       a.effort == "patient" ? wavelet::PlanEffort::kPatient : wavelet::PlanEffort::kMeasure;
   const wavelet::PlanSummary summary = wavelet::MeasureFftPlans(lengths, effort);

@@ -25,7 +25,7 @@ from ._podid import (  # noqa: F401
 )
 
 __all__ = [
-    "Objective", "identify", "landscape",
+    "Objective", "identify", "landscape", "plan",
     "PodResult", "RidgeTrack", "Scalogram", "SimulationResult", "SynchrosqueezedTransform",
     "TimeSeries", "cwt", "instantaneous_frequency", "inverse_cwt", "pod", "read", "ridges",
     "simulate", "synchrosqueeze",
@@ -53,5 +53,10 @@ def landscape(*args, **kwargs):
     return Result(_podid.landscape(*args, **kwargs))
 
 
+def plan(*args, **kwargs):
+    return Result(_podid.plan(*args, **kwargs))
+
+
 identify.__doc__ = _podid.identify.__doc__
 landscape.__doc__ = _podid.landscape.__doc__
+plan.__doc__ = _podid.plan.__doc__

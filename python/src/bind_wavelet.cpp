@@ -14,6 +14,7 @@
 
 #include "bindings.hpp"
 #include "podid/wavelet/cwt.hpp"
+#include "podid/wavelet/plans.hpp"
 #include "podid/wavelet/ridge.hpp"
 #include "podid/wavelet/synthesis.hpp"
 
@@ -264,6 +265,59 @@ void BindWavelet(py::module_& m) {
       "The in-band part of the signal a podid.cwt scalogram came from, at its output times "
       "(a wavelet band-pass: the inverse CWT). It takes W: a synchrosqueezed sst's T already "
       "carries the log-scale step and comes back scaled by it (ln 2 / voices).");
+
+  m.def(
+      "plan",
+      [](Eigen::Index samples, double step_s, double fmin, double fmax, int voices, double omega0,
+         const std::string& padding, double coi_factor, int threads, PODID_WAVELET_PARAMETERS,
+         const std::string& effort) {
+        wavelet::CwtOptions options = MakeCwtOptions(
+            fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
+        if (effort != "measure" && effort != "patient") {
+          throw std::invalid_argument("effort: expected one of measure, patient, got \"" + effort +
+                                      "\"");
+        }
+        // Both paths, as `podid plan` plans them: the full-rate transform
+        // (cwt, ridges, synchrosqueeze) and the band-limited one
+        // (instantaneous_frequency, the wavelet objective).
+        wavelet::FftLengths lengths;
+        WithPythonNames([&] {
+          for (bool band_limited : {false, true}) {
+            options.band_limited = band_limited;
+            wavelet::MergeFftLengths(wavelet::CwtFftLengths(options, samples, step_s), &lengths);
+          }
+          return 0;
+        });
+        wavelet::PlanSummary summary;
+        {
+          py::gil_scoped_release release;
+          summary = wavelet::MeasureFftPlans(lengths, effort == "patient"
+                                                          ? wavelet::PlanEffort::kPatient
+                                                          : wavelet::PlanEffort::kMeasure);
+        }
+        py::dict planned;
+        planned["real_forward"] = lengths.real_forward;
+        planned["complex_forward"] = lengths.complex_forward;
+        planned["complex_backward"] = lengths.complex_backward;
+        planned["batched_backward"] = lengths.interleaved_backward;
+        py::dict out;
+        out["lengths"] = planned;
+        out["measured"] = summary.measured;
+        out["known"] = summary.known;
+        out["seconds"] = summary.seconds;
+        out["wisdom_path"] = summary.wisdom_path;
+        out["saved"] = summary.saved;
+        out["message"] = summary.message;
+        out["ignored"] = summary.ignored;
+        return out;
+      },
+      py::arg("samples"), py::arg("step_s"), PODID_CWT_KWARGS, py::arg("effort") = "measure",
+      "Measure the FFT plans of a record of `samples` samples every step_s with these cwt keywords "
+      "(the full-rate and the band-limited transform), as `podid plan` does, into the wisdom cache "
+      "$XDG_CACHE_HOME/podid (else ~/.cache/podid); later calls and processes find them. A dict: "
+      "'lengths', 'measured' (now), 'known' (already measured), 'seconds', 'wisdom_path', "
+      "'saved', 'message' (why not saved), 'ignored' (a cache file that was not read). effort: "
+      "\"measure\" (FFTW_MEASURE) or \"patient\" (FFTW_PATIENT, minutes at 10^5 samples).");
 
   m.def(
       "instantaneous_frequency",

@@ -174,6 +174,32 @@ def test_bins_give_a_linear_grid_as_the_cli_does():
         podid.synchrosqueeze(x, step, bins=1)
 
 
+def test_plan_measures_once_into_the_cache_as_podid_plan_does(tmp_path, monkeypatch):
+    # A length no earlier test planned (FFTW's wisdom lives for the process),
+    # in an empty cache.
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    first = podid.plan(1001, 1e-3, fmin=20, fmax=100, padding="reflect")
+    lengths = first.lengths
+    count = sum(len(v) for v in lengths.values())
+    assert first.measured == count and first.known == 0 and first.saved, first
+    assert first.wisdom_path == str(tmp_path / "podid" / "fftw3-wisdom")
+    assert (tmp_path / "podid" / "fftw3-wisdom").stat().st_size > 0
+    # The full-rate path's padded length P, its inverses batched as P / D
+    # points for D a power of two, and the band-limited path's shorter inverse.
+    p = lengths["real_forward"][0]
+    assert lengths["complex_forward"] == [p] and p in lengths["complex_backward"] and p >= 1001
+    for m, batch in lengths["batched_backward"]:
+        d = p // m
+        assert m * d == p and d & (d - 1) == 0 and batch >= 1
+    assert min(lengths["complex_backward"]) < p
+    again = podid.plan(1001, 1e-3, fmin=20, fmax=100, padding="reflect")
+    assert again.measured == 0 and again.known == count and not again.saved
+    with pytest.raises(ValueError, match='^effort: expected one of measure, patient, got "fast"'):
+        podid.plan(1001, 1e-3, effort="fast")
+    with pytest.raises(ValueError, match="samples: expected at least 4, got 3"):
+        podid.plan(3, 1e-3)
+
+
 # 2 pi f s, a scale's frequency times the scale, against its analytic value:
 # Morlet's omega0 (the peak of its spectrum, and the ridge of a tone with L1
 # normalisation), Torrence & Compo's (omega0 + sqrt(2 + omega0^2)) / 2 for

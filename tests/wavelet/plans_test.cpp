@@ -289,5 +289,21 @@ TEST(FftWisdom, BadLengthsAreRejectedBeforeMeasuring) {
   EXPECT_FALSE(fs::exists(cache.folder + "/podid"));
 }
 
+TEST(FftLengthsMerge, EachListSortedWithEachLengthOnce) {
+  FftLengths lengths{{9216}, {9216, 576}, {{144, 64}, {288, 32}}, {9216}};
+  MergeFftLengths({{10240, 9216}, {640, 10240, 576}, {{160, 64}, {144, 64}}, {10240}}, &lengths);
+  EXPECT_EQ(lengths.real_forward, (std::vector<int>{9216, 10240}));
+  EXPECT_EQ(lengths.complex_backward, (std::vector<int>{576, 640, 9216, 10240}));
+  EXPECT_EQ(lengths.interleaved_backward,
+            (std::vector<std::pair<int, int>>{{144, 64}, {160, 64}, {288, 32}}));
+  EXPECT_EQ(lengths.complex_forward, (std::vector<int>{9216, 10240}));
+  // Merging into an empty set, and merging nothing, keep the rule.
+  FftLengths empty;
+  MergeFftLengths(lengths, &empty);
+  MergeFftLengths({}, &empty);
+  EXPECT_EQ(empty.complex_backward, lengths.complex_backward);
+  EXPECT_EQ(empty.interleaved_backward, lengths.interleaved_backward);
+}
+
 }  // namespace
 }  // namespace podid::wavelet

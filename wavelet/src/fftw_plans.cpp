@@ -262,6 +262,18 @@ std::string FftWisdomPath() {
   return "";
 }
 
+void MergeFftLengths(const FftLengths& more, FftLengths* lengths) {
+  const auto merge = [](const auto& add, auto* into) {
+    into->insert(into->end(), add.begin(), add.end());
+    std::sort(into->begin(), into->end());
+    into->erase(std::unique(into->begin(), into->end()), into->end());
+  };
+  merge(more.real_forward, &lengths->real_forward);
+  merge(more.complex_backward, &lengths->complex_backward);
+  merge(more.interleaved_backward, &lengths->interleaved_backward);
+  merge(more.complex_forward, &lengths->complex_forward);
+}
+
 PlanSummary MeasureFftPlans(const FftLengths& lengths, PlanEffort effort) {
   const int wanted = effort == PlanEffort::kPatient ? 2 : 1;
   for (const std::vector<int>* list :

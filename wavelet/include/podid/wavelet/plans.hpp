@@ -40,6 +40,11 @@ std::string FftWisdomPath();
 /// samples at step_s: CwtTransform(options).Lengths(samples, step_s).
 FftLengths CwtFftLengths(const CwtOptions& options, Eigen::Index samples, double step_s);
 
+/// Adds `more`'s lengths to *lengths: afterwards each list is sorted and
+/// holds each length once (the lengths of several records or paths, planned
+/// once each).
+void MergeFftLengths(const FftLengths& more, FftLengths* lengths);
+
 struct PlanSummary {
   int measured = 0;      ///< plans measured now
   int known = 0;         ///< plans already measured (wisdom in the cache or this process)
