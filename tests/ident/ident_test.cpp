@@ -39,9 +39,8 @@ IdentifySummary IdentifyFrom(const ObjectiveFunction& objective, const std::stri
   return Identify(objective, options);
 }
 
-// The reference README: knl = 50; the acceptance bound of issue 5 is 0.5 %.
-constexpr double kTrueKnl = 50.0;
-constexpr double kKnlRelativeTolerance = 0.005;
+using testing::kKnlRelativeTolerance;
+using testing::kTrueKnl;
 
 TEST(IdentifyReferenceTest, FullObjectiveFromFortyOnShortRecord) {
   const ObjectiveFunction objective(ReferenceDocument(), ReadCsv(DataPath("measured_knl50_T0.1.csv")),

@@ -11,20 +11,15 @@
 #include "podid/core/simulate.hpp"
 #include "podid/ident/identify.hpp"
 #include "podid/ident/objective.hpp"
-#include "test_support.hpp"
+#include "reference_case.hpp"
 
 namespace podid::ident {
 namespace {
 
 using testing::DataPath;
-using testing::ExamplePath;
-
-// The reference README: knl = 50; the acceptance bound of issue 13 item 4
-// (and of issue 5 for one mode) is 0.5 %.
-constexpr double kTrueKnl = 50.0;
-constexpr double kKnlRelativeTolerance = 0.005;
-
-CaseDocument ReferenceDocument() { return CaseDocument::Load(ExamplePath("beam.toml")); }
+using testing::kKnlRelativeTolerance;
+using testing::kTrueKnl;
+using testing::ReferenceDocument;
 
 ObjectiveOptions WaveletWithModes(int modes) {
   ObjectiveOptions options;

@@ -12,17 +12,15 @@
 #include "podid/core/io.hpp"
 #include "podid/ident/identify.hpp"
 #include "podid/ident/objective.hpp"
-#include "test_support.hpp"
+#include "reference_case.hpp"
 
 namespace podid::ident {
 namespace {
 
 using testing::DataPath;
-using testing::ExamplePath;
-
-// The reference README: knl = 50; the acceptance bound of issues 5 and 13 is 0.5 %.
-constexpr double kTrueKnl = 50.0;
-constexpr double kKnlRelativeTolerance = 0.005;
+using testing::kKnlRelativeTolerance;
+using testing::kTrueKnl;
+using testing::ReferenceDocument;
 
 // MATLAB's default Morse wavelet.
 constexpr double kGamma = 3.0, kBeta = 20.0;
@@ -53,7 +51,7 @@ double MorseTimeSpread(double g, double b) {
 }
 
 TEST(MorseObjective, IdentifiesKnlOnTheSharedRecordWithOneAndTwoModes) {
-  const CaseDocument document = CaseDocument::Load(ExamplePath("beam.toml"));
+  const CaseDocument document = ReferenceDocument();
   const TimeSeries measured = ReadCsv(DataPath("measured_knl50_T1.0.csv"));
   for (int modes : {1, 2}) {
     const ObjectiveFunction objective(document, measured, MorseWavelet(modes));
@@ -70,7 +68,7 @@ TEST(MorseObjective, IdentifiesKnlOnTheSharedRecordWithOneAndTwoModes) {
 TEST(MorseObjective, TheRecordMustHoldMorsesOwnConeOfInfluence) {
   // The first 0.3 s of the 1 s record: longer than the Morlet cone's needs at
   // 10 Hz (2 x sqrt(2) s, 0.270 s), shorter than Morse's (0.350 s).
-  const CaseDocument document = CaseDocument::Load(ExamplePath("beam.toml"));
+  const CaseDocument document = ReferenceDocument();
   TimeSeries measured = ReadCsv(DataPath("measured_knl50_T1.0.csv"));
   const Eigen::Index kept = 1501;  // 0.3 s at 2e-4 s
   measured.time_s.conservativeResize(kept);
