@@ -1,9 +1,9 @@
 // podid identify: minimise an objective over the case's parameters.
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 
@@ -16,6 +16,7 @@
 #include "podid/core/quantity_check.hpp"
 #include "podid/ident/identify.hpp"
 #include "podid/ident/objective_uncertainty.hpp"
+#include "podid/wavelet/ridge.hpp"
 
 namespace podid::cli {
 namespace {
@@ -44,7 +45,29 @@ nlohmann::json ParametersJson(const std::vector<std::string>& names, const Eigen
 
 nlohmann::json NumberOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
-void WriteJson(const std::string& path, const ident::IdentifySummary& s, OutputBatch* batch) {
+// The wavelet term's settings per compared mode, as the objective resolved
+// them (a mode's band follows its spectral peak unless --mode-band): what a
+// rerun needs and the report does not print.
+nlohmann::json RidgesJson(const ident::ObjectiveFunction& objective) {
+  nlohmann::json ridges = nlohmann::json::array();
+  for (std::size_t k = 0; k < objective.measured_ridges().size(); ++k) {
+    const wavelet::RidgeFrequencyOptions& o = objective.mode_ridge_options(static_cast<int>(k));
+    ridges.push_back({{"mode", k + 1},
+                      {"min_frequency_Hz", o.cwt.frequencies.min_frequency_Hz},
+                      {"max_frequency_Hz", o.cwt.frequencies.max_frequency_Hz},
+                      {"wavelet", o.cwt.wavelet.Describe()},
+                      {"normalisation", wavelet::ToString(o.cwt.wavelet.normalisation)},
+                      {"scale_convention", wavelet::ToString(o.cwt.wavelet.convention)},
+                      {"penalty_s", o.ridge.penalty_s},
+                      {"samples_compared", objective.measured_ridges()[k].InsideCoiCount()}});
+  }
+  return ridges;
+}
+
+void WriteJson(const std::string& path,
+               const ident::IdentifySummary& s,
+               const ident::ObjectiveFunction& objective,
+               OutputBatch* batch) {
   nlohmann::json j;
   j["parameters"] = ParametersJson(s.parameter_names, s.parameters);
   j["initial_parameters"] = ParametersJson(s.parameter_names, s.initial_parameters);
@@ -71,6 +94,7 @@ void WriteJson(const std::string& path, const ident::IdentifySummary& s, OutputB
   };
   j["term_shares"] = {{"initial", contributions(s.initial_terms)}, {"final", contributions(s.final_terms)}};
   j["objective_terms"] = s.objective;
+  if (!objective.measured_ridges().empty()) j["ridges"] = RidgesJson(objective);
   j["algorithm"] = s.algorithm;
   j["evaluations"] = s.evaluations;
   j["failed_evaluations"] = s.failed_evaluations;
@@ -407,7 +431,7 @@ void AddIdentifyCommand(CLI::App& app) {
     if (args->report) std::printf("%s", summary.FullReport().c_str());
     // --json and the plots published together: a failing plot leaves none.
     OutputBatch batch;
-    if (!args->json.empty()) WriteJson(args->json, summary, &batch);
+    if (!args->json.empty()) WriteJson(args->json, summary, *objective, &batch);
     if (!args->plot_dir.empty()) {
       WritePlots(args->plot_dir, *objective, summary, weights.NeedsRidges(), &reports, &batch);
     }

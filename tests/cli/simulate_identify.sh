@@ -49,6 +49,7 @@ for key in ("parameters", "objective", "evaluations", "termination", "history"):
 assert abs(j["parameters"]["knl"] / 50 - 1) < 0.005, j["parameters"]
 assert j["termination"] == "converged", j["termination"]
 assert len(j["history"]) == j["evaluations"]
+assert "ridges" not in j  # no wavelet term
 PY
 # Errors: unknown parameter, start out of bounds, wavelet objective on a short record.
 "$podid" identify examples/beam.toml --measured tests/data/measured_knl50_T0.1.csv --start k3=40 2>"$out/stderr"
@@ -76,9 +77,20 @@ grep -q "LOWER:UPPER:POINTS" "$out/stderr" || fail "range message"
 # wavelet minimum at 50 on a 1-wide grid; a bad family, or beta / gamma > 100,
 # exits 1 naming the option and writes nothing.
 "$podid" identify examples/beam.toml --measured tests/data/measured_knl50_T1.0.csv --objective wavelet \
-  --start knl=25 --wavelet morse >"$out/stdout" 2>/dev/null || fail "identify --wavelet morse exited $?"
+  --start knl=25 --wavelet morse --json "$out/morse.json" >"$out/stdout" 2>/dev/null ||
+  fail "identify --wavelet morse exited $?"
 knl=$(sed -n 's/.* knl = \([0-9.]*\) .*/\1/p' "$out/stdout")
 awk -v k="$knl" 'BEGIN { exit !(k > 49.75 && k < 50.25) }' || fail "Morse knl '$knl'"
+# The JSON names the wavelet term's settings as the objective resolved them.
+python3 - "$out/morse.json" <<'PY' || fail "identify --wavelet morse JSON"
+import json, sys
+r = json.load(open(sys.argv[1]))["ridges"]
+assert len(r) == 1 and r[0]["mode"] == 1, r
+assert r[0]["wavelet"] == "Morse gamma 3 beta 20" and r[0]["penalty_s"] == 0.05, r
+assert (r[0]["min_frequency_Hz"], r[0]["max_frequency_Hz"]) == (10, 120), r
+assert r[0]["normalisation"] == "amplitude" and r[0]["scale_convention"] == "ridge", r
+assert r[0]["samples_compared"] > 0, r
+PY
 "$podid" landscape examples/beam.toml --measured tests/data/measured_knl50_T1.0.csv --param knl \
   --range 40:60:21 --objective wavelet --wavelet morse -o "$out/morse.csv" >/dev/null 2>&1 ||
   fail "landscape --wavelet morse exited $?"
