@@ -39,8 +39,8 @@ struct CwtArguments {
   std::string if_from = "phase";
   int ridges = 1;
   double penalty_s = 0.05;
-  WaveletArguments
-      wavelet;  // --wavelet, --omega0, --gamma, --beta, --normalisation, --scale-convention
+  // --wavelet, --omega0, --gamma, --beta, --normalisation, --scale-convention
+  WaveletArguments wavelet;
   std::string padding = "zero";
   double coi_factor = 2.0;
   bool band_limited = false;

@@ -37,7 +37,7 @@ struct PlanArguments {
   double fmax_Hz = 120.0;
   int voices = 32;
   std::optional<int> bins;   // given: cwt's linear grid
-  WaveletArguments wavelet;  // --wavelet, --omega0, --gamma, --beta as cwt takes them
+  WaveletArguments wavelet;  // cwt's wavelet options: the lengths follow the wavelet
   std::string padding;  // empty: cwt's default (zero) and identification's (reflect)
   std::string effort = "measure";
 };

@@ -29,7 +29,7 @@ struct ObjectiveArguments {
   double fmin_Hz = 10.0;
   double fmax_Hz = 120.0;
   double penalty_s = 0.05;
-  WaveletArguments wavelet;         ///< the wavelet term's --wavelet, --omega0, --gamma, --beta
+  WaveletArguments wavelet;         ///< the wavelet term's wavelet: cwt's wavelet options
   std::vector<std::string> starts;  ///< name=value
   /// The ridge's CwtOptions::threads (not an option: identify gives a single
   /// start two threads, see cmd_identify.cpp).
