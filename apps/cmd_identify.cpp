@@ -16,7 +16,6 @@
 #include "podid/core/quantity_check.hpp"
 #include "podid/ident/identify.hpp"
 #include "podid/ident/objective_uncertainty.hpp"
-#include "podid/wavelet/ridge.hpp"
 
 namespace podid::cli {
 namespace {
@@ -44,25 +43,6 @@ nlohmann::json ParametersJson(const std::vector<std::string>& names, const Eigen
 }
 
 nlohmann::json NumberOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
-
-// The wavelet term's settings per compared mode, as the objective resolved
-// them (a mode's band follows its spectral peak unless --mode-band): what a
-// rerun needs and the report does not print.
-nlohmann::json RidgesJson(const ident::ObjectiveFunction& objective) {
-  nlohmann::json ridges = nlohmann::json::array();
-  for (std::size_t k = 0; k < objective.measured_ridges().size(); ++k) {
-    const wavelet::RidgeFrequencyOptions& o = objective.mode_ridge_options(static_cast<int>(k));
-    ridges.push_back({{"mode", k + 1},
-                      {"min_frequency_Hz", o.cwt.frequencies.min_frequency_Hz},
-                      {"max_frequency_Hz", o.cwt.frequencies.max_frequency_Hz},
-                      {"wavelet", o.cwt.wavelet.Describe()},
-                      {"normalisation", wavelet::ToString(o.cwt.wavelet.normalisation)},
-                      {"scale_convention", wavelet::ToString(o.cwt.wavelet.convention)},
-                      {"penalty_s", o.ridge.penalty_s},
-                      {"samples_compared", objective.measured_ridges()[k].InsideCoiCount()}});
-  }
-  return ridges;
-}
 
 void WriteJson(const std::string& path,
                const ident::IdentifySummary& s,

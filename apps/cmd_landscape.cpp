@@ -226,6 +226,7 @@ void AddLandscapeCommand(CLI::App& app) {
       j["points"] = result.evaluations;
       j["failed_points"] = result.failed_evaluations;
       j["wall_time_s"] = result.wall_time_s;
+      if (!objective->measured_ridges().empty()) j["ridges"] = RidgesJson(*objective);
       for (std::size_t k = 0; k < result.names.size(); ++k) {
         nlohmann::json o;
         const Eigen::MatrixXd& v = result.values[k];

@@ -2,12 +2,14 @@
 
 #include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <utility>
 
 #include "mpi_session.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
 #include "podid/ident/measured_record.hpp"
+#include "podid/wavelet/ridge.hpp"
 
 namespace podid::cli {
 
@@ -127,6 +129,22 @@ Eigen::VectorXd ObjectiveArguments::Start(const ident::ObjectiveFunction& object
     start[index] = value;
   }
   return start;
+}
+
+nlohmann::json RidgesJson(const ident::ObjectiveFunction& objective) {
+  nlohmann::json ridges = nlohmann::json::array();
+  for (std::size_t k = 0; k < objective.measured_ridges().size(); ++k) {
+    const wavelet::RidgeFrequencyOptions& o = objective.mode_ridge_options(static_cast<int>(k));
+    ridges.push_back({{"mode", k + 1},
+                      {"min_frequency_Hz", o.cwt.frequencies.min_frequency_Hz},
+                      {"max_frequency_Hz", o.cwt.frequencies.max_frequency_Hz},
+                      {"wavelet", o.cwt.wavelet.Describe()},
+                      {"normalisation", wavelet::ToString(o.cwt.wavelet.normalisation)},
+                      {"scale_convention", wavelet::ToString(o.cwt.wavelet.convention)},
+                      {"penalty_s", o.ridge.penalty_s},
+                      {"samples_compared", objective.measured_ridges()[k].InsideCoiCount()}});
+  }
+  return ridges;
 }
 
 ident::ObjectiveWeights WeightsFrom(const std::string& objective, const std::string& terms,

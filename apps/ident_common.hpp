@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <memory>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,13 @@ struct ObjectiveArguments {
   /// The start vector after --start overrides (throws for unknown names).
   Eigen::VectorXd Start(const ident::ObjectiveFunction& objective) const;
 };
+
+/// The wavelet term's settings per compared mode, as the objective resolved
+/// them (a mode's band follows its spectral peak unless --mode-band): each
+/// mode's band, wavelet, normalisation, scale convention, penalty and the
+/// ridge samples compared. An empty array without a wavelet term. The
+/// "ridges" of identify's and landscape's --json.
+nlohmann::json RidgesJson(const ident::ObjectiveFunction& objective);
 
 /// `--objective` presets, or `--terms`/`--weights`.
 ident::ObjectiveWeights WeightsFrom(const std::string& objective, const std::string& terms,

@@ -92,10 +92,12 @@ assert r[0]["normalisation"] == "amplitude" and r[0]["scale_convention"] == "rid
 assert r[0]["samples_compared"] > 0, r
 PY
 "$podid" landscape examples/beam.toml --measured tests/data/measured_knl50_T1.0.csv --param knl \
-  --range 40:60:21 --objective wavelet --wavelet morse -o "$out/morse.csv" >/dev/null 2>&1 ||
-  fail "landscape --wavelet morse exited $?"
+  --range 40:60:21 --objective wavelet --wavelet morse -o "$out/morse.csv" --json "$out/land.json" \
+  >/dev/null 2>&1 || fail "landscape --wavelet morse exited $?"
 best=$(tail -n +2 "$out/morse.csv" | sort -t, -k2 -g | head -1 | cut -d, -f1)
 [ "$best" = "50" ] || fail "Morse landscape minimum at '$best'"
+python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))["ridges"]; assert r[0]["wavelet"] == "Morse gamma 3 beta 20", r' \
+  "$out/land.json" || fail "landscape --json ridges"
 "$podid" identify examples/beam.toml --measured tests/data/measured_knl50_T1.0.csv --objective wavelet \
   --wavelet mexhat --json "$out/bad.json" 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--wavelet mexhat not exit 1"
