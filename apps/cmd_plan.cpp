@@ -73,13 +73,15 @@ void Run(const PlanArguments& a) {
   }
   // The lengths of the full-rate transform (podid cwt) and of the
   // band-limited one (identification, cwt --band-limited).
+  wavelet::MorletWavelet psi;
+  a.wavelet.ApplyTo(&psi);
   wavelet::FftLengths lengths;
   for (const auto& [n, step] : records) {
     std::vector<std::string> paddings = {a.padding};
     if (a.padding.empty()) paddings = {"zero", "reflect"};
     for (const std::string& padding : paddings) {
       wavelet::CwtOptions options;
-      a.wavelet.ApplyTo(&options.wavelet);
+      options.wavelet = psi;
       options.padding = wavelet::ParsePadding(padding);
       options.frequencies.min_frequency_Hz = a.fmin_Hz;
       options.frequencies.max_frequency_Hz = std::min(a.fmax_Hz, 0.5 / step);

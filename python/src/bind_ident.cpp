@@ -22,7 +22,6 @@
 #include "podid/ident/landscape.hpp"
 #include "podid/ident/measured_record.hpp"
 #include "podid/ident/objective.hpp"
-#include "podid/wavelet/cwt.hpp"
 
 namespace py = pybind11;
 
@@ -62,15 +61,9 @@ ident::NamedObjective ParseWeighting(const std::string& text) {
   return {text, w};
 }
 
-// The wavelet term's wavelet: the keywords wavelet, omega0, gamma, beta,
-// normalisation, scale_convention (the CLI's options of identify and landscape).
-struct ObjectiveWavelet {
-  std::string family;
-  double omega0, gamma, beta;
-  std::string normalisation, convention;
-};
-
-// Last in each signature, so that the earlier keywords keep their positions.
+// The wavelet term's wavelet (bindings.hpp's WaveletArguments: the CLI's
+// options of identify and landscape), last in each signature, so that the earlier keywords keep
+// their positions.
 #define PODID_OBJECTIVE_WAVELET_KWARGS                                            \
   py::arg("wavelet") = "morlet", py::arg("omega0") = 6.0, py::arg("gamma") = 3.0, \
   py::arg("beta") = 20.0, py::arg("normalisation") = "amplitude",                 \
@@ -79,7 +72,7 @@ struct ObjectiveWavelet {
   const std::string &family, double omega0, double gamma, double beta, \
       const std::string &normalisation, const std::string &convention
 #define PODID_OBJECTIVE_WAVELET_ARGUMENTS \
-  ObjectiveWavelet { family, omega0, gamma, beta, normalisation, convention }
+  WaveletArguments { family, omega0, gamma, beta, normalisation, convention }
 
 std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case_,
                                                          const Measured& measured,
@@ -91,7 +84,7 @@ std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case
                                                          bool keep_mean,
                                                          const std::vector<std::string>& set,
                                                          int ridge_threads,
-                                                         const ObjectiveWavelet& w) {
+                                                         const WaveletArguments& w) {
   ident::ObjectiveOptions options;
   options.weightings.clear();
   for (const std::string& w : weightings) {
@@ -108,19 +101,7 @@ std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax;
   options.ridge.cwt.threads = ridge_threads;  // checked by the objective (1..256)
-  wavelet::MorletWavelet& psi = options.ridge.cwt.wavelet;
-  psi.omega0 = w.omega0;
-  psi.gamma = w.gamma;
-  psi.beta = w.beta;
-  try {
-    psi.family = wavelet::ParseWaveletFamily(w.family);
-    psi.normalisation = wavelet::ParseNormalisation(w.normalisation);
-    psi.convention = wavelet::ParseScaleConvention(w.convention);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(PythonNames(e.what()));  // "scale convention" -> scale_convention
-  }
-  std::string why;
-  if (!psi.IsValid(&why)) throw std::invalid_argument(PythonNames(why));
+  options.ridge.cwt.wavelet = MakeWavelet(w);
   CaseDocument document = LoadCase(case_, set);
   const TimeSeries data = PrepareMeasured(document, measured);
   py::gil_scoped_release release;
@@ -343,9 +324,8 @@ void BindIdent(py::module_& m) {
       py::arg("progress") = py::none(), py::arg("modes") = 1, py::arg("fmin") = 10.0,
       py::arg("fmax") = 120.0, py::arg("keep_mean") = false,
       py::arg("set") = std::vector<std::string>{}, PODID_OBJECTIVE_WAVELET_KWARGS,
-      "Objectives over a 1-D grid of `param` (one simulation per point for all objectives): a "
-      "dict\n"
-      "with 'x', 'values' {objective: array (NaN where a point failed)} and 'metrics'.");
+      "Objectives over a 1-D grid of `param` (one simulation per point for all objectives): a\n"
+      "dict with 'x', 'values' {objective: array (NaN where a point failed)} and 'metrics'.");
 }
 
 }  // namespace podid::python

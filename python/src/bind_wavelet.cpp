@@ -65,14 +65,25 @@ auto WithPythonNames(F&& compute) {
   }
 }
 
-// The wavelet's keywords (the CLI's --wavelet, --omega0, --gamma, --beta,
-// --normalisation, --scale-convention), shared by every function; their
-// defaults are PODID_WAVELET_KWARGS's and omega0's.
-struct WaveletArguments {
-  std::string family;
-  double omega0, gamma, beta;
-  std::string normalisation, convention;
-};
+}  // namespace
+
+wavelet::MorletWavelet MakeWavelet(const WaveletArguments& w) {
+  wavelet::MorletWavelet psi;
+  psi.omega0 = w.omega0;
+  psi.gamma = w.gamma;
+  psi.beta = w.beta;
+  WithPythonNames([&] {
+    psi.family = wavelet::ParseWaveletFamily(w.family);
+    psi.normalisation = wavelet::ParseNormalisation(w.normalisation);
+    psi.convention = wavelet::ParseScaleConvention(w.convention);
+    return 0;
+  });
+  std::string why;
+  if (!psi.IsValid(&why)) throw std::invalid_argument(PythonNames(why));
+  return psi;
+}
+
+namespace {
 
 wavelet::CwtOptions MakeCwtOptions(double fmin_Hz,
                                    double fmax_Hz,
@@ -91,13 +102,8 @@ wavelet::CwtOptions MakeCwtOptions(double fmin_Hz,
   } else {
     options.frequencies.voices_per_octave = voices;
   }
-  options.wavelet.omega0 = w.omega0;
-  options.wavelet.gamma = w.gamma;
-  options.wavelet.beta = w.beta;
+  options.wavelet = MakeWavelet(w);
   WithPythonNames([&] {
-    options.wavelet.family = wavelet::ParseWaveletFamily(w.family);
-    options.wavelet.normalisation = wavelet::ParseNormalisation(w.normalisation);
-    options.wavelet.convention = wavelet::ParseScaleConvention(w.convention);
     options.padding = wavelet::ParsePadding(padding);
     return 0;
   });
