@@ -210,14 +210,8 @@ void Run(const CwtArguments& a) {
   const double cell_bytes =
       16.0 + (a.synchrosqueeze ? 8.0 : 0.0) + (a.scalogram.empty() ? 0.0 : 8.0);
   cwt.memory_budget_bytes = a.max_memory_MB * 1048576.0 * 16.0 / cell_bytes;
-  cwt.frequencies.min_frequency_Hz = a.fmin_Hz;
-  cwt.frequencies.max_frequency_Hz = a.fmax_Hz;
-  if (a.bins) {
-    cwt.frequencies.spacing = wavelet::FrequencySpacing::kLinear;
-    cwt.frequencies.bins = *a.bins;
-  } else {
-    cwt.frequencies.voices_per_octave = a.voices;
-  }
+  cwt.frequencies = a.bins ? wavelet::FrequencyGrid::Linear(a.fmin_Hz, a.fmax_Hz, *a.bins)
+                           : wavelet::FrequencyGrid::Log(a.fmin_Hz, a.fmax_Hz, a.voices);
   options.ridge.method = wavelet::ParseRidgeMethod(a.ridge);
   options.ridge.estimator = wavelet::ParseFrequencyEstimator(a.if_from);
   options.ridge.penalty_s = a.penalty_s;

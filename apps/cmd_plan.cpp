@@ -83,14 +83,9 @@ void Run(const PlanArguments& a) {
       wavelet::CwtOptions options;
       options.wavelet = psi;
       options.padding = wavelet::ParsePadding(padding);
-      options.frequencies.min_frequency_Hz = a.fmin_Hz;
-      options.frequencies.max_frequency_Hz = std::min(a.fmax_Hz, 0.5 / step);
-      if (a.bins) {
-        options.frequencies.spacing = wavelet::FrequencySpacing::kLinear;
-        options.frequencies.bins = *a.bins;
-      } else {
-        options.frequencies.voices_per_octave = a.voices;
-      }
+      const double fmax_Hz = std::min(a.fmax_Hz, 0.5 / step);
+      options.frequencies = a.bins ? wavelet::FrequencyGrid::Linear(a.fmin_Hz, fmax_Hz, *a.bins)
+                                   : wavelet::FrequencyGrid::Log(a.fmin_Hz, fmax_Hz, a.voices);
       std::string why;
       if (!options.IsValid(&why)) throw std::invalid_argument("plan: " + why);
       for (bool band_limited : {false, true}) {

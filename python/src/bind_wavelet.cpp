@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bindings.hpp"
+#include "podid/core/error.hpp"
 #include "podid/wavelet/cwt.hpp"
 #include "podid/wavelet/plans.hpp"
 #include "podid/wavelet/ridge.hpp"
@@ -41,6 +42,7 @@ std::string PythonNames(std::string message) {
       {"scale convention", "scale_convention"},
       {"CwtOptions.coi_factor", "coi_factor"},
       {"CwtOptions.threads", "threads"},
+      {"CwtOptions::memory_budget_bytes", "max_memory_MB"},
       {"min_frequency_Hz", "fmin"},
       {" (or admissibility_correction = true)", ""},  // not a keyword of this module
   };
@@ -94,14 +96,9 @@ wavelet::CwtOptions MakeCwtOptions(double fmin_Hz,
                                    double coi_factor,
                                    int threads) {
   wavelet::CwtOptions options;
-  options.frequencies.min_frequency_Hz = fmin_Hz;
-  options.frequencies.max_frequency_Hz = fmax_Hz;
-  if (bins) {  // the CLI's --bins: a linear grid instead of the log one
-    options.frequencies.spacing = wavelet::FrequencySpacing::kLinear;
-    options.frequencies.bins = *bins;
-  } else {
-    options.frequencies.voices_per_octave = voices;
-  }
+  // bins: the CLI's --bins, a linear grid instead of the log one.
+  options.frequencies = bins ? wavelet::FrequencyGrid::Linear(fmin_Hz, fmax_Hz, *bins)
+                             : wavelet::FrequencyGrid::Log(fmin_Hz, fmax_Hz, voices);
   options.wavelet = MakeWavelet(w);
   WithPythonNames([&] {
     options.padding = wavelet::ParsePadding(padding);
@@ -112,6 +109,17 @@ wavelet::CwtOptions MakeCwtOptions(double fmin_Hz,
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(PythonNames(why));
   return options;
+}
+
+// The CLI's --max-memory: the transform's bytes as a share of max_memory_MB,
+// W's 16 bytes a coefficient out of the `cell_bytes` each takes (24 with the
+// synchrosqueezed transform's reassignment field).
+void ApplyMemoryLimit(double max_memory_MB, double cell_bytes, wavelet::CwtOptions* options) {
+  if (!(max_memory_MB >= 1.0 && max_memory_MB <= 16777216.0)) {
+    throw std::invalid_argument("max_memory_MB: expected 1..16777216 (MB), got " +
+                                ToText(max_memory_MB));
+  }
+  options->memory_budget_bytes = max_memory_MB * 1048576.0 * 16.0 / cell_bytes;
 }
 
 // Keyword arguments shared by the functions (the CLI's names). The wavelet's
@@ -130,6 +138,9 @@ wavelet::CwtOptions MakeCwtOptions(double fmin_Hz,
   py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("voices") = 32,           \
   py::arg("omega0") = 6.0, py::arg("padding") = "zero", py::arg("coi_factor") = 2.0, \
   py::arg("threads") = 1, PODID_WAVELET_KWARGS
+// What the transform keeps (the CLI's --band-limited, --max-memory): after every
+// other keyword, so that positions stay.
+#define PODID_OUTPUT_KWARGS py::arg("band_limited") = false, py::arg("max_memory_MB") = 2048.0
 // The wavelet objective's (RidgeFrequencyOptions): reflect padding, cone factor 1.
 #define PODID_OBJECTIVE_KWARGS                                                          \
   py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("voices") = 32,              \
@@ -163,26 +174,32 @@ void BindWavelet(py::module_& m) {
       "cwt",
       [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double fmin, double fmax,
          int voices, double omega0, const std::string& padding, double coi_factor, int threads,
-         PODID_WAVELET_PARAMETERS) {
-        const wavelet::CwtOptions options = MakeCwtOptions(
+         PODID_WAVELET_PARAMETERS, bool band_limited, double max_memory_MB) {
+        wavelet::CwtOptions options = MakeCwtOptions(
             fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
+        options.band_limited = band_limited;
+        ApplyMemoryLimit(max_memory_MB, 16.0, &options);
         py::gil_scoped_release release;
         return WithPythonNames([&] { return wavelet::Cwt(x, step_s, options); });
       },
-      py::arg("x"), py::arg("step_s"), PODID_CWT_KWARGS,
+      py::arg("x"), py::arg("step_s"), PODID_CWT_KWARGS, PODID_OUTPUT_KWARGS,
       "CWT of x (1-D, sampled every step_s) on a log grid fmin..fmax Hz (voices per octave; "
       "bins=N: N linearly spaced frequencies): Morlet (omega0) or, "
       "with wavelet=\"morse\", generalised Morse (gamma, beta); normalisation \"amplitude\" "
-      "(L1) or \"energy\" (L2); scale_convention \"ridge\" or \"peak\" (MATLAB, PyWavelets).");
+      "(L1) or \"energy\" (L2); scale_convention \"ridge\" or \"peak\" (MATLAB, PyWavelets). "
+      "band_limited: only every D-th time, D as large as the band allows (the scalogram's "
+      "decimation); max_memory_MB: refuse a transform needing more (a ValueError).");
 
   m.def(
       "ridges",
       [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, int count, double fmin,
          double fmax, int voices, double omega0, const std::string& padding, double coi_factor,
          int threads, PODID_WAVELET_PARAMETERS, const std::string& method, double penalty_s,
-         const std::string& estimator) {
-        const wavelet::CwtOptions options = MakeCwtOptions(
+         const std::string& estimator, bool band_limited, double max_memory_MB) {
+        wavelet::CwtOptions options = MakeCwtOptions(
             fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
+        options.band_limited = band_limited;
+        ApplyMemoryLimit(max_memory_MB, 16.0, &options);
         wavelet::RidgeOptions ridge;
         ridge.ridges = count;
         ridge.penalty_s = penalty_s;
@@ -208,10 +225,12 @@ void BindWavelet(py::module_& m) {
       },
       py::arg("x"), py::arg("step_s"), py::arg("count") = 1, PODID_CWT_KWARGS,
       py::arg("method") = "penalised", py::arg("penalty_s") = 0.05, py::arg("estimator") = "phase",
+      PODID_OUTPUT_KWARGS,
       "The `count` strongest ridges of x's CWT, strongest first: method \"penalised\" (dynamic "
       "programming, a one-e-fold jump costing penalty_s) or \"max\"; the IF from the "
       "\"phase\" derivative (follows content beyond the grid) or the ridge's \"scale\" "
-      "(refined between grid frequencies, always on the grid).");
+      "(refined between grid frequencies, always on the grid). band_limited, max_memory_MB: as "
+      "for cwt.");
 
   py::class_<wavelet::SynchrosqueezedTransform>(m, "SynchrosqueezedTransform",
                                                 "T(t, f) and the reassignment it was built from.")
@@ -240,9 +259,12 @@ void BindWavelet(py::module_& m) {
       "synchrosqueeze",
       [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double threshold, double fmin,
          double fmax, int voices, double omega0, const std::string& padding, double coi_factor,
-         int threads, PODID_WAVELET_PARAMETERS) {
-        const wavelet::CwtOptions options = MakeCwtOptions(
+         int threads, PODID_WAVELET_PARAMETERS, bool band_limited, double max_memory_MB) {
+        wavelet::CwtOptions options = MakeCwtOptions(
             fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
+        options.band_limited = band_limited;
+        // T replaces W in place; the reassigned frequencies take 8 bytes more a coefficient.
+        ApplyMemoryLimit(max_memory_MB, 24.0, &options);
         wavelet::SynchrosqueezeOptions squeeze;
         squeeze.relative_threshold = threshold;
         std::string why;
@@ -250,16 +272,26 @@ void BindWavelet(py::module_& m) {
         py::gil_scoped_release release;
         wavelet::CwtTransform transform(options);
         wavelet::SynchrosqueezedTransform out;
-        WithPythonNames([&] {
-          transform.Compute(x, step_s, &out.sst);
-          return 0;
-        });
+        try {
+          WithPythonNames([&] {
+            transform.Compute(x, step_s, &out.sst);
+            return 0;
+          });
+        } catch (const std::invalid_argument& e) {
+          const std::string what = e.what();
+          if (what.find("(max_memory_MB)") == std::string::npos) throw;
+          throw std::invalid_argument(what + " [max_memory_MB " + ToText(max_memory_MB) +
+                                      " x 16 / 24: W's share of the 24 bytes a coefficient "
+                                      "takes with its reassigned frequency]");
+        }
         wavelet::SynchrosqueezeInPlace(transform, squeeze, &out);  // T over W: no second matrix
         return out;
       },
       py::arg("x"), py::arg("step_s"), py::arg("threshold") = 1e-6, PODID_CWT_KWARGS,
+      PODID_OUTPUT_KWARGS,
       "Synchrosqueezed CWT of x (Daubechies, Lu & Wu 2011): each coefficient with |W| "
-      "above threshold x max |W| moved to the grid frequency of its IF.");
+      "above threshold x max |W| moved to the grid frequency of its IF. band_limited, "
+      "max_memory_MB: as for cwt (24 bytes a coefficient: T and the reassigned frequency).");
 
   m.def(
       "inverse_cwt",
@@ -329,18 +361,20 @@ void BindWavelet(py::module_& m) {
       "instantaneous_frequency",
       [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double fmin, double fmax,
          int voices, double omega0, const std::string& padding, double coi_factor, int threads,
-         PODID_WAVELET_PARAMETERS) {
+         PODID_WAVELET_PARAMETERS, double max_memory_MB) {
         wavelet::RidgeFrequencyOptions options;
         const bool band_limited = options.cwt.band_limited;
         options.cwt = MakeCwtOptions(fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding,
                                      coi_factor, threads);
         options.cwt.band_limited = band_limited;
+        ApplyMemoryLimit(max_memory_MB, 16.0, &options.cwt);
         py::gil_scoped_release release;
         return WithPythonNames([&] { return wavelet::RidgeFrequency(x, step_s, options); });
       },
-      py::arg("x"), py::arg("step_s"), PODID_OBJECTIVE_KWARGS,
+      py::arg("x"), py::arg("step_s"), PODID_OBJECTIVE_KWARGS, py::arg("max_memory_MB") = 2048.0,
       "The IF of x along its main ridge, as the wavelet objective computes it (band-limited, "
-      "decimated output times).");
+      "decimated output times, streamed in blocks: about 1 byte a coefficient; max_memory_MB as "
+      "for cwt).");
 }
 
 }  // namespace podid::python

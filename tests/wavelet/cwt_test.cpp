@@ -246,6 +246,13 @@ TEST(Cwt, FrequencyGridAndConeOfInfluence) {
   g.bins = 12;
   EXPECT_NEAR(g.Frequencies_Hz()(11), 120.0, 1e-12);
   EXPECT_NEAR(g.Frequencies_Hz()(1), 20.0, 1e-12);
+  // The factories describe the same grids (and are checked by IsValid only).
+  EXPECT_EQ(FrequencyGrid::Linear(10.0, 120.0, 12).Frequencies_Hz(), g.Frequencies_Hz());
+  EXPECT_EQ(FrequencyGrid::Log(10.0, 120.0, 32).Frequencies_Hz(), f);
+  EXPECT_EQ(FrequencyGrid::Log(10.0, 40.0, 4).Frequencies_Hz().size(), 9);  // 2 octaves x 4 + 1
+  std::string why;
+  EXPECT_FALSE(FrequencyGrid::Linear(10.0, 120.0, 1).IsValid(&why));
+  EXPECT_EQ(why, "FrequencyGrid.bins: expected 2..100000, got 1");
 
   // COI at t = 0.25 s of a 1 s record: sqrt(2) s = 0.25 s <=> f = 6 sqrt(2) / (2 pi 0.25).
   const Eigen::VectorXd x = MixedSignal(1001, 1e-3);

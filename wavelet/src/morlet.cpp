@@ -258,6 +258,24 @@ double MorletWavelet::ConeOfInfluence_s(double scale_s) { return std::sqrt(2.0) 
 
 // ---------------------------------------------------------------- FrequencyGrid
 
+FrequencyGrid FrequencyGrid::Log(double min_Hz, double max_Hz, int voices_per_octave) {
+  FrequencyGrid grid;
+  grid.min_frequency_Hz = min_Hz;
+  grid.max_frequency_Hz = max_Hz;
+  grid.spacing = FrequencySpacing::kLog;
+  grid.voices_per_octave = voices_per_octave;
+  return grid;
+}
+
+FrequencyGrid FrequencyGrid::Linear(double min_Hz, double max_Hz, int bins) {
+  FrequencyGrid grid;
+  grid.min_frequency_Hz = min_Hz;
+  grid.max_frequency_Hz = max_Hz;
+  grid.spacing = FrequencySpacing::kLinear;
+  grid.bins = bins;
+  return grid;
+}
+
 bool FrequencyGrid::IsValid(std::string* why) const {
   if (!std::isfinite(min_frequency_Hz) || min_frequency_Hz <= 0.0) {
     return Fail(why, "FrequencyGrid.min_frequency_Hz: expected a finite value > 0, got " +

@@ -212,6 +212,11 @@ struct FrequencyGrid {
   /// kLinear: f_j = min + j (max - min) / (bins - 1), j = 0 .. bins - 1 (bins in 2..100000).
   int bins = 200;
 
+  /// The grid `podid cwt --voices` (Log) and `--bins` (Linear) describe; not checked here
+  /// (IsValid, or the transform that takes it, says what is wrong).
+  static FrequencyGrid Log(double min_Hz, double max_Hz, int voices_per_octave);
+  static FrequencyGrid Linear(double min_Hz, double max_Hz, int bins);
+
   bool IsValid(std::string* why) const;
   /// (dim n_frequencies) ascending; throws std::invalid_argument if !IsValid.
   Eigen::VectorXd Frequencies_Hz() const;
