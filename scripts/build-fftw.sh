@@ -14,7 +14,7 @@
 # FFTW_ESTIMATE's plans too (the CWT of fCWT's case 1.04-1.32x, the Silverbox
 # evaluation 1.36x), but on an AMD Zen 4 FFTW_ESTIMATE picked slower plans
 # among the new codelets (the Silverbox evaluation 0.85x), and estimated plans
-# are what every process uses until `podid plan` has run (docs/benchmarks.md,
+# are what every process uses until `podid plan` has run (docs/benchmark-log.md,
 # "FFTW with its AVX2 and AVX-512 codelets"); on a Zen 3 the CWT was slower
 # with estimated plans (0.60-0.69x) and no faster with measured ones
 # ("FFTW's AVX2 codelets on a Zen 3 EPYC"). PODID_FFTW_SIMD=ON builds it on

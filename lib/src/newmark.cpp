@@ -179,7 +179,7 @@ NewmarkIntegrator::NewmarkIntegrator(const BeamModel& model, const NewmarkOption
     modal_status_ = "not used: full Newton";
   } else if (n_ == 1 && na_ == 1 && !sparse_ && !options.modal_portable) {
     // Nothing to condense: the scalar loop, faster than either (the Silverbox's
-    // steps, docs/benchmarks.md).
+    // steps, docs/benchmark-log.md, "The one-dof loop").
     one_dof_ = true;
     modal_status_ = "not used: a one-dof model steps in its own scalar loop";
   } else if (!options.modal) {

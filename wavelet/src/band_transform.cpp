@@ -52,7 +52,7 @@ Eigen::Index Mirror(Eigen::Index m, Eigen::Index n) {
 // overlap then costs at most 1/4 of the transform. Not more: shorter blocks
 // keep a block's costs (times x frequencies) nearer the cache, which paid
 // more than the overlap cost (4 against 8: the Silverbox evaluation 1.08x,
-// the 10^6-sample ridge 1.13x; docs/benchmarks.md, "Shorter ridge blocks").
+// the 10^6-sample ridge 1.13x; docs/benchmark-log.md, "Shorter ridge blocks").
 constexpr Eigen::Index kOverlapShare = 4;
 
 }  // namespace
@@ -121,7 +121,7 @@ BandTransform::Shape BandTransform::Plan(Eigen::Index samples, double step_s, do
       std::max<Eigen::Index>(1, static_cast<Eigen::Index>(max_block_cells / freqs));
   // The cheapest FFT per kept output time, the overlaps thrown away: at the
   // Silverbox's 2 x 218, 2048 points keep 1612 times against 1792's 1356 (FFTW
-  // 1.76 against 2.25 ns a point, estimated plans; docs/benchmarks.md, "Ridge
+  // 1.76 against 2.25 ns a point, estimated plans; docs/benchmark-log.md, "Ridge
   // blocks by cost per kept time"). Capped by max_block_cells: as for a record.
   Eigen::Index mb =
       FastBlockLength(std::max<Eigen::Index>(kOverlapShare * 2 * overlap, 1024), 2 * overlap);

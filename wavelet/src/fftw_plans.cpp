@@ -242,7 +242,7 @@ long long FastBlockLength(long long n, long long overlap) {
   // take 128-point codelets for 4096 points: 3.3 ns a point against 2.3 with
   // a measured plan (estimated, 1792: 2.25, 2048: 1.76, 3584: 3.0), and
   // 4096-point blocks made the 10-300 Hz Silverbox ridge 5 % slower than
-  // 3584-point ones (docs/benchmarks.md, "Ridge blocks by cost per kept time").
+  // 3584-point ones (docs/benchmark-log.md, "Ridge blocks by cost per kept time").
   constexpr long long kModelledBlock = 2048;
   if (n > kModelledBlock) return FastFftLength(n);
   return CheapestSmoothLength(n, [overlap](long long m) {

@@ -41,7 +41,7 @@ PODID_CLONES_V3 void ScaleRun(const double* x, const double* g, double* to, Eige
 // i = r m + q, in output order. D fixed at compile time (kDecimation > 0)
 // unrolls the interleave of the D blocks: a run-time count per group of D
 // outputs was a short loop of unknown length (fCWT's case 1.04x at 10^4,
-// 1.07x at 10^5; docs/benchmarks.md).
+// 1.07x at 10^5; docs/benchmark-log.md, "fCWT with measured plans").
 template <Eigen::Index kDecimation, class Emit>
 void Interleave(Eigen::Index d, Eigen::Index m, Eigen::Index times, Emit emit) {
   if constexpr (kDecimation > 0) d = kDecimation;

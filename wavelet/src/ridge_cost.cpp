@@ -97,7 +97,7 @@ PODID_CLONES_V4 void RidgePower(const std::complex<double>* w,
 // errno, GCC calls libm's sqrt for each NaN result and keeps the loop scalar;
 // without it each clone's loop is vsqrtpd at its own width (4 or 8 lanes
 // against Eigen's 2-lane SSE2 packets before: the float scalogram of fCWT's
-// case spent 14 % of its time in them, docs/benchmarks.md). Squares sum to
+// case spent 14 % of its time in them, docs/benchmark-log.md). Squares sum to
 // >= 0 or NaN, so no errno was ever due.
 PODID_CLONES_V4 void Magnitudes(const std::complex<double>* w, Eigen::Index n, double* magnitude) {
   double* __restrict out = magnitude;
