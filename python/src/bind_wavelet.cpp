@@ -150,12 +150,17 @@ void ApplyMemoryLimit(double max_memory_MB, double cell_bytes, wavelet::CwtOptio
 }  // namespace
 
 void BindWavelet(py::module_& m) {
-  py::class_<wavelet::Scalogram>(m, "Scalogram", "W(t, f) of one signal (rows: times, columns: frequencies).")
+  py::class_<wavelet::Scalogram>(m, "Scalogram",
+                                 "W(t, f) of one signal (rows: times, columns: frequencies).")
       .def_readonly("frequencies_Hz", &wavelet::Scalogram::frequencies_Hz)
       .def_readonly("scales_s", &wavelet::Scalogram::scales_s)
       .def_readonly("time_s", &wavelet::Scalogram::time_s)
       .def_readonly("coefficients", &wavelet::Scalogram::coefficients,
                     "complex (times x frequencies), in units of coefficient_scale")
+      .def_readonly("magnitude", &wavelet::Scalogram::magnitude,
+                    "|W| in single precision (times x frequencies, float32), in units of "
+                    "coefficient_scale, when cwt(output=\"magnitude\"); then coefficients is "
+                    "empty. Else empty")
       .def_readonly("coefficient_scale", &wavelet::Scalogram::coefficient_scale)
       .def_readonly("coi_frequency_Hz", &wavelet::Scalogram::coi_frequency_Hz,
                     "lowest frequency inside the cone of influence at each time")
@@ -174,21 +179,26 @@ void BindWavelet(py::module_& m) {
       "cwt",
       [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double fmin, double fmax,
          int voices, double omega0, const std::string& padding, double coi_factor, int threads,
-         PODID_WAVELET_PARAMETERS, bool band_limited, double max_memory_MB) {
+         PODID_WAVELET_PARAMETERS, bool band_limited, double max_memory_MB,
+         const std::string& output) {
         wavelet::CwtOptions options = MakeCwtOptions(
             fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
         options.band_limited = band_limited;
-        ApplyMemoryLimit(max_memory_MB, 16.0, &options);
+        ApplyMemoryLimit(max_memory_MB, 16.0, &options);  // the library counts 4 for a magnitude
+        options.output = wavelet::ParseCwtOutput(output);
         py::gil_scoped_release release;
         return WithPythonNames([&] { return wavelet::Cwt(x, step_s, options); });
       },
       py::arg("x"), py::arg("step_s"), PODID_CWT_KWARGS, PODID_OUTPUT_KWARGS,
+      py::arg("output") = "complex",
       "CWT of x (1-D, sampled every step_s) on a log grid fmin..fmax Hz (voices per octave; "
       "bins=N: N linearly spaced frequencies): Morlet (omega0) or, "
       "with wavelet=\"morse\", generalised Morse (gamma, beta); normalisation \"amplitude\" "
       "(L1) or \"energy\" (L2); scale_convention \"ridge\" or \"peak\" (MATLAB, PyWavelets). "
       "band_limited: only every D-th time, D as large as the band allows (the scalogram's "
-      "decimation); max_memory_MB: refuse a transform needing more (a ValueError).");
+      "decimation); max_memory_MB: refuse a transform needing more (a ValueError); "
+      "output=\"magnitude\": only |W|, in single precision (Scalogram.magnitude, 4 bytes a "
+      "coefficient against 16).");
 
   m.def(
       "ridges",

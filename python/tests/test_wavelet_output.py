@@ -13,6 +13,10 @@ import podid
 # the rounding of two FFT lengths, as tests/wavelet/cwt_test.cpp's
 # Cwt.BandLimitedModeIsTheDecimatedFullTransform holds it (1e-11 of max |W|).
 DECIMATED_TOLERANCE = 1e-11
+# |W| rounded once to float32: 2^-24 relative, and |W| in double (1e-16); the
+# C++ test SinglePrecision.MagnitudeOutputIsTheRoundedComplexMagnitude holds
+# it to the same 1e-7.
+FLOAT_MAGNITUDE_RELATIVE = 1e-7
 # A tone's IF from the phase derivative away from the ends: exact up to the
 # band tolerance, as in test_podid.py.
 TONE_IF_TOLERANCE_HZ = 1e-6
@@ -73,3 +77,24 @@ def test_max_memory_refuses_what_it_would_exceed_and_names_the_keyword():
     for bad in (0.5, 2.0**25, float("nan")):
         with pytest.raises(ValueError, match=r"^max_memory_MB: expected 1\.\.16777216 \(MB\), got "):
             podid.cwt(x, step, max_memory_MB=bad)
+
+
+def test_magnitude_output_is_the_complex_magnitude_in_single_precision():
+    step = 2e-4
+    x = chirp_and_tone(step, 5001)
+    full = podid.cwt(x, step)
+    mag = podid.cwt(x, step, output="magnitude")
+    assert mag.coefficients.size == 0 and mag.magnitude.dtype == np.float32
+    assert mag.magnitude.shape == full.coefficients.shape
+    expected = np.abs(full.coefficients)
+    assert np.all(np.abs(mag.magnitude - expected) <= FLOAT_MAGNITUDE_RELATIVE * expected)
+    assert full.magnitude.size == 0
+    band = podid.cwt(x, step, output="magnitude", band_limited=True)
+    assert band.magnitude.shape == (len(full.time_s[:: band.decimation]), len(full.frequencies_Hz))
+    # A quarter of the bytes: 10^5 x 115 magnitudes (46 MB) fit 100 MB, where W does not.
+    long = np.cos(2 * math.pi * 50.0 * np.arange(100000) * 1e-4)
+    assert podid.cwt(long, 1e-4, max_memory_MB=100, output="magnitude").magnitude.shape == (100000, 115)
+    with pytest.raises(ValueError, match="complex coefficients"):
+        podid.inverse_cwt(mag)
+    with pytest.raises(ValueError, match=r'^output: expected one of complex, magnitude, got "float"'):
+        podid.cwt(x, step, output="float")

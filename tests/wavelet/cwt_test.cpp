@@ -424,6 +424,11 @@ TEST(Cwt, BadInputNamesWhatWasExpected) {
   }
   PODID_EXPECT_THROW_WITH(ParsePadding("mirror"), std::invalid_argument,
                           "expected one of reflect, zero, periodic");
+  for (const CwtOutput output : {CwtOutput::kComplex, CwtOutput::kMagnitudeFloat}) {
+    EXPECT_EQ(ParseCwtOutput(ToString(output)), output);
+  }
+  PODID_EXPECT_THROW_WITH(ParseCwtOutput("float"), std::invalid_argument,
+                          "output: expected one of complex, magnitude, got \"float\"");
 }
 
 }  // namespace

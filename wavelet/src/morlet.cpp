@@ -67,6 +67,22 @@ Normalisation ParseNormalisation(std::string_view name) {
   ThrowInvalid("normalisation", "one of amplitude, energy", Excerpt(name));
 }
 
+const char* ToString(CwtOutput output) {
+  switch (output) {
+    case CwtOutput::kComplex:
+      return "complex";
+    case CwtOutput::kMagnitudeFloat:
+      return "magnitude";
+  }
+  return "?";
+}
+
+CwtOutput ParseCwtOutput(std::string_view name) {
+  if (name == "complex") return CwtOutput::kComplex;
+  if (name == "magnitude") return CwtOutput::kMagnitudeFloat;
+  ThrowInvalid("output", "one of complex, magnitude", Excerpt(name));
+}
+
 Padding ParsePadding(std::string_view name) {
   if (name == "reflect") return Padding::kReflect;
   if (name == "zero") return Padding::kZero;

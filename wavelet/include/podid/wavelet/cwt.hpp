@@ -127,8 +127,10 @@ const char* ToString(WaveletFamily family);
 const char* ToString(Padding padding);
 const char* ToString(FrequencySpacing spacing);
 const char* ToString(ScaleConvention convention);  ///< "ridge" / "peak"
+const char* ToString(CwtOutput output);            ///< "complex" / "magnitude"
 /// Inverses of ToString; throw std::invalid_argument naming the choices.
 Normalisation ParseNormalisation(std::string_view name);
+CwtOutput ParseCwtOutput(std::string_view name);
 ScaleConvention ParseScaleConvention(std::string_view name);
 Padding ParsePadding(std::string_view name);
 WaveletFamily ParseWaveletFamily(std::string_view name);
