@@ -111,10 +111,14 @@ wavelet::CwtOptions MakeCwtOptions(double fmin_Hz,
   return options;
 }
 
-// The CLI's --max-memory: the transform's bytes as a share of max_memory_MB,
-// W's 16 bytes a coefficient out of the `cell_bytes` each takes (24 with the
-// synchrosqueezed transform's reassignment field).
-void ApplyMemoryLimit(double max_memory_MB, double cell_bytes, wavelet::CwtOptions* options) {
+// The CLI's --band-limited and --max-memory: the transform's bytes as a
+// share of max_memory_MB, W's 16 bytes a coefficient out of the `cell_bytes`
+// each takes (24 with the synchrosqueezed transform's reassignment field).
+void ApplyOutputLimits(bool band_limited,
+                       double max_memory_MB,
+                       double cell_bytes,
+                       wavelet::CwtOptions* options) {
+  options->band_limited = band_limited;
   if (!(max_memory_MB >= 1.0 && max_memory_MB <= 16777216.0)) {
     throw std::invalid_argument("max_memory_MB: expected 1..16777216 (MB), got " +
                                 ToText(max_memory_MB));
@@ -133,6 +137,13 @@ void ApplyMemoryLimit(double max_memory_MB, double cell_bytes, wavelet::CwtOptio
       const std::string &convention, std::optional<int> bins
 #define PODID_WAVELET_ARGUMENTS \
   WaveletArguments { family, omega0, gamma, beta, normalisation, convention }
+// The lambdas' parameters for PODID_CWT_KWARGS (or PODID_OBJECTIVE_KWARGS), and
+// the options they give.
+#define PODID_CWT_PARAMETERS                                                       \
+  double fmin, double fmax, int voices, double omega0, const std::string &padding, \
+      double coi_factor, int threads, PODID_WAVELET_PARAMETERS
+#define PODID_CWT_OPTIONS \
+  MakeCwtOptions(fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads)
 // The CLI's defaults (podid cwt): zero padding, cone factor 2 (docs/wavelet.md).
 #define PODID_CWT_KWARGS                                                             \
   py::arg("fmin") = 10.0, py::arg("fmax") = 120.0, py::arg("voices") = 32,           \
@@ -177,14 +188,10 @@ void BindWavelet(py::module_& m) {
 
   m.def(
       "cwt",
-      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double fmin, double fmax,
-         int voices, double omega0, const std::string& padding, double coi_factor, int threads,
-         PODID_WAVELET_PARAMETERS, bool band_limited, double max_memory_MB,
-         const std::string& output) {
-        wavelet::CwtOptions options = MakeCwtOptions(
-            fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
-        options.band_limited = band_limited;
-        ApplyMemoryLimit(max_memory_MB, 16.0, &options);  // the library counts 4 for a magnitude
+      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, PODID_CWT_PARAMETERS,
+         bool band_limited, double max_memory_MB, const std::string& output) {
+        wavelet::CwtOptions options = PODID_CWT_OPTIONS;
+        ApplyOutputLimits(band_limited, max_memory_MB, 16.0, &options);  // 4 for a magnitude
         options.output = wavelet::ParseCwtOutput(output);
         py::gil_scoped_release release;
         return WithPythonNames([&] { return wavelet::Cwt(x, step_s, options); });
@@ -202,14 +209,11 @@ void BindWavelet(py::module_& m) {
 
   m.def(
       "ridges",
-      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, int count, double fmin,
-         double fmax, int voices, double omega0, const std::string& padding, double coi_factor,
-         int threads, PODID_WAVELET_PARAMETERS, const std::string& method, double penalty_s,
-         const std::string& estimator, bool band_limited, double max_memory_MB) {
-        wavelet::CwtOptions options = MakeCwtOptions(
-            fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
-        options.band_limited = band_limited;
-        ApplyMemoryLimit(max_memory_MB, 16.0, &options);
+      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, int count, PODID_CWT_PARAMETERS,
+         const std::string& method, double penalty_s, const std::string& estimator,
+         bool band_limited, double max_memory_MB) {
+        wavelet::CwtOptions options = PODID_CWT_OPTIONS;
+        ApplyOutputLimits(band_limited, max_memory_MB, 16.0, &options);
         wavelet::RidgeOptions ridge;
         ridge.ridges = count;
         ridge.penalty_s = penalty_s;
@@ -267,14 +271,11 @@ void BindWavelet(py::module_& m) {
 
   m.def(
       "synchrosqueeze",
-      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double threshold, double fmin,
-         double fmax, int voices, double omega0, const std::string& padding, double coi_factor,
-         int threads, PODID_WAVELET_PARAMETERS, bool band_limited, double max_memory_MB) {
-        wavelet::CwtOptions options = MakeCwtOptions(
-            fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
-        options.band_limited = band_limited;
+      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double threshold,
+         PODID_CWT_PARAMETERS, bool band_limited, double max_memory_MB) {
+        wavelet::CwtOptions options = PODID_CWT_OPTIONS;
         // T replaces W in place; the reassigned frequencies take 8 bytes more a coefficient.
-        ApplyMemoryLimit(max_memory_MB, 24.0, &options);
+        ApplyOutputLimits(band_limited, max_memory_MB, 24.0, &options);
         wavelet::SynchrosqueezeOptions squeeze;
         squeeze.relative_threshold = threshold;
         std::string why;
@@ -316,11 +317,8 @@ void BindWavelet(py::module_& m) {
 
   m.def(
       "plan",
-      [](Eigen::Index samples, double step_s, double fmin, double fmax, int voices, double omega0,
-         const std::string& padding, double coi_factor, int threads, PODID_WAVELET_PARAMETERS,
-         const std::string& effort) {
-        wavelet::CwtOptions options = MakeCwtOptions(
-            fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads);
+      [](Eigen::Index samples, double step_s, PODID_CWT_PARAMETERS, const std::string& effort) {
+        wavelet::CwtOptions options = PODID_CWT_OPTIONS;
         if (effort != "measure" && effort != "patient") {
           throw std::invalid_argument("effort: expected one of measure, patient, got \"" + effort +
                                       "\"");
@@ -369,15 +367,12 @@ void BindWavelet(py::module_& m) {
 
   m.def(
       "instantaneous_frequency",
-      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double fmin, double fmax,
-         int voices, double omega0, const std::string& padding, double coi_factor, int threads,
-         PODID_WAVELET_PARAMETERS, double max_memory_MB) {
+      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, PODID_CWT_PARAMETERS,
+         double max_memory_MB) {
         wavelet::RidgeFrequencyOptions options;
         const bool band_limited = options.cwt.band_limited;
-        options.cwt = MakeCwtOptions(fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding,
-                                     coi_factor, threads);
-        options.cwt.band_limited = band_limited;
-        ApplyMemoryLimit(max_memory_MB, 16.0, &options.cwt);
+        options.cwt = PODID_CWT_OPTIONS;
+        ApplyOutputLimits(band_limited, max_memory_MB, 16.0, &options.cwt);
         py::gil_scoped_release release;
         return WithPythonNames([&] { return wavelet::RidgeFrequency(x, step_s, options); });
       },
