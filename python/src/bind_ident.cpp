@@ -11,6 +11,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -55,10 +56,23 @@ ident::NamedObjective ParseWeighting(const std::string& text) {
     return {text, ident::ObjectiveWeights::Preset(text)};
   }
   const std::size_t colon = text.find(':');
-  const ident::ObjectiveWeights w = colon == std::string::npos
-                                        ? ident::ObjectiveWeights::Parse(text)
-                                        : ident::ObjectiveWeights::Parse(text.substr(0, colon), text.substr(colon + 1));
-  return {text, w};
+  try {
+    const ident::ObjectiveWeights w =
+        colon == std::string::npos
+            ? ident::ObjectiveWeights::Parse(text)
+            : ident::ObjectiveWeights::Parse(text.substr(0, colon), text.substr(colon + 1));
+    return {text, w};
+  } catch (const std::invalid_argument& e) {
+    // The parser speaks of the CLI's --terms and --weights: here they are the
+    // two halves of one weighting string.
+    std::string message = e.what();
+    for (const std::string_view flag : {"--terms", "--weights"}) {
+      for (std::size_t at = message.find(flag); at != std::string::npos; at = message.find(flag)) {
+        message.erase(at, 2);
+      }
+    }
+    throw std::invalid_argument("weightings: \"" + text + "\": " + message);
+  }
 }
 
 // The wavelet term's wavelet (bindings.hpp's WaveletArguments: the CLI's

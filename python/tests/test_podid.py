@@ -529,3 +529,14 @@ def test_duplicate_weightings_are_refused():
         podid.Objective(CASE, MEASURED_01S, weightings=["full", "full"])
     with pytest.raises(ValueError, match='got "wavelet" twice'):
         podid.landscape(CASE, MEASURED_01S, "knl", 40.0, 60.0, 3, objectives=["wavelet", "full", "wavelet"])
+
+
+def test_a_bad_weighting_string_is_named_in_the_keywords_terms():
+    # The library's parser names the CLI's --terms/--weights; here both are
+    # halves of one weighting string.
+    with pytest.raises(ValueError, match=r'^weightings: "U,S:1": weights: expected 2 weights \(one per term of terms\), got 1'):
+        podid.Objective(CASE, MEASURED_01S, weightings=["U,S:1"])
+    with pytest.raises(ValueError, match=r'^weightings: "U,W": terms: expected a list of U, S, V, IF, got "W"'):
+        podid.Objective(CASE, MEASURED_01S, weightings=["U,W"])
+    with pytest.raises(ValueError, match=r'^weightings: "U:-1": weights: expected non-negative numbers'):
+        podid.landscape(CASE, MEASURED_01S, "knl", 40.0, 60.0, 3, objectives=["U:-1"])
