@@ -71,6 +71,9 @@ def test_max_memory_refuses_what_it_would_exceed_and_names_the_keyword():
     # The synchrosqueezed transform takes 24 bytes a coefficient: W's share is 16/24.
     with pytest.raises(ValueError, match=r"at most 104857600 bytes .*\[max_memory_MB 150 x 16 / 24"):
         podid.synchrosqueeze(x, step, max_memory_MB=150)
+    # The smallest limit: W's share of 1 MB is a budget (once refused as a bad option).
+    with pytest.raises(ValueError, match=r"at most 699050\.6667 bytes .*\[max_memory_MB 1 x 16 / 24"):
+        podid.synchrosqueeze(x, step, max_memory_MB=1)
     # The streamed ridge keeps about 1 byte a coefficient: 1 MB is too little here.
     with pytest.raises(ValueError, match=r"max_memory_MB\)"):
         podid.instantaneous_frequency(x, step, max_memory_MB=1)

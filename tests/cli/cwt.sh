@@ -94,6 +94,13 @@ awk -F, 'NR > 1 && tolower($5) == "nan" { n++ } END { exit n < 1 }' "$out/tone_s
 [ $? -eq 1 ] || fail "--synchrosqueeze in 12 MB not exit 1"
 grep -q "\[--max-memory 12 MB x 16 / 24: W's share of the 24 bytes a coefficient takes with --synchrosqueeze\]" \
   "$out/stderr" || fail "SST memory message: $(cat "$out/stderr")"
+# The smallest limit: W's share of 1 MB is a budget, not a bad option.
+"$podid" cwt "$data" --channel w6 --synchrosqueeze --scalogram "$out/sc1.csv" --max-memory 1 \
+  2>"$out/stderr"
+[ $? -eq 1 ] || fail "--synchrosqueeze --scalogram in 1 MB not exit 1"
+grep -q "\[--max-memory 1 MB x 16 / 32: W's share" "$out/stderr" \
+  || fail "1 MB memory message: $(cat "$out/stderr")"
+[ ! -e "$out/sc1.csv" ] || fail "a refused transform wrote its scalogram"
 "$podid" cwt "$data" --channel w6 --ridges 2 --max-memory 12 >/dev/null || fail "W alone in 12 MB failed"
 "$podid" cwt "$data" --channel w6 --synchrosqueeze --max-memory 16 -o "$out/sst16.csv" >/dev/null \
   || fail "--synchrosqueeze in 16 MB failed"

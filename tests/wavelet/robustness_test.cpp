@@ -166,7 +166,12 @@ TEST(MemoryBudget, TooManyBinsIsAnInputErrorBeforeAllocating) {
                           "5001 output times x 2000 frequencies x 16 bytes");
   options.memory_budget_bytes = 1e3;
   PODID_EXPECT_THROW_WITH(CwtTransform{options}, std::invalid_argument,
-                          "CwtOptions.memory_budget_bytes: expected 2^20..2^44, got 1000");
+                          "CwtOptions.memory_budget_bytes: expected 2^16..2^44, got 1000");
+  // W's share of a 1 MB limit (16 of the 24 bytes a synchrosqueezed
+  // coefficient takes) is a budget, refused for what it cannot hold.
+  options.memory_budget_bytes = 1048576.0 * 16.0 / 24.0;
+  PODID_EXPECT_THROW_WITH(Cwt(Tone(1.0), kStep, options), std::invalid_argument,
+                          "Cwt: memory: expected at most 699050.6667 bytes");
 }
 
 TEST(SinglePrecision, MagnitudeOutputIsTheRoundedComplexMagnitude) {

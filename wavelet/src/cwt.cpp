@@ -71,8 +71,8 @@ bool CwtOptions::IsValid(std::string* why) const {
   if (threads < 1 || threads > 256) {
     return Fail(why, "CwtOptions.threads: expected 1..256, got " + ToText(threads));
   }
-  if (!(memory_budget_bytes >= 1048576.0 && memory_budget_bytes <= 17592186044416.0)) {
-    return Fail(why, "CwtOptions.memory_budget_bytes: expected 2^20..2^44, got " +
+  if (!(memory_budget_bytes >= 65536.0 && memory_budget_bytes <= 17592186044416.0)) {
+    return Fail(why, "CwtOptions.memory_budget_bytes: expected 2^16..2^44, got " +
                          ToText(memory_budget_bytes));
   }
   return true;

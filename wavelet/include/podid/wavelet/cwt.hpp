@@ -256,7 +256,8 @@ struct CwtOptions {
   int threads = 1;
   FftPlanning planning = FftPlanning::kEstimate;
   CwtOutput output = CwtOutput::kComplex;
-  /// Upper bound on what one Compute() allocates, in bytes, in [2^20, 2^44]:
+  /// Upper bound on what one Compute() allocates, in bytes, in [2^16, 2^44] (a share of a
+  /// 1 MB limit stays valid: podid cwt --max-memory 1 --synchrosqueeze gives W 16/24 of it):
   /// the coefficients (n_times x n_freq x 16, or 4 for kMagnitudeFloat), the filters (8 per kept
   /// bin; none for Morlet without the admissibility correction: generated) and the FFT buffers.
   /// Checked before allocating; too big is std::invalid_argument naming the sizes. Default 2 GiB.
