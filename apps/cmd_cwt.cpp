@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -137,6 +138,23 @@ OutsideGrid CountOutsideGrid(const wavelet::RidgeTrack& track, const Eigen::Vect
 }
 
 // Prints the IF statistics of one ridge inside the cone of influence.
+// A transform's memory error in this command's options: the library names its
+// fields (CwtOptions::memory_budget_bytes, min_frequency_Hz, band_limited).
+std::string MemoryErrorInOptionNames(std::string what) {
+  static constexpr std::pair<std::string_view, std::string_view> kNames[] = {
+      {"CwtOptions::memory_budget_bytes", "--max-memory"},
+      {"a higher min_frequency_Hz", "a higher --fmin"},
+      {"or band_limited", "or --band-limited"},
+  };
+  for (const auto& [field, option] : kNames) {
+    for (std::size_t at = what.find(field); at != std::string::npos;
+         at = what.find(field, at + option.size())) {
+      what.replace(at, field.size(), option);
+    }
+  }
+  return what;
+}
+
 void PrintRidge(const wavelet::RidgeTrack& track, double coi_factor, const std::string& prefix) {
   double lo = INFINITY, hi = -INFINITY;
   Eigen::Index first = -1, last = -1, inside = 0;
@@ -263,7 +281,9 @@ void Run(const CwtArguments& a) {
     } catch (const std::invalid_argument& e) {  // name the signal the error is about
       // Escaped as ThrowInvalid escapes (e.what() already is: escaping is idempotent).
       std::string what = e.what();
-      if (cell_bytes > 16.0 && what.find("memory_budget_bytes") != std::string::npos) {
+      const bool memory = what.find("memory_budget_bytes") != std::string::npos;
+      if (memory) what = MemoryErrorInOptionNames(std::move(what));
+      if (memory && cell_bytes > 16.0) {
         // The budget the transform saw is --max-memory's share for W.
         what += " [--max-memory " + ToText(a.max_memory_MB) + " MB x 16 / " + ToText(cell_bytes) +
                 ": W's share of the " + ToText(cell_bytes) + " bytes a coefficient takes with" +

@@ -101,6 +101,15 @@ grep -q "\[--max-memory 12 MB x 16 / 24: W's share of the 24 bytes a coefficient
 grep -q "\[--max-memory 1 MB x 16 / 32: W's share" "$out/stderr" \
   || fail "1 MB memory message: $(cat "$out/stderr")"
 [ ! -e "$out/sc1.csv" ] || fail "a refused transform wrote its scalogram"
+# The refusal names this command's options, not the library's fields.
+"$podid" cwt "$data" --channel w6 --ridges 2 --max-memory 1 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--ridges 2 in 1 MB not exit 1"
+grep -q "expected at most 1048576 bytes (--max-memory), got .*a higher --fmin or --band-limited)$" \
+  "$out/stderr" || fail "whole-transform memory message: $(cat "$out/stderr")"
+"$podid" cwt "$data" --channel w6 --max-memory 1 2>"$out/stderr"
+[ $? -eq 1 ] || fail "streamed ridge in 1 MB not exit 1"
+grep -q "(--max-memory), got .*fewer frequencies or --band-limited)$" "$out/stderr" \
+  || fail "streamed memory message: $(cat "$out/stderr")"
 "$podid" cwt "$data" --channel w6 --ridges 2 --max-memory 12 >/dev/null || fail "W alone in 12 MB failed"
 "$podid" cwt "$data" --channel w6 --synchrosqueeze --max-memory 16 -o "$out/sst16.csv" >/dev/null \
   || fail "--synchrosqueeze in 16 MB failed"
