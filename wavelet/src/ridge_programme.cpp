@@ -37,9 +37,14 @@ int Argmin(const Vector& total) {
 
 // low[i], arg[i] = the minimum (kMax: maximum) over k < freqs of
 // cost[k * freq_stride + i] and its first arg (as a double), for i < count:
-// time contiguous. Blocks of 8 times keep their extrema in one GCC vector (one
-// AVX-512 register, two AVX2, four SSE2) over every k: one load a cell.
-using V8 = double __attribute__((vector_size(64)));
+// time contiguous. Blocks of 8 times keep their extrema in two 4-lane GCC
+// vectors (AVX2 registers; the AVX-512 clone uses them too) over every k: one
+// load a cell. Not one 8-lane vector: GCC 12 lowers an 8-lane select that
+// the target lacks (AVX2) lane by lane through the stack, and the x86-64-v3
+// clone took 171 us instead of 8.5 us for 312 times x 115 frequencies on a
+// Zen 3 EPYC (docs/benchmark-log.md, "The columns' extrema in AVX2 vectors").
+// The SSE2 clone is scalar either way.
+using V4 = double __attribute__((vector_size(32)));
 
 template <bool kMax>
 [[gnu::always_inline]] inline void ColumnExtrema(const double* cost,
@@ -52,16 +57,23 @@ template <bool kMax>
   constexpr double kStart = kMax ? -kInf : kInf;
   Eigen::Index i = 0;
   for (; i + kLanes <= count; i += kLanes) {
-    V8 l = V8{} + kStart, a = V8{};
+    V4 l0 = V4{} + kStart, l1 = l0, a0 = V4{}, a1 = V4{};
     for (Eigen::Index k = 0; k < freqs; ++k) {
-      V8 c;
-      std::memcpy(&c, cost + k * freq_stride + i, sizeof c);
-      const auto better = kMax ? c > l : c < l;
-      a = better ? V8{} + static_cast<double>(k) : a;
-      l = better ? c : l;
+      V4 c0, c1;
+      std::memcpy(&c0, cost + k * freq_stride + i, sizeof c0);
+      std::memcpy(&c1, cost + k * freq_stride + i + 4, sizeof c1);
+      const V4 kk = V4{} + static_cast<double>(k);
+      const auto better0 = kMax ? c0 > l0 : c0 < l0;
+      const auto better1 = kMax ? c1 > l1 : c1 < l1;
+      a0 = better0 ? kk : a0;
+      a1 = better1 ? kk : a1;
+      l0 = better0 ? c0 : l0;
+      l1 = better1 ? c1 : l1;
     }
-    std::memcpy(low + i, &l, sizeof l);
-    std::memcpy(arg + i, &a, sizeof a);
+    std::memcpy(low + i, &l0, sizeof l0);
+    std::memcpy(low + i + 4, &l1, sizeof l1);
+    std::memcpy(arg + i, &a0, sizeof a0);
+    std::memcpy(arg + i + 4, &a1, sizeof a1);
   }
   for (; i < count; ++i) {
     low[i] = kStart;
