@@ -544,12 +544,13 @@ void AddCwtCommand(CLI::App& app) {
   command
       ->add_option(
           "--max-memory", a->max_memory_MB,
-          "Refuse transforms needing more than this many MB (1..16777216). One ridge without\n"
+          "Refuse transforms needing more than this many MB. One ridge without\n"
           "--scalogram/--plot/--synchrosqueeze/--inverse is streamed: about 1 byte per cell plus\n"
           "~43 per cell of a block; otherwise the coefficients take n_times x\n"
           "n_frequencies x 16 bytes, 8 more with --synchrosqueeze, 8 more with\n"
           "--scalogram; the ridges kept for -o about 64 bytes per channel, ridge and time,\n"
           "the in-band signals of --inverse 8 per channel and time)")
+      ->check(NumberIn({wavelet::kMinMemoryLimit_MB}, {wavelet::kMaxMemoryLimit_MB}))
       ->capture_default_str();
   command->add_flag("--band-limited", a->band_limited,
                     "Decimated output (what identification uses); IF values are unchanged");

@@ -119,8 +119,10 @@ void ApplyOutputLimits(bool band_limited,
                        double cell_bytes,
                        wavelet::CwtOptions* options) {
   options->band_limited = band_limited;
-  if (!(max_memory_MB >= 1.0 && max_memory_MB <= 16777216.0)) {
-    throw std::invalid_argument("max_memory_MB: expected 1..16777216 (MB), got " +
+  if (!(max_memory_MB >= wavelet::kMinMemoryLimit_MB &&
+        max_memory_MB <= wavelet::kMaxMemoryLimit_MB)) {
+    throw std::invalid_argument("max_memory_MB: expected " + ToText(wavelet::kMinMemoryLimit_MB) +
+                                ".." + ToText(wavelet::kMaxMemoryLimit_MB) + " (MB), got " +
                                 ToText(max_memory_MB));
   }
   options->memory_budget_bytes = max_memory_MB * 1048576.0 * 16.0 / cell_bytes;

@@ -144,6 +144,12 @@ expect_argument_error "cwt --omega0 4" '--omega0: expected a number in \[5, 100\
   cwt data.csv --channel w1 --omega0 4
 expect_argument_error "cwt --penalty -1" '--penalty: expected a finite number >= 0, got "-1"' \
   cwt data.csv --channel w1 --penalty -1
+# --max-memory's bound is the option's (the library's budget would take 0.5 MB
+# and name CwtOptions.memory_budget_bytes for 0).
+expect_argument_error "cwt --max-memory 0.5" '--max-memory: expected a number in \[1, 16777216\], got "0.5"' \
+  cwt data.csv --channel w1 --max-memory 0.5
+expect_argument_error "cwt --max-memory nan" '--max-memory: expected a number in \[1, 16777216\], got "nan"' \
+  cwt data.csv --channel w1 --max-memory nan
 expect_argument_error "pod --energy 0" '--energy: expected a number in (0, 1\], got "0"' \
   pod data.csv --energy 0
 expect_argument_error "plan --omega0 1e400" '--omega0: expected a number in \[5, 100\], got "1e400"' \

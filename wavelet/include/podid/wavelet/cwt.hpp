@@ -228,6 +228,11 @@ struct FrequencyGrid {
 /// double precision's epsilon; 10 leaves room (0 = no cone).
 inline constexpr double kMaxCoiFactor = 10.0;
 
+/// The memory limit the front-ends take (podid cwt --max-memory, Python's
+/// max_memory_MB), in MB: each gives CwtOptions::memory_budget_bytes a share of it.
+inline constexpr double kMinMemoryLimit_MB = 1.0;
+inline constexpr double kMaxMemoryLimit_MB = 16777216.0;  // 2^44 bytes
+
 struct CwtOptions {
   MorletWavelet wavelet;
   FrequencyGrid frequencies;
