@@ -146,12 +146,7 @@ std::string MemoryErrorInOptionNames(std::string what) {
       {"a higher min_frequency_Hz", "a higher --fmin"},
       {"or band_limited", "or --band-limited"},
   };
-  for (const auto& [field, option] : kNames) {
-    for (std::size_t at = what.find(field); at != std::string::npos;
-         at = what.find(field, at + option.size())) {
-      what.replace(at, field.size(), option);
-    }
-  }
+  for (const auto& [field, option] : kNames) what = ReplaceAll(std::move(what), field, option);
   return what;
 }
 

@@ -16,6 +16,7 @@
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
@@ -64,11 +65,7 @@ std::string GnuplotString(const std::string& text) {
 std::string Substitute(std::string script, const std::vector<std::string>& paths) {
   for (std::size_t i = 0; i < paths.size(); ++i) {
     const std::string key = "{data" + std::to_string(i) + "}";
-    const std::string quoted = GnuplotString(paths[i]);
-    for (std::size_t at = script.find(key); at != std::string::npos;
-         at = script.find(key, at + quoted.size())) {
-      script.replace(at, key.size(), quoted);
-    }
+    script = ReplaceAll(std::move(script), key, GnuplotString(paths[i]));
   }
   return script;
 }

@@ -104,6 +104,15 @@ std::string Excerpt(std::string_view text, std::size_t max_bytes) {
          " bytes)";
 }
 
+std::string ReplaceAll(std::string text, std::string_view from, std::string_view to) {
+  PODID_CHECK(!from.empty());
+  for (std::size_t at = text.find(from); at != std::string::npos;
+       at = text.find(from, at + to.size())) {
+    text.replace(at, from.size(), to);
+  }
+  return text;
+}
+
 void ThrowInvalid(std::string_view where, std::string_view expected, std::string_view got) {
   std::string message;
   message.reserve(where.size() + expected.size() + got.size() + 24);

@@ -11,13 +11,13 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
-#include <string_view>
 #include <utility>
 #include <variant>
 #include <vector>
 
 #include "bindings.hpp"
 #include "podid/core/case_file.hpp"
+#include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
 #include "podid/ident/identify.hpp"
 #include "podid/ident/landscape.hpp"
@@ -65,12 +65,8 @@ ident::NamedObjective ParseWeighting(const std::string& text) {
   } catch (const std::invalid_argument& e) {
     // The parser speaks of the CLI's --terms and --weights: here they are the
     // two halves of one weighting string.
-    std::string message = e.what();
-    for (const std::string_view flag : {"--terms", "--weights"}) {
-      for (std::size_t at = message.find(flag); at != std::string::npos; at = message.find(flag)) {
-        message.erase(at, 2);
-      }
-    }
+    const std::string message =
+        ReplaceAll(ReplaceAll(e.what(), "--terms", "terms"), "--weights", "weights");
     throw std::invalid_argument("weightings: \"" + text + "\": " + message);
   }
 }

@@ -46,12 +46,8 @@ std::string PythonNames(std::string message) {
       {"min_frequency_Hz", "fmin"},
       {" (or admissibility_correction = true)", ""},  // not a keyword of this module
   };
-  for (const auto& [field, argument] : kNames) {
-    for (std::size_t at = message.find(field); at != std::string::npos;
-         at = message.find(field, at + argument.size())) {
-      message.replace(at, field.size(), argument);
-    }
-  }
+  for (const auto& [field, argument] : kNames)
+    message = ReplaceAll(std::move(message), field, argument);
   return message;
 }
 

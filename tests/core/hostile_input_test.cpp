@@ -32,6 +32,14 @@ TEST(Escaped, ControlCharactersAndInvalidUtf8AreEscapedUtf8Kept) {
   EXPECT_EQ(Escaped("\xed\xa0\x80"), "\\xed\\xa0\\x80");       // a surrogate
 }
 
+TEST(ReplaceAll, EveryOccurrenceOnceLeftToRight) {
+  EXPECT_EQ(ReplaceAll("a min_f b min_f", "min_f", "--fmin"), "a --fmin b --fmin");
+  EXPECT_EQ(ReplaceAll("--terms: x", "--terms", "terms"), "terms: x");
+  EXPECT_EQ(ReplaceAll("aaa", "a", "aa"), "aaaaaa");  // a replacement is not searched again
+  EXPECT_EQ(ReplaceAll("abab", "ab", ""), "");
+  EXPECT_EQ(ReplaceAll("none here", "x", "y"), "none here");
+}
+
 TEST(Excerpt, ShortQuotedEscapedAndCutOnACharacter) {
   EXPECT_EQ(Excerpt("abc"), "\"abc\"");
   EXPECT_EQ(Excerpt(std::string(100, 'x')), "\"" + std::string(kExcerptBytes, 'x') +

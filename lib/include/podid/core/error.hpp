@@ -58,6 +58,11 @@ std::string Excerpt(std::string_view text, std::size_t max_bytes = kExcerptBytes
 [[noreturn]] void ThrowInvalid(std::string_view where, std::string_view expected,
                                std::string_view got);
 
+/// `text` with every occurrence of `from` (not empty) replaced by `to`, left to
+/// right; a replacement is not searched again. The front-ends use it to put
+/// their own names (--fmin, max_memory_MB) in the library's messages.
+std::string ReplaceAll(std::string text, std::string_view from, std::string_view to);
+
 /// Parses a whole string as a finite number (e.g. "2.5e9"); otherwise throws
 /// ThrowInvalid(where, expected, Excerpt(text)).
 double ParseNumber(std::string_view text, std::string_view where,
