@@ -32,10 +32,7 @@ struct CwtArguments {
   DataArguments reading;  // --variable, --channels, --rate, --step (docs/data-files.md)
   std::string channel;
   int pom = 0;
-  double fmin_Hz = 10.0;
-  double fmax_Hz = 120.0;
-  int voices = 32;
-  std::optional<int> bins;  // given: the linear grid (any value: the library checks it)
+  GridArguments grid;  // --fmin, --fmax, --voices, --bins
   std::string ridge = "penalised";
   std::string if_from = "phase";
   int ridges = 1;
@@ -209,6 +206,12 @@ void Run(const CwtArguments& a) {
   }
   const double step_s = series.step_s();
   const double t0_s = series.time_s(0);
+  if (a.grid.fmax_Hz > 0.5 / step_s) {
+    ThrowInvalid("--fmax",
+                 "at most the Nyquist frequency of " + a.data + " as read, " +
+                     ToText(0.5 / step_s) + " Hz (step " + ToText(step_s) + " s)",
+                 ToText(a.grid.fmax_Hz) + " Hz");
+  }
 
   wavelet::RidgeFrequencyOptions options;
   wavelet::CwtOptions& cwt = options.cwt;
@@ -223,8 +226,7 @@ void Run(const CwtArguments& a) {
   const double cell_bytes =
       16.0 + (a.synchrosqueeze ? 8.0 : 0.0) + (a.scalogram.empty() ? 0.0 : 8.0);
   cwt.memory_budget_bytes = a.max_memory_MB * 1048576.0 * 16.0 / cell_bytes;
-  cwt.frequencies = a.bins ? wavelet::FrequencyGrid::Linear(a.fmin_Hz, a.fmax_Hz, *a.bins)
-                           : wavelet::FrequencyGrid::Log(a.fmin_Hz, a.fmax_Hz, a.voices);
+  cwt.frequencies = a.grid.Grid();
   options.ridge.method = wavelet::ParseRidgeMethod(a.ridge);
   options.ridge.estimator = wavelet::ParseFrequencyEstimator(a.if_from);
   options.ridge.penalty_s = a.penalty_s;
@@ -319,7 +321,7 @@ void Run(const CwtArguments& a) {
                   cwt.wavelet.Describe().c_str(), wavelet::ToString(cwt.wavelet.normalisation),
                   static_cast<long>(sg.frequencies()), sg.frequencies_Hz(0),
                   sg.frequencies_Hz(sg.frequencies() - 1),
-                  a.bins ? "linear" : (ToText(a.voices) + " voices/octave").c_str(),
+                  a.grid.bins ? "linear" : (ToText(a.grid.voices) + " voices/octave").c_str(),
                   wavelet::ToString(cwt.padding),
                   !a.band_limited ? ""
                   : sg.decimation > 1
@@ -464,7 +466,7 @@ void Run(const CwtArguments& a) {
                  (a.synchrosqueeze ? ", synchrosqueezed)" : ")");
     axes.x_label = "t (s)";
     axes.y_label = "f (Hz)";
-    axes.log_y = !a.bins;
+    axes.log_y = !a.grid.bins;
     const PlotOutcome outcome = PlotHeatMap(
         a.plot, axes, symbol, t, sg.frequencies_Hz, z,
         {{"ridge IF (inside cone)", track.time_s, ridge_f}, {"cone of influence", coi_time_s, coi}},
@@ -495,17 +497,7 @@ void AddCwtCommand(CLI::App& app) {
           ->check(IntegerIn(1, kMaxPomOption));
   channel->excludes(pom);
   pom->excludes(channel);
-  command->add_option("--fmin", a->fmin_Hz, "Lowest analysis frequency (Hz)")
-      ->capture_default_str()
-      ->check(NumberIn({0.0, true}));
-  command->add_option("--fmax", a->fmax_Hz, "Highest analysis frequency (Hz), <= Nyquist")
-      ->capture_default_str()
-      ->check(NumberIn({0.0, true}));
-  auto* voices = command->add_option("--voices", a->voices, "Log grid: frequencies per octave")
-                     ->capture_default_str();
-  auto* bins = command->add_option("--bins", a->bins, "Linear grid of this many frequencies");
-  voices->excludes(bins);
-  bins->excludes(voices);
+  a->grid.AddTo(*command, "Highest analysis frequency (Hz), <= Nyquist");
   command->add_option("--ridge", a->ridge, "Ridge method: max or penalised")->capture_default_str();
   auto* if_from =
       command
@@ -517,9 +509,10 @@ void AddCwtCommand(CLI::App& app) {
           ->capture_default_str();
   command
       ->add_option("--ridges", a->ridges,
-                   "Extract this many ridges (1..16), strongest first, each excluding\n"
+                   "Extract this many ridges, strongest first, each excluding\n"
                    "half an octave either side of those before it")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(IntegerIn(1, wavelet::kMaxRidges));
   command
       ->add_option("--penalty", a->penalty_s,
                    "Penalised ridge: cost (s) of a jump of one e-fold in frequency")
@@ -533,9 +526,11 @@ void AddCwtCommand(CLI::App& app) {
                    "border IF error over end phases below 0.3 %, docs/wavelet.md); 0: no cone")
       ->capture_default_str()
       ->check(NumberIn({0.0}, {wavelet::kMaxCoiFactor}));
-  command->add_option("--threads", a->threads,
-                      "Threads over the scales (1..256); a streamed ridge uses two (the same result)")
-      ->capture_default_str();
+  command
+      ->add_option("--threads", a->threads,
+                   "Threads over the scales; a streamed ridge uses two (the same result)")
+      ->capture_default_str()
+      ->check(IntegerIn(1, wavelet::kMaxCwtThreads));
   command
       ->add_option(
           "--max-memory", a->max_memory_MB,

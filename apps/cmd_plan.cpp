@@ -33,10 +33,7 @@ struct PlanArguments {
   std::vector<long> samples;
   double fs_Hz = 0.0;
   CLI::Option* fs_option = nullptr;
-  double fmin_Hz = 10.0;
-  double fmax_Hz = 120.0;
-  int voices = 32;
-  std::optional<int> bins;   // given: cwt's linear grid
+  GridArguments grid;        // cwt's --fmin, --fmax, --voices, --bins
   WaveletArguments wavelet;  // cwt's wavelet options: the lengths follow the wavelet
   std::string padding;  // empty: cwt's default (zero) and identification's (reflect)
   std::string effort = "measure";
@@ -83,9 +80,8 @@ void Run(const PlanArguments& a) {
       wavelet::CwtOptions options;
       options.wavelet = psi;
       options.padding = wavelet::ParsePadding(padding);
-      const double fmax_Hz = std::min(a.fmax_Hz, 0.5 / step);
-      options.frequencies = a.bins ? wavelet::FrequencyGrid::Linear(a.fmin_Hz, fmax_Hz, *a.bins)
-                                   : wavelet::FrequencyGrid::Log(a.fmin_Hz, fmax_Hz, a.voices);
+      options.frequencies = a.grid.Grid(
+          0.5 / step, "the Nyquist frequency of a record of step " + ToText(step) + " s");
       std::string why;
       if (!options.IsValid(&why)) throw std::invalid_argument("plan: " + why);
       for (bool band_limited : {false, true}) {
@@ -136,16 +132,7 @@ void AddPlanCommand(CLI::App& app) {
   command->add_option("--samples", a->samples, "Record lengths N[,N...] (4..67108864), with --fs")
       ->delimiter(',');
   a->fs_option = command->add_option("--fs", a->fs_Hz, "Sampling frequency (Hz) of --samples");
-  command->add_option("--fmin", a->fmin_Hz, "Lowest analysis frequency (Hz), as for cwt")
-      ->capture_default_str()
-      ->check(NumberIn({0.0, true}));
-  command->add_option("--fmax", a->fmax_Hz, "Highest analysis frequency (Hz), capped at Nyquist")
-      ->capture_default_str()
-      ->check(NumberIn({0.0, true}));
-  auto* voices = command->add_option("--voices", a->voices, "Frequencies per octave, as for cwt")
-                     ->capture_default_str();
-  command->add_option("--bins", a->bins, "Linear grid of this many frequencies, as for cwt")
-      ->excludes(voices);
+  a->grid.AddTo(*command, "Highest analysis frequency (Hz), capped at Nyquist");
   a->wavelet.AddTo(*command, " to plan for, as for cwt");
   command->add_option("--padding", a->padding,
                       "reflect, zero or periodic (default: both cwt's zero and\n"

@@ -103,6 +103,7 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
     if (options.mode_bands.size() < k) options.mode_bands.resize(k);
     options.mode_bands[k - 1] = {low, high};
   }
+  CheckBand(fmin_Hz, fmax_Hz);
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin_Hz;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax_Hz;
   options.ridge.ridge.penalty_s = penalty_s;

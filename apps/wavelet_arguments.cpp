@@ -1,9 +1,12 @@
 #include "wavelet_arguments.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "cli_common.hpp"
+#include "podid/core/error.hpp"
 
 namespace podid::cli {
 namespace {
@@ -57,12 +60,62 @@ void WaveletArguments::ApplyTo(wavelet::MorletWavelet* wavelet) const {
       ParseOption("--normalisation", normalisation, wavelet::ParseNormalisation);
   wavelet->convention =
       ParseOption("--scale-convention", convention, wavelet::ParseScaleConvention);
+  if (wavelet->family == wavelet::WaveletFamily::kMorse &&
+      beta / gamma > wavelet::kMaxMorseBetaOverGamma) {
+    // Each is within its own range (CLI11 checked): name the ratio, not the
+    // library's field.
+    ThrowInvalid(
+        "--beta",
+        "at most " + ToText(wavelet::kMaxMorseBetaOverGamma) + " x --gamma (" + ToText(gamma) + ")",
+        ToText(beta));
+  }
   std::string why;
   if (!wavelet->IsValid(&why)) {
     throw std::invalid_argument(wavelet->family == wavelet::WaveletFamily::kMorlet
                                     ? "--omega0: " + why
                                     : "--gamma/--beta: " + why);
   }
+}
+
+void CheckBand(double fmin_Hz, double fmax_Hz, const std::string& cap) {
+  if (fmax_Hz > fmin_Hz) return;
+  if (cap.empty()) {
+    ThrowInvalid("--fmin", "a frequency below --fmax (" + ToText(fmax_Hz) + " Hz)",
+                 ToText(fmin_Hz) + " Hz");
+  }
+  ThrowInvalid("--fmin", "a frequency below " + cap + " (" + ToText(fmax_Hz) + " Hz)",
+               ToText(fmin_Hz) + " Hz");
+}
+
+void GridArguments::AddTo(CLI::App& command, const std::string& fmax_help) {
+  command.add_option("--fmin", fmin_Hz, "Lowest analysis frequency (Hz)")
+      ->capture_default_str()
+      ->check(NumberIn({0.0, true}));
+  command.add_option("--fmax", fmax_Hz, fmax_help)
+      ->capture_default_str()
+      ->check(NumberIn({0.0, true}));
+  auto* log = command.add_option("--voices", voices, "Log grid: frequencies per octave")
+                  ->capture_default_str()
+                  ->check(IntegerIn(1, wavelet::kMaxVoicesPerOctave));
+  auto* linear = command.add_option("--bins", bins, "Linear grid of this many frequencies")
+                     ->check(IntegerIn(wavelet::kMinLinearBins, wavelet::kMaxFrequencies));
+  log->excludes(linear);
+  linear->excludes(log);
+}
+
+wavelet::FrequencyGrid GridArguments::Grid(double cap_Hz, const std::string& cap) const {
+  const double top_Hz = std::min(fmax_Hz, cap_Hz);
+  CheckBand(fmin_Hz, top_Hz, top_Hz < fmax_Hz ? cap : "");
+  if (bins) return wavelet::FrequencyGrid::Linear(fmin_Hz, top_Hz, *bins);
+  // The log grid's count, as FrequencyGrid::IsValid bounds it.
+  const double count = voices * std::log2(top_Hz / fmin_Hz);
+  if (!(count <= wavelet::kMaxFrequencies)) {
+    ThrowInvalid(
+        "--voices/--fmin/--fmax",
+        "at most " + ToText(wavelet::kMaxFrequencies) + " frequencies (--voices x octaves)",
+        ToText(voices) + " x " + ToText(std::log2(top_Hz / fmin_Hz)) + " octaves");
+  }
+  return wavelet::FrequencyGrid::Log(fmin_Hz, top_Hz, voices);
 }
 
 }  // namespace podid::cli

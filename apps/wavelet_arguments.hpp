@@ -1,9 +1,12 @@
 #pragma once
 // The wavelet options `podid cwt` and `podid plan` take and the wavelet term
 // of `podid identify` and `podid landscape` shares: --wavelet, --omega0,
-// --gamma, --beta, --normalisation, --scale-convention.
+// --gamma, --beta, --normalisation, --scale-convention; and the analysis grid
+// of cwt and plan: --fmin, --fmax, --voices, --bins.
 
 #include <CLI/CLI.hpp>
+#include <limits>
+#include <optional>
 #include <string>
 
 #include "podid/wavelet/cwt.hpp"
@@ -24,6 +27,31 @@ struct WaveletArguments {
   /// option: an unknown name, or a wavelet MorletWavelet::IsValid refuses
   /// (Morse beta / gamma > 100; the bounds of each number CLI11 checks).
   void ApplyTo(wavelet::MorletWavelet* wavelet) const;
+};
+
+/// --fmin and --fmax as a band: throws std::invalid_argument naming --fmin
+/// when fmax_Hz is not above fmin_Hz (the library's check would name
+/// FrequencyGrid.max_frequency_Hz). `cap` names what fmax_Hz is when it is
+/// not --fmax (e.g. "the Nyquist frequency"), or is empty.
+void CheckBand(double fmin_Hz, double fmax_Hz, const std::string& cap = "");
+
+/// The analysis grid of `podid cwt` and `podid plan`: --fmin, --fmax and
+/// --voices (log) or --bins (linear), each checked against the library's bounds
+/// (kMaxVoicesPerOctave, kMinLinearBins, kMaxFrequencies) under its own name.
+struct GridArguments {
+  double fmin_Hz = 10.0;
+  double fmax_Hz = 120.0;
+  int voices = 32;
+  std::optional<int> bins;
+
+  /// Adds the four options; `fmax_help` is --fmax's help line.
+  void AddTo(CLI::App& command, const std::string& fmax_help);
+  /// The grid over --fmin .. min(--fmax, cap_Hz) (`cap` names cap_Hz in a
+  /// message, e.g. "the Nyquist frequency"). Throws std::invalid_argument naming
+  /// the options for a band that is empty or holds more than kMaxFrequencies
+  /// frequencies.
+  wavelet::FrequencyGrid Grid(double cap_Hz = std::numeric_limits<double>::infinity(),
+                              const std::string& cap = "") const;
 };
 
 }  // namespace podid::cli

@@ -54,7 +54,7 @@ awk -v m="$means" 'BEGIN { split(m, v, " "); exit !(v[1] > 19.9 && v[1] < 20.1 &
   || fail "two-ridge header"
 "$podid" cwt "$data" --channel w6 --ridges 17 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--ridges 17 not exit 1"
-grep -q "ridges: expected 1..16, got 17" "$out/stderr" || fail "ridges message"
+grep -q -- '--ridges: expected an integer in \[1, 16\], got "17"' "$out/stderr" || fail "ridges message"
 
 # The synchrosqueezed transform's ridges (--synchrosqueeze): on the chirp
 # f = 20 + 30 t Hz the worst IF error inside the cone is no larger than the
@@ -182,7 +182,8 @@ grep -q -- "--wavelet: expected one of morlet, morse" "$out/stderr" || fail "wav
 grep -q "expected one of w1, w2, w3, w4, w5, w6 or all" "$out/stderr" || fail "channel message"
 "$podid" cwt "$data" --channel w6 --fmax 3000 2>"$out/stderr"
 [ $? -eq 1 ] || fail "fmax above Nyquist not exit 1"
-grep -q "expected <= the Nyquist frequency" "$out/stderr" || fail "Nyquist message"
+grep -q -- "--fmax: expected at most the Nyquist frequency of $data as read, 2500 Hz (step 0.0002 s), got 3000 Hz" \
+  "$out/stderr" || fail "Nyquist message: $(cat "$out/stderr")"
 "$podid" cwt "$data" --channel w6 --ridge greedy 2>"$out/stderr"
 [ $? -eq 1 ] || fail "bad ridge method not exit 1"
 "$podid" cwt "$data" 2>"$out/stderr"

@@ -150,6 +150,26 @@ expect_argument_error "cwt --max-memory 0.5" '--max-memory: expected a number in
   cwt data.csv --channel w1 --max-memory 0.5
 expect_argument_error "cwt --max-memory nan" '--max-memory: expected a number in \[1, 16777216\], got "nan"' \
   cwt data.csv --channel w1 --max-memory nan
+# The grid's and the ridges' bounds are the options' too (the library's
+# would name FrequencyGrid.voices_per_octave, RidgeOptions.ridges...).
+expect_argument_error "cwt --voices 0" '--voices: expected an integer in \[1, 1024\], got "0"' \
+  cwt data.csv --channel w1 --voices 0
+expect_argument_error "plan --voices 2000" '--voices: expected an integer in \[1, 1024\], got "2000"' \
+  plan --samples 1000 --fs 100 --voices 2000
+expect_argument_error "plan --bins 1" '--bins: expected an integer in \[2, 100000\], got "1"' \
+  plan --samples 1000 --fs 100 --bins 1
+expect_argument_error "cwt --ridges 17" '--ridges: expected an integer in \[1, 16\], got "17"' \
+  cwt data.csv --channel w1 --ridges 17
+expect_argument_error "cwt --threads 257" '--threads: expected an integer in \[1, 256\], got "257"' \
+  cwt data.csv --channel w1 --threads 257
+expect_argument_error "cwt --fmin above --fmax" '--fmin: expected a frequency below --fmax (10 Hz), got 100 Hz' \
+  cwt data.csv --channel w1 --fmin 100 --fmax 10
+expect_argument_error "plan --fmin above Nyquist" \
+  '--fmin: expected a frequency below the Nyquist frequency of a record of step 0.01 s (50 Hz), got 60 Hz' \
+  plan --samples 1000 --fs 100 --fmin 60 --fmax 80
+expect_argument_error "cwt --voices x octaves" \
+  '--voices/--fmin/--fmax: expected at most 100000 frequencies (--voices x octaves), got 1024 x ' \
+  cwt data.csv --channel w1 --voices 1024 --fmin 1e-300 --fmax 100
 expect_argument_error "pod --energy 0" '--energy: expected a number in (0, 1\], got "0"' \
   pod data.csv --energy 0
 expect_argument_error "plan --omega0 1e400" '--omega0: expected a number in \[5, 100\], got "1e400"' \

@@ -105,6 +105,6 @@ grep -q -- "--wavelet: expected one of morlet, morse" "$out/stderr" || fail "--w
 "$podid" identify examples/beam.toml --measured tests/data/measured_knl50_T1.0.csv --objective wavelet \
   --wavelet morse --gamma 1 --beta 200 --json "$out/bad.json" 2>"$out/stderr"
 [ $? -eq 1 ] || fail "beta / gamma 200 not exit 1"
-grep -q -- "--gamma/--beta: .*expected <= 100, got 200" "$out/stderr" || fail "--beta message: $(cat "$out/stderr")"
+grep -q -- "--beta: expected at most 100 x --gamma (1), got 200" "$out/stderr" || fail "--beta message: $(cat "$out/stderr")"
 [ -e "$out/bad.json" ] && fail "output written on error"
 echo "simulate_identify: all checks passed"

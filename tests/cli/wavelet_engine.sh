@@ -115,7 +115,7 @@ grep -q "Cwt: memory: expected at most 1431655765 bytes" "$out/stderr" || fail "
 for bins in 0 -5; do
   "$podid" cwt "$data" --channel w6 --bins "$bins" -o "$out/bins.csv" 2>"$out/stderr"
   [ $? -eq 1 ] || fail "--bins $bins not exit 1"
-  grep -q "FrequencyGrid.bins: expected 2..100000, got $bins" "$out/stderr" || fail "--bins $bins message"
+  grep -q -- "--bins: expected an integer in \[2, 100000\], got \"$bins\"" "$out/stderr" || fail "--bins $bins message"
 done
 [ -e "$out/bins.csv" ] && fail "a refused --bins wrote -o"
 # A scalogram wider than ReadCsv's lines (1 MiB; 60,000 frequencies print

@@ -68,8 +68,9 @@ bool CwtOptions::IsValid(std::string* why) const {
     return Fail(why, "CwtOptions.band_tolerance: expected a value in (0, 1e-3], got " +
                          ToText(band_tolerance));
   }
-  if (threads < 1 || threads > 256) {
-    return Fail(why, "CwtOptions.threads: expected 1..256, got " + ToText(threads));
+  if (threads < 1 || threads > kMaxCwtThreads) {
+    return Fail(why, "CwtOptions.threads: expected 1.." + ToText(kMaxCwtThreads) + ", got " +
+                         ToText(threads));
   }
   if (!(memory_budget_bytes >= 65536.0 && memory_budget_bytes <= 17592186044416.0)) {
     return Fail(why, "CwtOptions.memory_budget_bytes: expected 2^16..2^44, got " +

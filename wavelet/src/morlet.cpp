@@ -302,12 +302,14 @@ bool FrequencyGrid::IsValid(std::string* why) const {
                 "FrequencyGrid.max_frequency_Hz: expected a finite value > min_frequency_Hz (" +
                     ToText(min_frequency_Hz) + "), got " + ToText(max_frequency_Hz));
   }
-  if (spacing == FrequencySpacing::kLog && (voices_per_octave < 1 || voices_per_octave > 1024)) {
-    return Fail(
-        why, "FrequencyGrid.voices_per_octave: expected 1..1024, got " + ToText(voices_per_octave));
+  if (spacing == FrequencySpacing::kLog &&
+      (voices_per_octave < 1 || voices_per_octave > kMaxVoicesPerOctave)) {
+    return Fail(why, "FrequencyGrid.voices_per_octave: expected 1.." + ToText(kMaxVoicesPerOctave) +
+                         ", got " + ToText(voices_per_octave));
   }
-  if (spacing == FrequencySpacing::kLinear && (bins < 2 || bins > 100000)) {
-    return Fail(why, "FrequencyGrid.bins: expected 2..100000, got " + ToText(bins));
+  if (spacing == FrequencySpacing::kLinear && (bins < kMinLinearBins || bins > kMaxFrequencies)) {
+    return Fail(why, "FrequencyGrid.bins: expected " + ToText(kMinLinearBins) + ".." +
+                         ToText(kMaxFrequencies) + ", got " + ToText(bins));
   }
   if (spacing == FrequencySpacing::kLog) {
     // A subnormal minimum overflows the ratio: the count would read "inf".
@@ -317,9 +319,9 @@ bool FrequencyGrid::IsValid(std::string* why) const {
           why, "FrequencyGrid: expected a finite ratio max_frequency_Hz / min_frequency_Hz, got " +
                    ToText(max_frequency_Hz) + " / " + ToText(min_frequency_Hz));
     }
-    if (voices_per_octave * std::log2(ratio) > 100000) {
-      return Fail(why, "FrequencyGrid: expected at most 100000 frequencies, got " +
-                           ToText(voices_per_octave * std::log2(ratio)));
+    if (voices_per_octave * std::log2(ratio) > kMaxFrequencies) {
+      return Fail(why, "FrequencyGrid: expected at most " + ToText(kMaxFrequencies) +
+                           " frequencies, got " + ToText(voices_per_octave * std::log2(ratio)));
     }
   }
   return true;

@@ -50,8 +50,9 @@ bool RidgeOptions::IsValid(std::string* why) const {
     return Fail(why,
                 "RidgeOptions.penalty_s: expected a finite value >= 0, got " + ToText(penalty_s));
   }
-  if (ridges < 1 || ridges > 16) {
-    return Fail(why, "RidgeOptions.ridges: expected 1..16, got " + ToText(ridges));
+  if (ridges < 1 || ridges > kMaxRidges) {
+    return Fail(
+        why, "RidgeOptions.ridges: expected 1.." + ToText(kMaxRidges) + ", got " + ToText(ridges));
   }
   if (!std::isfinite(separation_octaves) || separation_octaves <= 0.0) {
     return Fail(why, "RidgeOptions.separation_octaves: expected a finite value > 0, got " +

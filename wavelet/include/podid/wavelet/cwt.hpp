@@ -204,14 +204,22 @@ struct MorletWavelet {
 using Wavelet = MorletWavelet;
 
 /// Analysis frequencies in Hz, ascending.
+/// The grid's bounds (FrequencyGrid::IsValid), shared with the front-ends'
+/// checks of --voices and --bins (podid cwt, podid plan, Python's voices).
+inline constexpr int kMaxVoicesPerOctave = 1024;
+inline constexpr int kMinLinearBins = 2;
+inline constexpr int kMaxFrequencies = 100000;  ///< either spacing
+
 struct FrequencyGrid {
   double min_frequency_Hz = 10.0;   ///< > 0
   double max_frequency_Hz = 120.0;  ///< > min, <= Nyquist of the signal
   FrequencySpacing spacing = FrequencySpacing::kLog;
   /// kLog: f_j = min 2^(j / voices) for j = 0 .. floor(voices log2(max / min) + 1e-9);
-  /// the top frequency is <= max_frequency_Hz. voices in 1..1024, at most 100000 frequencies.
+  /// the top frequency is <= max_frequency_Hz. voices in 1..kMaxVoicesPerOctave, at most
+  /// kMaxFrequencies frequencies.
   int voices_per_octave = 32;
-  /// kLinear: f_j = min + j (max - min) / (bins - 1), j = 0 .. bins - 1 (bins in 2..100000).
+  /// kLinear: f_j = min + j (max - min) / (bins - 1), j = 0 .. bins - 1 (bins in
+  /// kMinLinearBins..kMaxFrequencies).
   int bins = 200;
 
   /// The grid `podid cwt --voices` (Log) and `--bins` (Linear) describe; not checked here
@@ -232,6 +240,9 @@ inline constexpr double kMaxCoiFactor = 10.0;
 /// max_memory_MB), in MB: each gives CwtOptions::memory_budget_bytes a share of it.
 inline constexpr double kMinMemoryLimit_MB = 1.0;
 inline constexpr double kMaxMemoryLimit_MB = 16777216.0;  // 2^44 bytes
+
+/// CwtOptions::threads' upper bound (podid cwt --threads shares it).
+inline constexpr int kMaxCwtThreads = 256;
 
 struct CwtOptions {
   MorletWavelet wavelet;

@@ -55,10 +55,13 @@ const char* ToString(FrequencyEstimator estimator);
 RidgeMethod ParseRidgeMethod(std::string_view name);
 FrequencyEstimator ParseFrequencyEstimator(std::string_view name);
 
+/// RidgeOptions::ridges' upper bound (podid cwt --ridges, Python's count).
+inline constexpr int kMaxRidges = 16;
+
 struct RidgeOptions {
   RidgeMethod method = RidgeMethod::kPenalised;
   double penalty_s = 0.05;          ///< kPenalised, >= 0 (0 gives kMaximum's path)
-  int ridges = 1;                   ///< how many ridges, 1..16
+  int ridges = 1;                   ///< how many ridges, 1..kMaxRidges
   double separation_octaves = 0.5;  ///< exclusion half-width around a found ridge, > 0
   FrequencyEstimator estimator = FrequencyEstimator::kPhase;
   bool parabolic_refinement = true;  ///< refine between grid scales (both estimators)
