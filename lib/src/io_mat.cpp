@@ -492,7 +492,7 @@ TimeSeries ReadMatFile(const std::string& path,
     if (!(step_s > 0.0) || !std::isfinite(step_s)) {
       ThrowInvalid(path,
                    "a time vector variable ('t' or 'time') or a sampling step "
-                   "(--rate, --step, MatReadOptions::step_s > 0)",
+                   "(--rate, --step)",
                    "neither");
     }
     series.time_s = internal::UniformTimes(

@@ -3,12 +3,14 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "bindings.hpp"
 #include "podid/core/case_file.hpp"
+#include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
 #include "podid/core/simulate.hpp"
 #include "podid/core/time_series.hpp"
@@ -56,9 +58,13 @@ void BindModel(py::module_& m) {
         // prints them on stderr.
         std::vector<std::string> notes;
         TimeSeries series;
-        {
+        try {
           py::gil_scoped_release release;
           series = ReadTimeSeries(path, options, &notes);
+        } catch (const std::invalid_argument& e) {
+          // The readers name the CLI's options for a file without time.
+          std::string message = ReplaceAll(e.what(), "--rate", "rate_Hz");
+          throw std::invalid_argument(ReplaceAll(std::move(message), "--step", "step_s"));
         }
         for (const std::string& note : notes) {
           if (PyErr_WarnEx(PyExc_UserWarning, note.c_str(), 2) != 0) throw py::error_already_set();

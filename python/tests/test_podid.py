@@ -330,6 +330,14 @@ def test_errors_are_value_errors_with_podid_messages():
         podid.read("/no_such_file.csv")
 
 
+def test_a_file_without_time_names_the_keyword_arguments():
+    # The readers name the CLI's --rate/--step; Python's are rate_Hz/step_s.
+    plain = str(SOURCE / "tests" / "data" / "readers" / "plain_struct.mat")
+    with pytest.raises(ValueError, match=r"or a sampling step \(rate_Hz, step_s\), got none"):
+        podid.read(plain, variable="notime")
+    assert podid.read(plain, variable="notime", rate_Hz=512.0).step_s == pytest.approx(1.0 / 512.0)
+
+
 def test_wavelet_errors_name_the_keyword_arguments():
     # They named the library's fields (FrequencyGrid.min_frequency_Hz, ...).
     x = np.sin(np.arange(1000.0))

@@ -440,7 +440,7 @@ TEST(ReadMat, Rejections) {
   PODID_EXPECT_THROW_WITH(ReadMat(path), std::invalid_argument,
                           path +
                               ": expected a time vector variable ('t' or 'time') or a sampling "
-                              "step (--rate, --step, MatReadOptions::step_s > 0), got neither");
+                              "step (--rate, --step), got neither");
   MatReadOptions options;
   options.variable = "v";
   PODID_EXPECT_THROW_WITH(ReadMat(path, options), std::invalid_argument,
