@@ -32,6 +32,7 @@ std::string PythonNames(std::string message) {
       {"FrequencyGrid.max_frequency_Hz", "fmax"},
       {"FrequencyGrid.voices_per_octave", "voices"},
       {"FrequencyGrid.bins", "bins"},
+      {"FrequencyGrid: ", "voices, fmin, fmax: "},  // the log grid's count and ratio
       {"MorletWavelet.omega0", "omega0"},
       {"MorletWavelet.gamma", "gamma"},
       {"MorletWavelet.beta", "beta"},
@@ -44,6 +45,7 @@ std::string PythonNames(std::string message) {
       {"CwtOptions.threads", "threads"},
       {"CwtOptions::memory_budget_bytes", "max_memory_MB"},
       {"min_frequency_Hz", "fmin"},
+      {"max_frequency_Hz", "fmax"},
       {" (or admissibility_correction = true)", ""},  // not a keyword of this module
   };
   for (const auto& [field, argument] : kNames)

@@ -355,6 +355,10 @@ def test_wavelet_errors_name_the_keyword_arguments():
         podid.cwt(x, 1e-3, coi_factor=-1)
     with pytest.raises(ValueError, match=r"^threads: expected 1\.\.256, got 0$"):
         podid.cwt(x, 1e-3, threads=0)
+    with pytest.raises(ValueError, match=r"^voices, fmin, fmax: expected at most 100000 frequencies"):
+        podid.cwt(x, 1e-3, fmin=1e-300, fmax=100, voices=1024)
+    with pytest.raises(ValueError, match=r"^voices, fmin, fmax: expected a finite ratio fmax / fmin"):
+        podid.cwt(x, 1e-3, fmin=5e-324, fmax=100)
 
 
 MEASURED_1S = str(SOURCE / "examples" / "measured_knl50_T1.0.csv")
