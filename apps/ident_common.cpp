@@ -150,7 +150,7 @@ nlohmann::json RidgesJson(const ident::ObjectiveFunction& objective) {
 
 ident::ObjectiveWeights WeightsFrom(const std::string& objective, const std::string& terms,
                                     const std::string& weights) {
-  if (!terms.empty()) return ident::ObjectiveWeights::Parse(terms, weights);
+  if (!terms.empty()) return ident::ObjectiveWeights::Parse(terms, weights, "--terms", "--weights");
   if (!weights.empty()) ThrowInvalid("--weights", "--terms with it", "--weights alone");
   return ident::ObjectiveWeights::Preset(objective);
 }

@@ -38,7 +38,10 @@ ObjectiveWeights ObjectiveWeights::Preset(std::string_view name) {
   ThrowInvalid("objective", "one of full, time-free, wavelet", Excerpt(name));
 }
 
-ObjectiveWeights ObjectiveWeights::Parse(std::string_view terms, std::string_view weights) {
+ObjectiveWeights ObjectiveWeights::Parse(std::string_view terms,
+                                         std::string_view weights,
+                                         std::string_view terms_name,
+                                         std::string_view weights_name) {
   auto split = [](std::string_view text) {
     std::vector<std::string> parts;
     std::string current;
@@ -58,12 +61,14 @@ ObjectiveWeights ObjectiveWeights::Parse(std::string_view terms, std::string_vie
   if (!weights.empty()) {
     const std::vector<std::string> w = split(weights);
     if (w.size() != names.size()) {
-      ThrowInvalid("--weights", ToText(names.size()) + " weights (one per term of --terms)",
-                   ToText(w.size()) + " (\"" + std::string(weights) + "\")");
+      ThrowInvalid(
+          weights_name,
+          ToText(names.size()) + " weights (one per term of " + std::string(terms_name) + ")",
+          ToText(w.size()) + " (\"" + std::string(weights) + "\")");
     }
     for (std::size_t i = 0; i < w.size(); ++i) {
-      const double value = ParseNumber(w[i], "--weights", "non-negative numbers");
-      if (!(value >= 0)) ThrowInvalid("--weights", "non-negative numbers", "\"" + w[i] + "\"");
+      const double value = ParseNumber(w[i], weights_name, "non-negative numbers");
+      if (!(value >= 0)) ThrowInvalid(weights_name, "non-negative numbers", "\"" + w[i] + "\"");
       values[i] = value;
     }
   }
@@ -74,10 +79,12 @@ ObjectiveWeights ObjectiveWeights::Parse(std::string_view terms, std::string_vie
     else if (n == "S") result.s = values[i];
     else if (n == "V") result.v = values[i];
     else if (n == "IF") result.f = values[i];
-    else ThrowInvalid("--terms", "a list of U, S, V, IF", "\"" + n + "\"");
+    else
+      ThrowInvalid(terms_name, "a list of U, S, V, IF", "\"" + n + "\"");
   }
   if (result.u == 0 && result.s == 0 && result.v == 0 && result.f == 0) {
-    ThrowInvalid("--terms/--weights", "at least one term with a positive weight", "none");
+    ThrowInvalid(std::string(terms_name) + "/" + std::string(weights_name),
+                 "at least one term with a positive weight", "none");
   }
   return result;
 }

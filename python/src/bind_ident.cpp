@@ -17,7 +17,6 @@
 
 #include "bindings.hpp"
 #include "podid/core/case_file.hpp"
-#include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
 #include "podid/ident/identify.hpp"
 #include "podid/ident/landscape.hpp"
@@ -63,11 +62,8 @@ ident::NamedObjective ParseWeighting(const std::string& text) {
             : ident::ObjectiveWeights::Parse(text.substr(0, colon), text.substr(colon + 1));
     return {text, w};
   } catch (const std::invalid_argument& e) {
-    // The parser speaks of the CLI's --terms and --weights: here they are the
-    // two halves of one weighting string.
-    const std::string message =
-        ReplaceAll(ReplaceAll(e.what(), "--terms", "terms"), "--weights", "weights");
-    throw std::invalid_argument("weightings: \"" + text + "\": " + message);
+    // The parser names the string's two halves terms and weights.
+    throw std::invalid_argument("weightings: \"" + text + "\": " + e.what());
   }
 }
 

@@ -544,7 +544,7 @@ def test_duplicate_weightings_are_refused():
 
 
 def test_a_bad_weighting_string_is_named_in_the_keywords_terms():
-    # The library's parser names the CLI's --terms/--weights; here both are
+    # The library's parser named the CLI's --terms/--weights; here both are
     # halves of one weighting string.
     with pytest.raises(ValueError, match=r'^weightings: "U,S:1": weights: expected 2 weights \(one per term of terms\), got 1'):
         podid.Objective(CASE, MEASURED_01S, weightings=["U,S:1"])

@@ -216,8 +216,17 @@ TEST(ObjectiveErrorsTest, ClearErrors) {
   // Unknown names.
   PODID_EXPECT_THROW_WITH(ObjectiveWeights::Preset("fast"), std::invalid_argument, "full, time-free, wavelet");
   PODID_EXPECT_THROW_WITH(ParseAlgorithm("LN_FOO"), std::invalid_argument, "LN_BOBYQA");
-  PODID_EXPECT_THROW_WITH(ObjectiveWeights::Parse("U,X"), std::invalid_argument, "\"X\"");
-  PODID_EXPECT_THROW_WITH(ObjectiveWeights::Parse("U,S", "1"), std::invalid_argument, "2 weights");
+  PODID_EXPECT_THROW_WITH(ObjectiveWeights::Parse("U,X"), std::invalid_argument,
+                          "terms: expected a list of U, S, V, IF, got \"X\"");
+  PODID_EXPECT_THROW_WITH(ObjectiveWeights::Parse("U,S", "1"), std::invalid_argument,
+                          "weights: expected 2 weights (one per term of terms)");
+  // The caller's names (the CLI's options) in the messages.
+  PODID_EXPECT_THROW_WITH(ObjectiveWeights::Parse("U,S", "1,x", "--terms", "--weights"),
+                          std::invalid_argument,
+                          "--weights: expected non-negative numbers, got \"x\"");
+  PODID_EXPECT_THROW_WITH(ObjectiveWeights::Parse("U", "0", "--terms", "--weights"),
+                          std::invalid_argument,
+                          "--terms/--weights: expected at least one term with a positive weight");
 }
 
 TEST(ObjectiveTest, FailedSimulationIsAPenaltyNotAnError) {

@@ -46,7 +46,12 @@ struct ObjectiveWeights {
   /// "full", "time-free", "wavelet"; throws std::invalid_argument naming the choices.
   static ObjectiveWeights Preset(std::string_view name);
   /// `terms` like "U,S,IF" and optional `weights` like "1,1,0.5" (default all 1).
-  static ObjectiveWeights Parse(std::string_view terms, std::string_view weights = {});
+  /// Throws std::invalid_argument naming them `terms_name` and `weights_name`
+  /// (the caller's names: the CLI's --terms and --weights).
+  static ObjectiveWeights Parse(std::string_view terms,
+                                std::string_view weights = {},
+                                std::string_view terms_name = "terms",
+                                std::string_view weights_name = "weights");
   /// "dU + dS + 0.5 dIF": the weighted terms, each weight shown when not 1.
   std::string ToString() const;
 };
