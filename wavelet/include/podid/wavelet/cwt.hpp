@@ -203,13 +203,13 @@ struct MorletWavelet {
 };
 using Wavelet = MorletWavelet;
 
-/// Analysis frequencies in Hz, ascending.
 /// The grid's bounds (FrequencyGrid::IsValid), shared with the front-ends'
 /// checks of --voices and --bins (podid cwt, podid plan, Python's voices).
 inline constexpr int kMaxVoicesPerOctave = 1024;
 inline constexpr int kMinLinearBins = 2;
 inline constexpr int kMaxFrequencies = 100000;  ///< either spacing
 
+/// Analysis frequencies in Hz, ascending.
 struct FrequencyGrid {
   double min_frequency_Hz = 10.0;   ///< > 0
   double max_frequency_Hz = 120.0;  ///< > min, <= Nyquist of the signal
