@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "podid/core/error.hpp"
+#include "podid/core/io.hpp"
 
 namespace podid::internal {
 namespace {
@@ -468,6 +469,34 @@ void CheckMat5Structure(const std::string& path, std::ifstream& in, std::uint64_
   walker.Variables(file, size);
 }
 
+// A v4 sparse matrix's size, its last row (i = rows, j = columns) as doubles
+// at `data`: each at most kMaxReadValues, so that libmatio's column pointers
+// (4 bytes a column, and a pass over them) stay bounded whatever the file says.
+void CheckMat4SparseSize(std::ifstream& in,
+                         std::uint64_t data,
+                         std::int32_t rows,
+                         bool big_endian,
+                         const std::string& where) {
+  for (int column = 0; column < 2; ++column) {
+    const std::uint64_t offset =
+        data + (static_cast<std::uint64_t>(column) * static_cast<std::uint64_t>(rows) +
+                static_cast<std::uint64_t>(rows) - 1) *
+                   8;
+    std::uint64_t bits = 0;
+    in.seekg(static_cast<std::streamoff>(offset));
+    in.read(reinterpret_cast<char*>(&bits), sizeof bits);
+    if (big_endian) bits = __builtin_bswap64(bits);
+    double value = 0.0;
+    std::memcpy(&value, &bits, sizeof value);
+    if (!in || !(value >= 0.0 && value <= static_cast<double>(kMaxReadValues))) {
+      ThrowInvalid(where,
+                   std::string("a sparse matrix's ") + (column == 0 ? "row" : "column") +
+                       " count (its last row) in [0, " + std::to_string(kMaxReadValues) + "]",
+                   in ? ToText(value) : std::string("none"));
+    }
+  }
+}
+
 void CheckMat4Structure(const std::string& path, std::ifstream& in, std::uint64_t size) {
   std::uint64_t at = 0;
   while (size - at >= 20) {
@@ -499,14 +528,27 @@ void CheckMat4Structure(const std::string& path, std::ifstream& in, std::uint64_
                        ", name length " + std::to_string(header[4]));
     }
     static constexpr int kBytes[] = {8, 4, 4, 2, 2, 1};
-    const double data =
-        static_cast<double>(header[1]) * header[2] * (header[3] != 0 ? 2 : 1) * kBytes[precision];
+    const bool sparse = type % 10 == 2;
+    // A sparse matrix is N + 1 rows of (i, j, value[, imaginary part]): libmatio
+    // (1.5.23, mat4.c) allocates N row indices before it reads a column count,
+    // reads both index columns as doubles whatever P says, and sizes the column
+    // pointers by the last row's j, a number from the data.
+    if (sparse && (header[1] < 2 || (header[2] != 3 && header[2] != 4))) {
+      ThrowInvalid(
+          where,
+          "a sparse matrix of at least 2 rows and 3 or 4 columns (i, j, value[, imaginary part])",
+          std::to_string(header[1]) + " x " + std::to_string(header[2]));
+    }
+    const double rows = header[1];
+    const double data = sparse ? rows * 2 * 8 + rows * (header[2] - 2) * kBytes[precision]
+                               : rows * header[2] * (header[3] != 0 ? 2 : 1) * kBytes[precision];
     const double room = static_cast<double>(size - at - 20);
     if (header[4] + data > room) {
       ThrowInvalid(where, "a name and data that fit in the " + ToText(room) + " bytes that follow",
                    ToText(static_cast<double>(header[4])) + " + " + ToText(data) +
                        " bytes (a corrupt or truncated file)");
     }
+    if (sparse) CheckMat4SparseSize(in, at + 20 + header[4], header[1], type / 1000 == 1, where);
     at += 20 + static_cast<std::uint64_t>(header[4]) + static_cast<std::uint64_t>(data);
   }
 }

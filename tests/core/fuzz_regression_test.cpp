@@ -5,14 +5,17 @@
 #include <matio.h>
 #include <zlib.h>
 
+#include <array>
 #include <cstdint>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "podid/core/case_file.hpp"
 #include "podid/core/io.hpp"
+#include "podid/core/model_io.hpp"
 #include "temp_dir.hpp"
 #include "test_support.hpp"
 
@@ -93,6 +96,68 @@ TEST(FuzzRegressionMat, Level4NameLongerThanTheFileIsRejectedBeforeMatOpen) {
   PODID_EXPECT_THROW_WITH(ReadFuzzedMat("mat_v4_name_length_1_6e9.mat"), std::invalid_argument,
                           "v4 matrix at byte 0: expected a name and data that fit in the 272 bytes "
                           "that follow, got 1593835522 + 80 bytes (a corrupt or truncated file)");
+}
+
+/// A level 4 sparse matrix (little-endian, double): the header, the name, then
+/// the rows (i, j, value) column by column, the last row (rows, columns, 0).
+std::string Mat4Sparse(const std::string& name, const std::vector<std::array<double, 3>>& rows) {
+  std::string bytes;
+  const auto word = [&](std::int32_t v) { bytes.append(reinterpret_cast<const char*>(&v), 4); };
+  word(2);  // MOPT 0002: little-endian, double, sparse
+  word(static_cast<std::int32_t>(rows.size()));
+  word(3);
+  word(0);
+  word(static_cast<std::int32_t>(name.size() + 1));
+  bytes.append(name.c_str(), name.size() + 1);
+  for (int column = 0; column < 3; ++column) {
+    for (const auto& row : rows) bytes.append(reinterpret_cast<const char*>(&row[column]), 8);
+  }
+  return bytes;
+}
+
+TEST(FuzzRegressionModel, Level4SparseRowsBeyondTheFileAreRejectedBeforeMatioAllocatesThem) {
+  // podid_fuzz_model (CI's fuzz smoke run): a 22-byte v4 file with a sparse
+  // matrix "M" of 1073741827 x 0. The structure check sized its data as
+  // rows x columns = 0 bytes, and libmatio malloc'ed 4 GB of row indices.
+  const ModelFiles files{DataPath("fuzz/mat_v4_sparse_0_columns_1e9_rows.mat"), "M", "K", ""};
+  PODID_EXPECT_THROW_WITH(ReadModelMatrices(files), std::invalid_argument,
+                          "v4 matrix at byte 0: expected a sparse matrix of at least 2 rows and 3 "
+                          "or 4 columns (i, j, value[, imaginary part]), got 1073741827 x 0");
+  PODID_EXPECT_THROW_WITH(ReadFuzzedMat("mat_v4_sparse_0_columns_1e9_rows.mat"),
+                          std::invalid_argument, "expected a sparse matrix of at least 2 rows");
+}
+
+TEST(FuzzRegressionModel, Level4SparseColumnCountFromTheDataIsBounded) {
+  // libmatio sizes a v4 sparse matrix's column pointers by its last row's j
+  // (4 bytes a column, up to 2^32 - 2 columns: 16 GB) in a file of 80 bytes.
+  const TempDir dir;
+  const std::string path = dir.File("sparse.mat");
+  std::ofstream(path, std::ios::binary) << Mat4Sparse("M", {{1, 1, 5}, {1, 4e9, 0}});
+  PODID_EXPECT_THROW_WITH(ReadModelMatrices({path, "M", "K", ""}), std::invalid_argument,
+                          "expected a sparse matrix's column count (its last row) in [0, "
+                          "134217728], got 4000000000");
+  std::ofstream(path, std::ios::binary) << Mat4Sparse("M", {{1, 1, 5}, {-1, 1, 0}});
+  PODID_EXPECT_THROW_WITH(ReadModelMatrices({path, "M", "K", ""}), std::invalid_argument,
+                          "expected a sparse matrix's row count (its last row) in [0, 134217728], "
+                          "got -1");
+}
+
+TEST(FuzzRegressionModel, Level4SparseMatricesAreStillRead) {
+  // The same layout with sizes that agree: M = diag(2, 1), K = [[3, -1], [-1, 3]].
+  const TempDir dir;
+  const std::string path = dir.File("model.mat");
+  std::ofstream(path, std::ios::binary)
+      << Mat4Sparse("M", {{1, 1, 2}, {2, 2, 1}, {2, 2, 0}})
+      << Mat4Sparse("K", {{1, 1, 3}, {2, 1, -1}, {1, 2, -1}, {2, 2, 3}, {2, 2, 0}});
+  const ImportedMatrices m = ReadModelMatrices({path, "M", "K", ""});
+  ASSERT_EQ(m.mass.rows(), 2);
+  ASSERT_EQ(m.stiffness.cols(), 2);
+  EXPECT_EQ(m.mass.coeff(0, 0), 2.0);
+  EXPECT_EQ(m.mass.coeff(1, 1), 1.0);
+  EXPECT_EQ(m.mass.coeff(0, 1), 0.0);
+  EXPECT_EQ(m.stiffness.coeff(1, 0), -1.0);
+  EXPECT_EQ(m.stiffness.coeff(0, 1), -1.0);
+  EXPECT_EQ(m.stiffness.coeff(1, 1), 3.0);
 }
 
 TEST(FuzzRegressionMat, NonCanonicalLayoutThatMatioReadsDifferentlyIsRejected) {
