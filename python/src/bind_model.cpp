@@ -62,9 +62,10 @@ void BindModel(py::module_& m) {
           py::gil_scoped_release release;
           series = ReadTimeSeries(path, options, &notes);
         } catch (const std::invalid_argument& e) {
-          // The readers name the CLI's options for a file without time.
-          std::string message = ReplaceAll(e.what(), "--rate", "rate_Hz");
-          throw std::invalid_argument(ReplaceAll(std::move(message), "--step", "step_s"));
+          // The readers name the CLI's options for a file without time (the
+          // whole phrase: a path may hold "--rate").
+          throw std::invalid_argument(
+              ReplaceAll(e.what(), "(--rate, --step)", "(rate_Hz, step_s)"));
         }
         for (const std::string& note : notes) {
           if (PyErr_WarnEx(PyExc_UserWarning, note.c_str(), 2) != 0) throw py::error_already_set();
