@@ -25,6 +25,9 @@
 #            (which must find every plan in the wisdom: checked).
 #   FFTW_PATIENT planning takes minutes (about 1.5 min per tool at 10^4, 1.6 min for
 #   fCWT and 5.4 min for podid at 10^5); PLANS="estimated measured" skips it.
+# podid is timed twice in each run: with its complex double output, and with
+# W rounded to complex float (CwtOutput::kComplexFloat, BM_CwtFcwtCaseComplexFloat:
+# the same double-precision transform, fCWT's 8 bytes a coefficient written).
 # Both exclude one-time costs (podid's filters; fCWT's output allocation) and
 # report the best CPU time (one thread each: CPU time is what the transform
 # costs, and it is less disturbed than wall time on a shared machine) of
@@ -99,8 +102,8 @@ if [ -f "$bundled/libfftw3fl.so" ] && [ -f "$bundled/libfftw3f_ompl.so" ]; then
   fi
 fi
 # One timing: "$1" estimated|measured|patient, "$2" samples; prints the
-# seconds of fCWT with Debian's FFTW, with its bundled one (1e9 if not built)
-# and podid's. Each configuration has its own fCWT wisdom folder per build
+# seconds of fCWT with Debian's FFTW, with its bundled one (1e9 if not built),
+# podid's (complex double output) and podid's with complex float output. Each configuration has its own fCWT wisdom folder per build
 # and podid cache.
 time_pair() {
   local f b p flag=1 mode=m times=""
@@ -115,9 +118,10 @@ time_pair() {
     times="$times$f "
   done
   p=$(XDG_CACHE_HOME="$work/cache-$1" "$build/bench/wavelet_benchmark" \
-      --benchmark_filter="BM_CwtFcwtCase/$2/1/$flag" --benchmark_format=csv 2>/dev/null |
-      awk -F, '/BM_CwtFcwtCase/ { print $4 / 1000 }')
-  [ -n "$p" ] || { echo "compare_fcwt: no BM_CwtFcwtCase/$2/1/$flag result" >&2; exit 1; }
+      --benchmark_filter="^BM_CwtFcwtCase(ComplexFloat)?/$2/1/$flag/" --benchmark_format=csv 2>/dev/null |
+      awk -F, '/^"BM_CwtFcwtCase\// { c = $4 / 1000 } /^"BM_CwtFcwtCaseComplexFloat\// { f = $4 / 1000 }
+               END { if (c != "" && f != "") print c, f }')
+  [ -n "$p" ] || { echo "compare_fcwt: no BM_CwtFcwtCase(ComplexFloat)/$2/1/$flag result" >&2; exit 1; }
   echo "$times$p"
 }
 # Wisdom for "$1" measured|patient at "$2" samples, made once outside the timing.
@@ -142,25 +146,28 @@ make_wisdom() {
     time_pair measured "$2" >/dev/null  # the first run measures and caches
   fi
 }
-printf "%-10s %-8s %14s %14s %12s %8s\n" plans samples "fCWT Debian" "fCWT bundled" "podid (ms)" ratio
+printf "%-10s %-8s %14s %14s %12s %8s %14s %8s\n" plans samples "fCWT Debian" "fCWT bundled" "podid (ms)" ratio \
+  "podid c64" ratio
 for plans in $plans_list; do
   case "$plans" in estimated | measured | patient) ;; *)
     echo "compare_fcwt: PLANS: expected estimated, measured or patient, got '$plans'" >&2; exit 1 ;;
   esac
   for n in 10000 100000; do
     [ "$plans" = estimated ] || make_wisdom "$plans" "$n"
-    best="1e9 1e9 1e9"  # fCWT Debian, fCWT bundled, podid
+    best="1e9 1e9 1e9 1e9"  # fCWT Debian, fCWT bundled, podid, podid complex float
     for r in $(seq "$repeats"); do
       pair=$(time_pair "$plans" "$n")  # set -e: a failed timing stops the script
       best=$(awk -v a="$best" -v b="$pair" 'BEGIN {
         split(a, x, " "); split(b, y, " ")
-        for (i = 1; i <= 3; ++i) printf "%s%s", (y[i] < x[i] ? y[i] : x[i]), (i < 3 ? " " : "\n") }')
+        for (i = 1; i <= 4; ++i) printf "%s%s", (y[i] < x[i] ? y[i] : x[i]), (i < 4 ? " " : "\n") }')
     done
     awk -v m="$plans" -v n="$n" -v t="$best" 'BEGIN {
       split(t, x, " "); f = x[1] < x[2] ? x[1] : x[2]
       bundled = x[2] < 1e9 ? sprintf("%14.1f", 1000 * x[2]) : sprintf("%14s", "-")
-      printf "%-10s %-8d %14.1f %s %12.1f %7.2fx\n", m, n, 1000 * x[1], bundled, 1000 * x[3], f / x[3] }'
+      printf "%-10s %-8d %14.1f %s %12.1f %7.2fx %14.1f %7.2fx\n", m, n, 1000 * x[1], bundled,
+        1000 * x[3], f / x[3], 1000 * x[4], f / x[4] }'
   done
 done
 echo "fCWT columns: ms with each FFTW; ratio = the faster fCWT's CPU time / podid's (> 1: podid"
-echo "faster); best of $repeats interleaved runs"
+echo "faster); podid c64: W computed in double, written as complex float as fCWT writes it;"
+echo "best of $repeats interleaved runs"

@@ -246,6 +246,26 @@ BENCHMARK(BM_CwtFcwtCase)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The same with W computed in double and stored as complex float
+// (CwtOutput::kComplexFloat): the bytes fCWT writes (8 a coefficient). Args
+// as BM_CwtFcwtCase's (bench/compare_fcwt.sh times both).
+void BM_CwtFcwtCaseComplexFloat(benchmark::State& state) {
+  const Eigen::VectorXd x = FcwtSignal(state.range(0));
+  CwtOptions o = FcwtOptions(static_cast<int>(state.range(1)), state.range(2) != 0);
+  o.output = CwtOutput::kComplexFloat;
+  CwtTransform transform(o);
+  Scalogram out;
+  transform.Compute(x, 1.0 / 64.0, &out);
+  for (auto _ : state) {
+    transform.Compute(x, 1.0 / 64.0, &out);
+    benchmark::DoNotOptimize(out.coefficients_float.data());
+  }
+}
+BENCHMARK(BM_CwtFcwtCaseComplexFloat)
+    ->ArgsProduct({{10000, 100000}, {1}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 // The same with single-precision |W| output (CwtOutput::kMagnitudeFloat).
 void BM_CwtFcwtCaseMagnitude(benchmark::State& state) {
   const Eigen::VectorXd x = FcwtSignal(state.range(0));

@@ -172,6 +172,10 @@ void BindWavelet(py::module_& m) {
                     "|W| in single precision (times x frequencies, float32), in units of "
                     "coefficient_scale, when cwt(output=\"magnitude\"); then coefficients is "
                     "empty. Else empty")
+      .def_readonly("coefficients_float", &wavelet::Scalogram::coefficients_float,
+                    "W rounded to single precision (times x frequencies, complex64), in units "
+                    "of coefficient_scale, when cwt(output=\"complex-float\"); then "
+                    "coefficients is empty. Else empty")
       .def_readonly("coefficient_scale", &wavelet::Scalogram::coefficient_scale)
       .def_readonly("coi_frequency_Hz", &wavelet::Scalogram::coi_frequency_Hz,
                     "lowest frequency inside the cone of influence at each time")
@@ -191,7 +195,7 @@ void BindWavelet(py::module_& m) {
       [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, PODID_CWT_PARAMETERS,
          bool band_limited, double max_memory_MB, const std::string& output) {
         wavelet::CwtOptions options = PODID_CWT_OPTIONS;
-        ApplyOutputLimits(band_limited, max_memory_MB, 16.0, &options);  // 4 for a magnitude
+        ApplyOutputLimits(band_limited, max_memory_MB, 16.0, &options);  // 8 or 4 for floats
         options.output = wavelet::ParseCwtOutput(output);
         py::gil_scoped_release release;
         return WithPythonNames([&] { return wavelet::Cwt(x, step_s, options); });
@@ -205,7 +209,8 @@ void BindWavelet(py::module_& m) {
       "band_limited: only every D-th time, D as large as the band allows (the scalogram's "
       "decimation); max_memory_MB: refuse a transform needing more (a ValueError); "
       "output=\"magnitude\": only |W|, in single precision (Scalogram.magnitude, 4 bytes a "
-      "coefficient against 16).");
+      "coefficient against 16); output=\"complex-float\": W computed in double precision and "
+      "rounded to complex64 (Scalogram.coefficients_float, 8 bytes).");
 
   m.def(
       "ridges",

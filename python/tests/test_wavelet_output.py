@@ -99,5 +99,41 @@ def test_magnitude_output_is_the_complex_magnitude_in_single_precision():
     assert podid.cwt(long, 1e-4, max_memory_MB=100, output="magnitude").magnitude.shape == (100000, 115)
     with pytest.raises(ValueError, match="complex coefficients"):
         podid.inverse_cwt(mag)
-    with pytest.raises(ValueError, match=r'^output: expected one of complex, magnitude, got "float"'):
+    with pytest.raises(ValueError, match=r'^output: expected one of complex, magnitude, complex-float, got "float"'):
         podid.cwt(x, step, output="float")
+
+
+def test_complex_float_output_is_the_complex_output_rounded_to_complex64():
+    step = 2e-4
+    x = chirp_and_tone(step, 5001)
+    full = podid.cwt(x, step)
+    single = podid.cwt(x, step, output="complex-float")
+    assert single.coefficients.size == 0 and single.magnitude.size == 0
+    assert single.coefficients_float.dtype == np.complex64
+    # W computed in double and each part rounded once: numpy's own cast, bit for bit.
+    assert np.array_equal(single.coefficients_float, full.coefficients.astype(np.complex64))
+    assert full.coefficients_float.size == 0
+    # Half the bytes: 10^5 x 115 coefficients (92 MB) fit 100 MB, where W (184 MB) does not.
+    long = np.cos(2 * math.pi * 50.0 * np.arange(100000) * 1e-4)
+    assert podid.cwt(long, 1e-4, max_memory_MB=100, output="complex-float").coefficients_float.shape == (
+        100000,
+        115,
+    )
+    with pytest.raises(ValueError, match=r"max_memory_MB"):
+        podid.cwt(long, 1e-4, max_memory_MB=100)
+    with pytest.raises(ValueError, match="complex coefficients"):
+        podid.inverse_cwt(single)
+
+
+def test_float_outputs_of_a_huge_signal_are_finite_in_units_of_coefficient_scale():
+    # float32 ends at 3.4e38: a tone of 1e40 gave |W| = inf before. Beyond
+    # 2^32 the float outputs carry a coefficient_scale (a power of 2).
+    step = 2e-4
+    x = 1e40 * chirp_and_tone(step, 2001)
+    full = np.abs(podid.cwt(x, step).coefficients)
+    for output, field in (("magnitude", "magnitude"), ("complex-float", "coefficients_float")):
+        sg = podid.cwt(x, step, output=output)
+        values = np.abs(getattr(sg, field).astype(np.complex128)) * sg.coefficient_scale
+        assert sg.coefficient_scale > 1.0 and math.log2(sg.coefficient_scale).is_integer()
+        assert np.all(np.isfinite(values))
+        assert np.all(np.abs(values - full) <= 2 * FLOAT_MAGNITUDE_RELATIVE * full)

@@ -424,11 +424,13 @@ TEST(Cwt, BadInputNamesWhatWasExpected) {
   }
   PODID_EXPECT_THROW_WITH(ParsePadding("mirror"), std::invalid_argument,
                           "expected one of reflect, zero, periodic");
-  for (const CwtOutput output : {CwtOutput::kComplex, CwtOutput::kMagnitudeFloat}) {
+  for (const CwtOutput output :
+       {CwtOutput::kComplex, CwtOutput::kMagnitudeFloat, CwtOutput::kComplexFloat}) {
     EXPECT_EQ(ParseCwtOutput(ToString(output)), output);
   }
-  PODID_EXPECT_THROW_WITH(ParseCwtOutput("float"), std::invalid_argument,
-                          "output: expected one of complex, magnitude, got \"float\"");
+  PODID_EXPECT_THROW_WITH(
+      ParseCwtOutput("float"), std::invalid_argument,
+      "output: expected one of complex, magnitude, complex-float, got \"float\"");
 }
 
 }  // namespace

@@ -198,6 +198,11 @@ TEST(PrunedInverse, FullRateCwtAtLargeDecimationsEqualsTheDirectSum) {
   const Scalogram magnitude = Cwt(x, step, o);
   const Eigen::MatrixXf rounded = sg.coefficients.cwiseAbs().cast<float>();
   EXPECT_TRUE(magnitude.magnitude == rounded);
+  // Complex float: the complex output, each part rounded once (bit for bit).
+  o.output = CwtOutput::kComplexFloat;
+  const Scalogram single = Cwt(x, step, o);
+  EXPECT_EQ(single.coefficients.size(), 0);
+  EXPECT_TRUE(single.coefficients_float == sg.coefficients.cast<std::complex<float>>());
 }
 
 TEST(PrunedInverse, LongRecordNearNyquistEqualsTheAnalyticImpulseResponse) {
@@ -251,7 +256,7 @@ TEST(PrunedInverse, LongRecordNearNyquistEqualsTheAnalyticImpulseResponse) {
     }
   }
   // Three threads (a chunk per scale: each column ends its chunk and is
-  // transformed in place in the thread's buffer, then copied) and |W| as
+  // transformed in place in the thread's buffer, then copied), |W| and W as
   // float (the same in-place transform): the same numbers.
   o.threads = 3;
   EXPECT_TRUE(Cwt(x, step, o).coefficients == sg.coefficients);
@@ -259,6 +264,8 @@ TEST(PrunedInverse, LongRecordNearNyquistEqualsTheAnalyticImpulseResponse) {
   o.output = CwtOutput::kMagnitudeFloat;
   const Eigen::MatrixXf rounded = sg.coefficients.cwiseAbs().cast<float>();
   EXPECT_TRUE(Cwt(x, step, o).magnitude == rounded);
+  o.output = CwtOutput::kComplexFloat;
+  EXPECT_TRUE(Cwt(x, step, o).coefficients_float == sg.coefficients.cast<std::complex<float>>());
 }
 
 }  // namespace

@@ -210,5 +210,85 @@ TEST(SinglePrecision, MagnitudeOutputIsTheRoundedComplexMagnitude) {
                           "expected a computed scalogram with complex coefficients");
 }
 
+TEST(SinglePrecision, ComplexFloatOutputIsTheRoundedComplexOutput) {
+  // CwtOutput::kComplexFloat computes W in double and rounds each part once:
+  // bit for bit the complex output cast to complex<float>, full rate and
+  // band-limited, on one thread or three, scaled by 2^10 (no rescaling).
+  CwtOptions options;
+  options.frequencies.voices_per_octave = 8;
+  const Eigen::VectorXd x = 1000.0 * Tone(3.0);
+  for (const bool band_limited : {false, true}) {
+    options.band_limited = band_limited;
+    options.output = CwtOutput::kComplex;
+    const Scalogram full = Cwt(x, kStep, options);
+    ASSERT_EQ(full.coefficient_scale, 1.0);
+    options.output = CwtOutput::kComplexFloat;
+    for (const int threads : {1, 3}) {
+      options.threads = threads;
+      const Scalogram single = Cwt(x, kStep, options);
+      EXPECT_EQ(single.coefficients.size(), 0);
+      EXPECT_EQ(single.magnitude.size(), 0);
+      EXPECT_EQ(single.coefficient_scale, 1.0);
+      EXPECT_TRUE(single.coefficients_float == full.coefficients.cast<std::complex<float>>())
+          << "band_limited " << band_limited << ", threads " << threads;
+    }
+    options.threads = 1;
+  }
+  // 8 bytes per coefficient: a budget of 12 bytes a cell (the rest, FFT
+  // buffers of about 10^4 points, is far below 4 a cell) takes it, not 16.
+  options.band_limited = false;
+  options.frequencies.spacing = FrequencySpacing::kLinear;
+  options.frequencies.bins = 1000;
+  options.memory_budget_bytes = 12.0 * 5001.0 * 1000.0;
+  EXPECT_EQ(Cwt(Tone(1.0), kStep, options).coefficients_float.size(), 5001 * 1000);
+  options.output = CwtOutput::kComplex;
+  PODID_EXPECT_THROW_WITH(Cwt(Tone(1.0), kStep, options), std::invalid_argument,
+                          "frequencies x 16 bytes");
+  // Ridges need the complex double coefficients.
+  options = CwtOptions{};
+  options.output = CwtOutput::kComplexFloat;
+  PODID_EXPECT_THROW_WITH(FindRidges(Cwt(Tone(1.0), kStep, options), RidgeOptions{}),
+                          std::invalid_argument,
+                          "expected a computed scalogram with complex coefficients");
+}
+
+TEST(SinglePrecision, FloatOutputsOfExtremeAmplitudesStayInRange) {
+  // Float's range ends at 3.4e38 and its normals at 1.2e-38: a tone of
+  // amplitude 1e40 gave |W| = inf as float, one of 1e-100 gave 0. Beyond
+  // 2^+-32 the float outputs are in units of coefficient_scale (a power of
+  // 2), as the complex output is beyond 2^+-960; scaled back they are the
+  // complex |W| to the float's precision (1e-7 relative, as above).
+  constexpr double kRelativeTolerance = 1e-7;
+  CwtOptions options;
+  options.frequencies.voices_per_octave = 4;
+  for (const double amplitude : {1e40, 1e12, 1e-12, 1e-100}) {
+    const Eigen::VectorXd x = amplitude * Tone(3.0);
+    options.output = CwtOutput::kComplex;
+    const Scalogram full = Cwt(x, kStep, options);
+    ASSERT_EQ(full.coefficient_scale, 1.0);
+    const Eigen::ArrayXXd expected = full.coefficients.cwiseAbs().array();
+    options.output = CwtOutput::kMagnitudeFloat;
+    const Scalogram magnitude = Cwt(x, kStep, options);
+    options.output = CwtOutput::kComplexFloat;
+    const Scalogram single = Cwt(x, kStep, options);
+    for (const Scalogram* sg : {&magnitude, &single}) {
+      EXPECT_NE(sg->coefficient_scale, 1.0) << amplitude;
+      EXPECT_EQ(std::exp2(std::round(std::log2(sg->coefficient_scale))), sg->coefficient_scale);
+    }
+    const Eigen::ArrayXXd from_magnitude =
+        magnitude.magnitude.cast<double>().array() * magnitude.coefficient_scale;
+    const Eigen::ArrayXXd from_single =
+        single.coefficients_float.cast<std::complex<double>>().cwiseAbs().array() *
+        single.coefficient_scale;
+    ASSERT_TRUE(from_magnitude.allFinite() && from_single.allFinite()) << amplitude;
+    EXPECT_LE(((from_magnitude - expected).abs() - kRelativeTolerance * expected).maxCoeff(), 0.0)
+        << amplitude;
+    // Complex float rounds both parts: |W| within twice the float's rounding.
+    EXPECT_LE(((from_single - expected).abs() - 2.0 * kRelativeTolerance * expected).maxCoeff(),
+              0.0)
+        << amplitude;
+  }
+}
+
 }  // namespace
 }  // namespace podid::wavelet

@@ -171,7 +171,9 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   const Sizes z = Plan(samples, step);
   // Checked before anything is allocated or changed. Memory: coefficients, filters, padded signal,
   // spectrum, work buffers.
-  const double per_coefficient = options.output == CwtOutput::kComplex ? 16.0 : 4.0;
+  const double per_coefficient = options.output == CwtOutput::kComplex        ? 16.0
+                                 : options.output == CwtOutput::kComplexFloat ? 8.0
+                                                                              : 4.0;
   const double bytes =
       per_coefficient * static_cast<double>(z.times) * static_cast<double>(scales_s.size()) +
       internal::ScaleFilters::Bytes(options.wavelet, z.filter_bins) +
@@ -318,7 +320,9 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
   Complex* spectrum = s.spectrum.get();
   for (Eigen::Index i = 0; i < s.p; ++i) spectrum[i] = Complex(x[i], 0.0);
   fftw_execute_dft(s.forward, internal::AsFftw(spectrum), internal::AsFftw(spectrum));
-  const bool unscaled = std::abs(exponent) <= internal::kMaxUnscaledExponent;
+  const bool unscaled = std::abs(exponent) <= (s.options.output == CwtOutput::kComplex
+                                                   ? internal::kMaxUnscaledExponent
+                                                   : internal::kMaxUnscaledFloatExponent);
   s.output_scale = unscaled ? std::ldexp(1.0, exponent) : 1.0;
 
   // Process-wide: no two Compute() calls, of any transform, share a number.
@@ -337,25 +341,26 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
       Eigen::VectorXd::LinSpaced(s.times, 0.0, static_cast<double>(s.times - 1)) * out->step_s +
       Eigen::VectorXd::Constant(s.times, start_time_s);
   out->coi_frequency_Hz = s.coi_frequency_Hz;
-  const bool magnitude = s.options.output == CwtOutput::kMagnitudeFloat;
-  if (magnitude) {
-    out->coefficients.resize(0, 0);
-    out->magnitude.resize(s.times, scales);
-  } else {
-    out->magnitude.resize(0, 0);
-    out->coefficients.resize(s.times, scales);
-  }
-  if (magnitude) {
-    internal::AdviseHugePages(out->magnitude.data(),
-                              static_cast<std::size_t>(out->magnitude.size()) * sizeof(float));
-  } else {
-    internal::AdviseHugePages(out->coefficients.data(),
-                              static_cast<std::size_t>(out->coefficients.size()) * sizeof(Complex));
-  }
+  // Exactly one output matrix is sized; the others are emptied.
+  const CwtOutput output = s.options.output;
+  out->coefficients.resize(output == CwtOutput::kComplex ? s.times : 0,
+                           output == CwtOutput::kComplex ? scales : 0);
+  out->coefficients_float.resize(output == CwtOutput::kComplexFloat ? s.times : 0,
+                                 output == CwtOutput::kComplexFloat ? scales : 0);
+  out->magnitude.resize(output == CwtOutput::kMagnitudeFloat ? s.times : 0,
+                        output == CwtOutput::kMagnitudeFloat ? scales : 0);
+  internal::AdviseHugePages(out->coefficients.data(),
+                            static_cast<std::size_t>(out->coefficients.size()) * sizeof(Complex));
+  internal::AdviseHugePages(
+      out->coefficients_float.data(),
+      static_cast<std::size_t>(out->coefficients_float.size()) * sizeof(std::complex<float>));
+  internal::AdviseHugePages(out->magnitude.data(),
+                            static_cast<std::size_t>(out->magnitude.size()) * sizeof(float));
   if (!s.options.band_limited) {
     s.full_rate.Compute(s.spectrum.get(), s.times, s.output_scale,
-                        magnitude ? nullptr : out->coefficients.data(),
-                        magnitude ? out->magnitude.data() : nullptr);
+                        {.complex = out->coefficients.data(),
+                         .complex_float = out->coefficients_float.data(),
+                         .magnitude = out->magnitude.data()});
     return;
   }
   // Scales handed out one at a time: a thread that could not be started
@@ -365,15 +370,19 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
     Complex* w = s.work[static_cast<std::size_t>(thread)].get();
     for (Eigen::Index k = next_scale++; k < scales; k = next_scale++) {
       s.Synthesise(k, false, w);
-      if (magnitude) {
+      if (output == CwtOutput::kMagnitudeFloat) {
         // |W| of the scaled transform (no overflow), rounded once to float.
         internal::MagnitudesToFloat(w, s.times, s.output_scale, out->magnitude.col(k).data());
-        continue;
-      }
-      Complex* column = out->coefficients.col(k).data();
-      if (s.output_scale == 1.0) {
-        std::copy(w, w + s.times, column);
+      } else if (output == CwtOutput::kComplexFloat) {
+        std::complex<float>* column = out->coefficients_float.col(k).data();
+        for (Eigen::Index j = 0; j < s.times; ++j) {
+          column[j] = std::complex<float>(static_cast<float>(w[j].real() * s.output_scale),
+                                          static_cast<float>(w[j].imag() * s.output_scale));
+        }
+      } else if (s.output_scale == 1.0) {
+        std::copy(w, w + s.times, out->coefficients.col(k).data());
       } else {
+        Complex* column = out->coefficients.col(k).data();
         for (Eigen::Index j = 0; j < s.times; ++j) column[j] = w[j] * s.output_scale;
       }
     }

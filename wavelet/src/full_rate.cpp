@@ -67,14 +67,16 @@ void FullRateCwt::Layout(Eigen::Index p, const ScaleFilters& filters, int thread
 void FullRateCwt::Compute(const Complex* spectrum,
                           Eigen::Index times,
                           double output_scale,
-                          Complex* coefficients,
-                          float* magnitude) const {
+                          const FullRateOutput& output) const {
   PODID_CHECK(times >= 1 && times <= inverse_.length());
+  PODID_CHECK((output.complex != nullptr) + (output.complex_float != nullptr) +
+                  (output.magnitude != nullptr) ==
+              1);
   const auto chunks = static_cast<int>(chunk_begin_.size()) - 1;
   std::atomic<int> next_chunk{0};
   const auto work = [&](int thread) {
     for (int c = next_chunk++; c < chunks; c = next_chunk++) {
-      RunScales(thread, c, spectrum, times, output_scale, coefficients, magnitude);
+      RunScales(thread, c, spectrum, times, output_scale, output);
     }
   };
   std::vector<std::thread> pool;
@@ -95,8 +97,7 @@ void FullRateCwt::RunScales(int thread,
                             const Complex* spectrum,
                             Eigen::Index times,
                             double output_scale,
-                            Complex* coefficients,
-                            float* magnitude) const {
+                            const FullRateOutput& output) const {
   const auto t = static_cast<std::size_t>(thread);
   const Eigen::Index p = inverse_.length();
   const auto c = static_cast<std::size_t>(chunk);
@@ -106,11 +107,14 @@ void FullRateCwt::RunScales(int thread,
   for (Eigen::Index k = chunk_begin_[c]; k < end; ++k) {
     const Eigen::Index a = filters_->first(k);
     const Eigen::Index bins = filters_->bins(k);
+    Complex* column = output.complex == nullptr ? nullptr : output.complex + k * times;
     if (bins == 0) {  // the whole band beyond Nyquist: W = 0
-      if (magnitude != nullptr) {
-        std::fill(magnitude + k * times, magnitude + (k + 1) * times, 0.0f);
+      if (output.magnitude != nullptr) {
+        std::fill_n(output.magnitude + k * times, times, 0.0f);
+      } else if (output.complex_float != nullptr) {
+        std::fill_n(output.complex_float + k * times, times, std::complex<float>(0.0f, 0.0f));
       } else {
-        std::fill(coefficients + k * times, coefficients + (k + 1) * times, Complex(0.0, 0.0));
+        std::fill_n(column, times, Complex(0.0, 0.0));
       }
       continue;
     }
@@ -118,7 +122,6 @@ void FullRateCwt::RunScales(int thread,
     // start stay inside this chunk's later columns (overwritten when their
     // turn comes): no copy.
     const Eigen::Index d = decimation_[static_cast<std::size_t>(k)];
-    Complex* column = coefficients == nullptr ? nullptr : coefficients + k * times;
     const bool direct = d == 1 && column != nullptr && (end - k) * times >= p &&
                         fftw_alignment_of(reinterpret_cast<double*>(column)) == plan_alignment_;
     Complex* out = direct ? column : own_output;
@@ -129,10 +132,12 @@ void FullRateCwt::RunScales(int thread,
       inverse_.Execute(spectrum, filter, a, bins, d, batch_[static_cast<std::size_t>(k)],
                        plans_[static_cast<std::size_t>(k)], input, out);
     }
-    if (magnitude != nullptr) {
+    if (output.magnitude != nullptr) {
       // Execute's work is free again: it serves as scratch for P floats.
       inverse_.GatherMagnitude(out, d, times, output_scale, reinterpret_cast<float*>(input),
-                               magnitude + k * times);
+                               output.magnitude + k * times);
+    } else if (output.complex_float != nullptr) {
+      inverse_.GatherFloat(out, d, times, output_scale, output.complex_float + k * times);
     } else if (!direct) {
       inverse_.Gather(out, d, times, output_scale, column);
     } else if (output_scale != 1.0) {

@@ -14,6 +14,14 @@
 
 namespace podid::wavelet::internal {
 
+/// Where FullRateCwt::Compute writes: exactly one of the three, each
+/// times x scales, column-major.
+struct FullRateOutput {
+  std::complex<double>* complex = nullptr;       ///< W (CwtOutput::kComplex)
+  std::complex<float>* complex_float = nullptr;  ///< W rounded to float (kComplexFloat)
+  float* magnitude = nullptr;                    ///< |W| rounded to float (kMagnitudeFloat)
+};
+
 class FullRateCwt {
  public:
   using Complex = std::complex<double>;
@@ -23,7 +31,7 @@ class FullRateCwt {
   static constexpr std::size_t kChunksPerThread = 8;
   /// From this length on, a D = 1 scale is transformed in place (in its
   /// column, or in the thread's output buffer when the column cannot take P
-  /// values or the output is |W|) instead of from a scratch buffer: once
+  /// values or the output is in single precision) instead of from a scratch buffer: once
   /// input and output (32 P bytes) outgrow a 2 MiB L2 cache the scratch's
   /// round trip dominates (FFTW 3.3.10, estimated plans: 0.96 against 1.13 ms
   /// at 102400 points; 0.079 against 0.070 ms at 10752, where the scratch
@@ -41,14 +49,12 @@ class FullRateCwt {
   void Layout(Eigen::Index p, const ScaleFilters& filters, int threads, bool measure);
 
   /// Every scale of `spectrum` (P / 2 + 1 bins of the padded real signal):
-  /// column k of coefficients (times x scales, column-major) gets
-  /// output_scale * W_k(0 .. times - 1); with magnitude != nullptr instead
-  /// its |W| as float, and coefficients is unused. times <= P.
+  /// column k of the output gets output_scale * W_k(0 .. times - 1), or its
+  /// rounding to complex float, or its |W| as float. times <= P.
   void Compute(const Complex* spectrum,
                Eigen::Index times,
                double output_scale,
-               Complex* coefficients,
-               float* magnitude) const;
+               const FullRateOutput& output) const;
 
  private:
   void RunScales(int thread,
@@ -56,8 +62,7 @@ class FullRateCwt {
                  const Complex* spectrum,
                  Eigen::Index times,
                  double output_scale,
-                 Complex* coefficients,
-                 float* magnitude) const;
+                 const FullRateOutput& output) const;
 
   PrunedInverse inverse_;
   const ScaleFilters* filters_ = nullptr;

@@ -73,6 +73,8 @@ const char* ToString(CwtOutput output) {
       return "complex";
     case CwtOutput::kMagnitudeFloat:
       return "magnitude";
+    case CwtOutput::kComplexFloat:
+      return "complex-float";
   }
   return "?";
 }
@@ -80,7 +82,8 @@ const char* ToString(CwtOutput output) {
 CwtOutput ParseCwtOutput(std::string_view name) {
   if (name == "complex") return CwtOutput::kComplex;
   if (name == "magnitude") return CwtOutput::kMagnitudeFloat;
-  ThrowInvalid("output", "one of complex, magnitude", Excerpt(name));
+  if (name == "complex-float") return CwtOutput::kComplexFloat;
+  ThrowInvalid("output", "one of complex, magnitude, complex-float", Excerpt(name));
 }
 
 Padding ParsePadding(std::string_view name) {

@@ -81,6 +81,13 @@ class PrunedInverse {
   /// decimation d.
   void Gather(const Complex* blocks, Eigen::Index d, Eigen::Index times, double scale,
               Complex* column) const;
+  /// column[j] = complex<float>(scale * y_j), j < times (<= P): each part of
+  /// the double product correctly rounded, as the complex output rounded.
+  void GatherFloat(const Complex* blocks,
+                   Eigen::Index d,
+                   Eigen::Index times,
+                   double scale,
+                   std::complex<float>* column) const;
   /// magnitude[j] = float(scale |y_j|), j < times, from Execute's blocks
   /// (|y| = sqrt(re^2 + im^2), correctly rounded); scratch: P floats (Execute's
   /// work serves).

@@ -15,6 +15,12 @@ namespace podid::wavelet::internal {
 /// sqrt(s) peak|x| then stays far from overflow, and the band's 1e-12 tails
 /// far from the subnormal range (CwtTransform, the streamed ridge).
 inline constexpr int kMaxUnscaledExponent = 960;
+/// The same for single-precision output (float's range is 2^-126 .. 2^128):
+/// within 2^+-32 of 1, |W| keeps 2^94 of headroom for the sqrt(s) of the
+/// energy normalisation and its 1e-12 tails stay 2^50 above the subnormals;
+/// beyond, the float values are in units of coefficient_scale instead of
+/// overflowing to inf or flushing to 0 (a tone of amplitude 1e40 or 1e-100).
+inline constexpr int kMaxUnscaledFloatExponent = 32;
 
 /// Throws std::invalid_argument for fewer than 4 samples.
 inline void CheckSamples(Eigen::Index n) {

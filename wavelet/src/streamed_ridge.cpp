@@ -130,6 +130,7 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
   sg.time_s = Eigen::VectorXd::LinSpaced(b.times(), 0.0, static_cast<double>(b.times() - 1)) * sg.step_s;
   sg.coefficients.resize(0, 0);
   sg.magnitude.resize(0, 0);
+  sg.coefficients_float.resize(0, 0);
   sg.coi_frequency_Hz.resize(b.times());
   for (Eigen::Index j = 0; j < b.times(); ++j) {
     const Eigen::Index sample = j * b.decimation();

@@ -99,6 +99,9 @@ enum class Padding { kReflect, kZero, kPeriodic };
 enum class CwtOutput {
   kComplex,         ///< Scalogram::coefficients, complex double (what ridges need)
   kMagnitudeFloat,  ///< Scalogram::magnitude only, |W| in single precision (4 bytes each)
+  /// Scalogram::coefficients_float only: W computed in double precision and
+  /// rounded once to complex float (8 bytes each, as fCWT's output), phase kept
+  kComplexFloat,
 };
 enum class FftPlanning {
   kEstimate,  ///< measured plans from the wisdom cache, else FFTW_ESTIMATE (no planning cost)
@@ -127,7 +130,7 @@ const char* ToString(WaveletFamily family);
 const char* ToString(Padding padding);
 const char* ToString(FrequencySpacing spacing);
 const char* ToString(ScaleConvention convention);  ///< "ridge" / "peak"
-const char* ToString(CwtOutput output);            ///< "complex" / "magnitude"
+const char* ToString(CwtOutput output);            ///< "complex" / "magnitude" / "complex-float"
 /// Inverses of ToString; throw std::invalid_argument naming the choices.
 Normalisation ParseNormalisation(std::string_view name);
 CwtOutput ParseCwtOutput(std::string_view name);
@@ -274,9 +277,10 @@ struct CwtOptions {
   CwtOutput output = CwtOutput::kComplex;
   /// Upper bound on what one Compute() allocates, in bytes, in [2^16, 2^44] (a share of a
   /// 1 MB limit stays valid: podid cwt --max-memory 1 --synchrosqueeze gives W 16/24 of it):
-  /// the coefficients (n_times x n_freq x 16, or 4 for kMagnitudeFloat), the filters (8 per kept
-  /// bin; none for Morlet without the admissibility correction: generated) and the FFT buffers.
-  /// Checked before allocating; too big is std::invalid_argument naming the sizes. Default 2 GiB.
+  /// the coefficients (n_times x n_freq x 16, 8 for kComplexFloat, 4 for kMagnitudeFloat), the
+  /// filters (8 per kept bin; none for Morlet without the admissibility correction: generated) and
+  /// the FFT buffers. Checked before allocating; too big is std::invalid_argument naming the sizes.
+  /// Default 2 GiB.
   double memory_budget_bytes = 2147483648.0;
 
   bool IsValid(std::string* why) const;
@@ -297,11 +301,17 @@ struct Scalogram {
   /// A power of 2: 1 unless the signal's peak magnitude is at least 2^961 (1.9e289)
   /// or below 2^-960, where W itself could overflow or lose precision; then the
   /// coefficients are W in units of coefficient_scale (peak magnitude about 1).
+  /// For the single-precision outputs the bounds are 2^33 (8.6e9) and 2^-32.
   double coefficient_scale = 1.0;
   /// (n_times x n_freq) |W| / coefficient_scale in single precision (relative
   /// rounding 6e-8), filled instead of `coefficients` with
   /// CwtOutput::kMagnitudeFloat (then `coefficients` is empty); else empty.
   Eigen::MatrixXf magnitude;
+  /// (n_times x n_freq) W / coefficient_scale rounded to complex float (each
+  /// part correctly rounded, 6e-8 relative), filled instead of `coefficients`
+  /// with CwtOutput::kComplexFloat; else empty. What reads W (ridges, inverse,
+  /// synchrosqueezing) takes the complex double `coefficients` only.
+  Eigen::MatrixXcf coefficients_float;
   /// (dim n_times) lowest frequency inside the cone of influence at each output
   /// time, coi_factor c 2 sigma_t / (2 pi distance_to_nearest_edge_s) (c: the scale
   /// convention's constant, 2 sigma_t = sqrt(2) for Morlet); +inf at the edges.
