@@ -229,17 +229,27 @@ CwtOptions FcwtOptions(int threads, bool measure) {
   return o;
 }
 
-void BM_CwtFcwtCase(benchmark::State& state) {
+// The timed loop of the fCWT-case benchmarks: state.range(0) samples, output
+// `output`, threads and planning as given.
+void RunFcwtCase(benchmark::State& state, int threads, bool measure, CwtOutput output) {
   const Eigen::VectorXd x = FcwtSignal(state.range(0));
-  CwtTransform transform(FcwtOptions(static_cast<int>(state.range(1)), state.range(2) != 0));
+  CwtOptions o = FcwtOptions(threads, measure);
+  o.output = output;
+  CwtTransform transform(o);
   Scalogram out;
   transform.Compute(x, 1.0 / 64.0, &out);
   for (auto _ : state) {
     transform.Compute(x, 1.0 / 64.0, &out);
     benchmark::DoNotOptimize(out.coefficients.data());
+    benchmark::DoNotOptimize(out.coefficients_float.data());
+    benchmark::DoNotOptimize(out.magnitude.data());
   }
   state.counters["frequencies"] = static_cast<double>(out.frequencies());
   state.counters["padded"] = static_cast<double>(transform.padded_length());
+}
+
+void BM_CwtFcwtCase(benchmark::State& state) {
+  RunFcwtCase(state, static_cast<int>(state.range(1)), state.range(2) != 0, CwtOutput::kComplex);
 }
 BENCHMARK(BM_CwtFcwtCase)
     ->ArgsProduct({{10000, 100000}, {1, 2}, {0, 1}})
@@ -250,16 +260,8 @@ BENCHMARK(BM_CwtFcwtCase)
 // (CwtOutput::kComplexFloat): the bytes fCWT writes (8 a coefficient). Args
 // as BM_CwtFcwtCase's (bench/compare_fcwt.sh times both).
 void BM_CwtFcwtCaseComplexFloat(benchmark::State& state) {
-  const Eigen::VectorXd x = FcwtSignal(state.range(0));
-  CwtOptions o = FcwtOptions(static_cast<int>(state.range(1)), state.range(2) != 0);
-  o.output = CwtOutput::kComplexFloat;
-  CwtTransform transform(o);
-  Scalogram out;
-  transform.Compute(x, 1.0 / 64.0, &out);
-  for (auto _ : state) {
-    transform.Compute(x, 1.0 / 64.0, &out);
-    benchmark::DoNotOptimize(out.coefficients_float.data());
-  }
+  RunFcwtCase(state, static_cast<int>(state.range(1)), state.range(2) != 0,
+              CwtOutput::kComplexFloat);
 }
 BENCHMARK(BM_CwtFcwtCaseComplexFloat)
     ->ArgsProduct({{10000, 100000}, {1}, {0, 1}})
@@ -268,16 +270,7 @@ BENCHMARK(BM_CwtFcwtCaseComplexFloat)
 
 // The same with single-precision |W| output (CwtOutput::kMagnitudeFloat).
 void BM_CwtFcwtCaseMagnitude(benchmark::State& state) {
-  const Eigen::VectorXd x = FcwtSignal(state.range(0));
-  CwtOptions o = FcwtOptions(1, false);
-  o.output = CwtOutput::kMagnitudeFloat;
-  CwtTransform transform(o);
-  Scalogram out;
-  transform.Compute(x, 1.0 / 64.0, &out);
-  for (auto _ : state) {
-    transform.Compute(x, 1.0 / 64.0, &out);
-    benchmark::DoNotOptimize(out.magnitude.data());
-  }
+  RunFcwtCase(state, 1, false, CwtOutput::kMagnitudeFloat);
 }
 BENCHMARK(BM_CwtFcwtCaseMagnitude)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
 
