@@ -294,6 +294,7 @@ class Mat5Walker {
                " bytes that follow",
            "more (a corrupt or truncated file)");
     }
+    if (array_class == kClassChar) CharPart(src, end, elements);
     // The cells, or each element's fields, are miMATRIX elements.
     for (double i = 0; walk_children && i < tags_needed; ++i) {
       Tag tag;
@@ -376,6 +377,24 @@ class Mat5Walker {
     if (tag.small) return;  // the data is in the tag
     const std::uint64_t padded = PaddedSize(src, end, tag, name);
     SkipTo(src, src.position() + padded);
+  }
+
+  /// The characters of a char array: one element, small or not, inside the
+  /// array's element, of at most 4 bytes a character (UTF-8's longest).
+  /// libmatio allocates the element's size as its tag says (read as an int: a
+  /// size of 2^31 or more became a request of nearly 2^64 bytes).
+  void CharPart(ByteSource& src, std::uint64_t end, double elements) {
+    Tag tag;
+    if (end - src.position() < 8 || !ReadTag(src, tag)) {
+      Fail(src.position(), "the characters of an array", "the end of its element");
+    }
+    if ((tag.small && tag.size > 4) || static_cast<double>(tag.size) > 4.0 * elements) {
+      Fail(src.position() - 8,
+           "the characters: at most 4 bytes each of the " + ToText(elements) + " in an element",
+           TagText(tag));
+    }
+    if (tag.small) return;
+    SkipTo(src, src.position() + PaddedSize(src, end, tag, "characters"));
   }
 
   /// A (not small) element's size padded to 8 bytes, checked to end by `end`

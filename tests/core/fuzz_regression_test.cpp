@@ -127,6 +127,20 @@ TEST(FuzzRegressionModel, Level4SparseRowsBeyondTheFileAreRejectedBeforeMatioAll
                           std::invalid_argument, "expected a sparse matrix of at least 2 rows");
 }
 
+TEST(FuzzRegressionModel, CharDataLargerThanItsArrayIsRejectedBeforeMatioAllocatesIt) {
+  // podid_fuzz_model (CI's fuzz smoke run, 2026-11-30): "M" a 3 x 3 char
+  // array whose data element declares 3238002760 bytes in a 257-byte file.
+  // The walk checked the array's room for 9 characters, not its data
+  // element, and libmatio called calloc with the size read as an int and
+  // sign-extended: 0xffffffffc1000048 bytes.
+  const ModelFiles files{DataPath("fuzz/mat_v5_char_data_of_3e9_bytes.mat"), "M", "K", ""};
+  PODID_EXPECT_THROW_WITH(ReadModelMatrices(files), std::invalid_argument,
+                          "byte 176: expected the characters: at most 4 bytes each of the 9 in an "
+                          "element, got an element of type 9 and 3238002760 bytes");
+  PODID_EXPECT_THROW_WITH(ReadFuzzedMat("mat_v5_char_data_of_3e9_bytes.mat"), std::invalid_argument,
+                          "expected the characters: at most 4 bytes each");
+}
+
 TEST(FuzzRegressionModel, Level4SparseColumnCountFromTheDataIsBounded) {
   // libmatio sizes a v4 sparse matrix's column pointers by its last row's j
   // (4 bytes a column, up to 2^32 - 2 columns: 16 GB) in a file of 80 bytes.
