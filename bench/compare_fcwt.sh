@@ -103,8 +103,8 @@ if [ -f "$bundled/libfftw3fl.so" ] && [ -f "$bundled/libfftw3f_ompl.so" ]; then
 fi
 # One timing: "$1" estimated|measured|patient, "$2" samples; prints the
 # seconds of fCWT with Debian's FFTW, with its bundled one (1e9 if not built),
-# podid's (complex double output) and podid's with complex float output. Each configuration has its own fCWT wisdom folder per build
-# and podid cache.
+# podid's (complex double output) and podid's with complex float output. Each
+# configuration has its own fCWT wisdom folder per build and podid cache.
 time_pair() {
   local f b p flag=1 mode=m times=""
   if [ "$1" = estimated ]; then flag=0; mode=e; fi

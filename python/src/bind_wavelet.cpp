@@ -195,7 +195,9 @@ void BindWavelet(py::module_& m) {
       [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, PODID_CWT_PARAMETERS,
          bool band_limited, double max_memory_MB, const std::string& output) {
         wavelet::CwtOptions options = PODID_CWT_OPTIONS;
-        ApplyOutputLimits(band_limited, max_memory_MB, 16.0, &options);  // 8 or 4 for floats
+        // The whole budget for the transform: the library counts 16, 8 or 4 bytes a
+        // coefficient by the output asked for.
+        ApplyOutputLimits(band_limited, max_memory_MB, 16.0, &options);
         options.output = wavelet::ParseCwtOutput(output);
         py::gil_scoped_release release;
         return WithPythonNames([&] { return wavelet::Cwt(x, step_s, options); });

@@ -213,7 +213,8 @@ TEST(SinglePrecision, MagnitudeOutputIsTheRoundedComplexMagnitude) {
 TEST(SinglePrecision, ComplexFloatOutputIsTheRoundedComplexOutput) {
   // CwtOutput::kComplexFloat computes W in double and rounds each part once:
   // bit for bit the complex output cast to complex<float>, full rate and
-  // band-limited, on one thread or three, scaled by 2^10 (no rescaling).
+  // band-limited, on one thread or three, for a peak of 3000 (2^11: still in
+  // signal units, no coefficient_scale).
   CwtOptions options;
   options.frequencies.voices_per_octave = 8;
   const Eigen::VectorXd x = 1000.0 * Tone(3.0);
