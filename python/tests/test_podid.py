@@ -359,6 +359,10 @@ def test_wavelet_errors_name_the_keyword_arguments():
         podid.cwt(x, 1e-3, fmin=1e-300, fmax=100, voices=1024)
     with pytest.raises(ValueError, match=r"^voices, fmin, fmax: expected a finite ratio fmax / fmin"):
         podid.cwt(x, 1e-3, fmin=5e-324, fmax=100)
+    # A step of 1e-200 s gave a float scalogram of zeros with the energy normalisation.
+    with pytest.raises(ValueError,
+                       match=r"step_s: expected a finite value between 1e-15 s and 1e15 s, got 1e-200"):
+        podid.cwt(x, 1e-200, fmin=1e198, fmax=1e199, normalisation="energy", output="magnitude")
 
 
 MEASURED_1S = str(SOURCE / "examples" / "measured_knl50_T1.0.csv")

@@ -234,22 +234,33 @@ grep -q "dead" "$out/dead_r.csv" && fail "the dead channel is in the ridge CSV"
 [ $? -eq 1 ] || fail "a constant --channel: expected exit 1"
 grep -q "^podid: error: dead of $out/dead.csv: .*non-constant" "$out/dead_err" \
   || fail "the error does not name the channel and file: $(cat "$out/dead_err")"
-# IF statistics at an extreme scale: the record's time x 1e-202 puts the
-# first mode near 3.3e203 Hz, whose squares overflow (the std printed inf or
-# nan); mean and std are taken on f / max |f|. (The ridge penalty is in
-# seconds: scaled with the time.)
+# A record's time x 1e-202 (a 2e-206 s step) put the first mode near
+# 3.3e203 Hz, whose squares overflowed the IF statistics (inf or nan; they
+# are taken on f / max |f| since). Steps below 1e-15 s are refused now
+# (with the energy normalisation such steps gave float scalograms of zeros):
+# exit 1, the file and the step named, no output.
 awk -F, 'NR == 1 { print; next } { printf "%.12e", $1 * 1e-202; for (c = 2; c <= NF; c++) printf ",%s", $c; print "" }' \
   "$data" >"$out/tiny_step.csv"
 "$podid" cwt "$out/tiny_step.csv" --channel w6 --fmin 1e203 --fmax 1.2e204 --penalty 5e-204 \
-  >"$out/tiny_stdout" \
-  || fail "cwt of a 2e-206 s step exited $?"
-stats=$(grep "mean .* Hz, std" "$out/tiny_stdout")
+  -o "$out/tiny_ridge.csv" >"$out/tiny_stdout" 2>"$out/tiny_err"
+[ $? -eq 1 ] || fail "cwt of a 2e-206 s step: expected exit 1"
+grep -q "^podid: error: w6 of $out/tiny_step.csv: Cwt: step_s: expected a finite value between 1e-15 s and 1e15 s, got 2e-206" \
+  "$out/tiny_err" || fail "the 2e-206 s step's error: $(cat "$out/tiny_err")"
+[ ! -e "$out/tiny_ridge.csv" ] || fail "a refused step left a ridge file"
+# At a step of 2e-15 s (time x 1e-11) the same ridge as at the record's own
+# scale, 33-40 Hz x 1e11. (The ridge penalty is in seconds: scaled with the
+# time.)
+awk -F, 'NR == 1 { print; next } { printf "%.12e", $1 * 1e-11; for (c = 2; c <= NF; c++) printf ",%s", $c; print "" }' \
+  "$data" >"$out/small_step.csv"
+"$podid" cwt "$out/small_step.csv" --channel w6 --fmin 1e12 --fmax 1.2e13 --penalty 5e-13 \
+  >"$out/small_stdout" \
+  || fail "cwt of a 2e-15 s step exited $?"
+stats=$(grep "mean .* Hz, std" "$out/small_stdout")
 echo "$stats" | grep -qi "inf\|nan" && fail "IF statistics overflow: $stats"
 mean=$(echo "$stats" | sed -n 's/.*mean \([0-9.e+]*\) Hz.*/\1/p')
 std=$(echo "$stats" | sed -n 's/.*std \([0-9.e+-]*\) Hz.*/\1/p')
-# The same ridge as at the record's own scale, 33-40 Hz x 1e202.
-awk -v m="$mean" -v s="$std" 'BEGIN { exit !(m > 33e202 && m < 40e202 && s > 0 && s < 7e202) }' \
-  || fail "IF mean $mean, std $std Hz at the 1e-202 scale"
+awk -v m="$mean" -v s="$std" 'BEGIN { exit !(m > 33e11 && m < 40e11 && s > 0 && s < 7e11) }' \
+  || fail "IF mean $mean, std $std Hz at the 1e-11 scale"
 # A 300 Hz tone analysed on 100-200 Hz: the ridge holds to the grid's top,
 # where the phase derivative reads the tone (300 Hz, outside the grid) and a
 # note says so; --if scale gives the ridge's grid frequency, 200 Hz. On

@@ -291,5 +291,59 @@ TEST(SinglePrecision, FloatOutputsOfExtremeAmplitudesStayInRange) {
   }
 }
 
+TEST(SinglePrecision, EnergyNormalisedFloatOutputsAtTheExtremeStepsStayInRange) {
+  // The energy normalisation multiplies W by sqrt(s): float outputs of a unit
+  // tone were 0 in every cell at a step of 1e-200 s and inf at 1e60 s with
+  // amplitude 2^32. Steps are 1e-15 .. 1e15 s now, and at both ends the
+  // float outputs of the amplitudes still left in signal units (2^-32 and
+  // just below 2^33) are the time-scaled transform: for x_i = A cos(2 pi
+  // 0.1 i) on frequencies 0.05 / h .. 0.2 / h, W(h, A) = A sqrt(h) W(1 s, 1)
+  // exactly, up to rounding (1e-7 relative as above, 2e-7 for complex float).
+  constexpr double kRelativeTolerance = 1e-7;
+  CwtOptions options;
+  options.frequencies.voices_per_octave = 4;
+  options.wavelet.normalisation = Normalisation::kEnergy;
+  const auto grid = [&options](double step_s) {
+    options.frequencies.min_frequency_Hz = 0.05 / step_s;
+    options.frequencies.max_frequency_Hz = 0.2 / step_s;
+  };
+  Eigen::VectorXd x(2001);
+  for (Eigen::Index i = 0; i < x.size(); ++i)
+    x(i) = std::cos(2.0 * kPi * 0.1 * static_cast<double>(i));
+  grid(1.0);
+  const Eigen::ArrayXXd unit = Cwt(x, 1.0, options).coefficients.cwiseAbs().array();
+  // The smallest cell is 7e-9 of the largest (at a border): 1.5e-25 at
+  // 1e-15 s and 2^-32, still far above float's normals (1.2e-38).
+  ASSERT_GT(unit.minCoeff(), 1e-9 * unit.maxCoeff());
+  for (const double step_s : {1e-15, 1e15}) {
+    grid(step_s);
+    for (const double amplitude : {std::ldexp(1.0, -32), 0.99 * std::ldexp(1.0, 33)}) {
+      SCOPED_TRACE(::testing::Message() << "step " << step_s << " s, amplitude " << amplitude);
+      const Eigen::ArrayXXd expected = amplitude * std::sqrt(step_s) * unit;
+      options.output = CwtOutput::kMagnitudeFloat;
+      const Scalogram magnitude = Cwt(amplitude * x, step_s, options);
+      options.output = CwtOutput::kComplexFloat;
+      const Scalogram single = Cwt(amplitude * x, step_s, options);
+      options.output = CwtOutput::kComplex;
+      EXPECT_EQ(magnitude.coefficient_scale, 1.0);
+      EXPECT_EQ(single.coefficient_scale, 1.0);
+      const Eigen::ArrayXXd from_magnitude = magnitude.magnitude.cast<double>().array();
+      const Eigen::ArrayXXd from_single =
+          single.coefficients_float.cast<std::complex<double>>().cwiseAbs().array();
+      ASSERT_TRUE(from_magnitude.allFinite() && from_single.allFinite());
+      EXPECT_LE(((from_magnitude - expected).abs() - kRelativeTolerance * expected).maxCoeff(),
+                0.0);
+      EXPECT_LE(((from_single - expected).abs() - 2.0 * kRelativeTolerance * expected).maxCoeff(),
+                0.0);
+    }
+  }
+  // Just outside, a clear refusal (as for 0, inf or a subnormal step).
+  for (const double step_s : {0.99e-15, 1.01e15}) {
+    grid(1.0);
+    PODID_EXPECT_THROW_WITH(Cwt(x, step_s, options), std::invalid_argument,
+                            "Cwt: step_s: expected a finite value between 1e-15 s and 1e15 s");
+  }
+}
+
 }  // namespace
 }  // namespace podid::wavelet

@@ -115,12 +115,14 @@ TEST(StreamedRidge, OneBlockEqualsTheWholeScalogramPath) {
 
 TEST(StreamedRidge, AWaveletLongerThanTheRecordIsOneBlock) {
   // Blocks overlap by the wavelet's support at the lowest frequency; at a
-  // step of 1e-300 s that is about 1e299 samples and overflowed an index
-  // (UBSan: `podid cwt --step 1e-300`). Overlaps longer than the record save
-  // nothing, so such a record is one block, laid out as with a block_cells
-  // large enough for the whole scalogram: the same track bit for bit.
+  // step of 1e-300 s that was about 1e299 samples and overflowed an index
+  // (UBSan: `podid cwt --step 1e-300`; such steps are refused now, below
+  // 1e-15 s). At the smallest step accepted it is still 3e14 samples.
+  // Overlaps longer than the record save nothing, so such a record is one
+  // block, laid out as with a block_cells large enough for the whole
+  // scalogram: the same track bit for bit.
   const Eigen::VectorXd x = Decay(5001, 3);
-  for (double step_s : {1e-300, kStep / 100.0}) {  // the second: 0.01 s against a 0.3 s wavelet
+  for (double step_s : {1e-15, kStep / 100.0}) {  // the second: 0.01 s against a 0.3 s wavelet
     SCOPED_TRACE(step_s);
     RidgeFrequencyOptions small, large;
     small.block_cells = 4096;

@@ -433,9 +433,8 @@ Scalogram Cwt(const Eigen::Ref<const Eigen::VectorXd>& signal,
 
 FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
   if (samples < 4) ThrowInvalid("FFT lengths: samples", "at least 4", ToText(samples));
-  if (!IsSamplingStep(step_s)) {
-    ThrowInvalid("FFT lengths: step_s", "a finite value > 0 whose rate 1 / step_s is finite",
-                 ToText(step_s));
+  if (!internal::IsTransformStep(step_s)) {
+    ThrowInvalid("FFT lengths: step_s", internal::StepExpectation(), ToText(step_s));
   }
   const Sizes z = impl_->Plan(samples, step_s);
   if (z.p > (1 << 27)) ThrowInvalid("FFT lengths", "at most 2^27 points", ToText(z.p));

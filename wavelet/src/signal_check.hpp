@@ -10,31 +10,45 @@
 
 namespace podid::wavelet::internal {
 
+/// Sampling steps a transform accepts: 1 fs (a rate of 1 PHz) to 1e15 s.
+/// The energy normalisation multiplies W by sqrt(s), and a scale with any
+/// bin in its band lies between about step_s and 2 P step_s (P <= 2^27), so
+/// within 2^-50 .. 2^50 s (which this range is inside) sqrt(s) stays within
+/// 2^-26 .. 2^39: the headroom the bounds below are chosen for. A step of
+/// 1e-200 s gave float outputs of 0 in every cell, 1e60 s gave inf.
+inline constexpr double kMinStep_s = 1e-15;
+inline constexpr double kMaxStep_s = 1e15;
+
 /// Every transform scales its input by 2^-e to a peak in [1, 2); the
 /// coefficients are returned in signal units when |e| <= this: |W| <= 4
-/// sqrt(s) peak|x| then stays far from overflow, and the band's 1e-12 tails
-/// far from the subnormal range (CwtTransform, the streamed ridge).
+/// sqrt(s) peak|x| <= 2^(961 + 2 + 39) then stays far from overflow, and the
+/// band's 1e-12 tails (2^-960-40-26) above the subnormals' precision loss at
+/// any accepted step but the smallest ones (CwtTransform, the streamed ridge).
 inline constexpr int kMaxUnscaledExponent = 960;
 /// The same for single-precision output (float's range is 2^-126 .. 2^128):
-/// within 2^+-32 of 1, |W| keeps 2^94 of headroom for the sqrt(s) of the
-/// energy normalisation and its 1e-12 tails stay 2^50 above the subnormals;
-/// beyond, the float values are in units of coefficient_scale instead of
-/// overflowing to inf or flushing to 0 (a tone of amplitude 1e40 or 1e-100).
+/// within 2^+-32 of 1, |W| <= 2^(33 + 2 + 39) keeps 2^54 of headroom at the
+/// largest step, and the 1e-12 tails (2^-32-40-26 at the smallest) stay
+/// 2^28 above the subnormals; beyond, the float values are in units of
+/// coefficient_scale instead of overflowing to inf or flushing to 0 (a tone
+/// of amplitude 1e40 or 1e-100).
 inline constexpr int kMaxUnscaledFloatExponent = 32;
+
+/// The message of a step outside kMinStep_s .. kMaxStep_s (or not finite).
+inline const char* StepExpectation() { return "a finite value between 1e-15 s and 1e15 s"; }
+/// Whether step_s is one a transform accepts.
+inline bool IsTransformStep(double step_s) {
+  return std::isfinite(step_s) && step_s >= kMinStep_s && step_s <= kMaxStep_s;
+}
 
 /// Throws std::invalid_argument for fewer than 4 samples.
 inline void CheckSamples(Eigen::Index n) {
   if (n < 4) ThrowInvalid("Cwt: signal", "at least 4 samples", ToText(n) + " samples");
 }
 
-/// Throws std::invalid_argument for step_s not a sampling step (finite, > 0,
-/// a finite rate: IsSamplingStep), or max_Hz above Nyquist (beyond a
-/// rounding of 1e-12).
+/// Throws std::invalid_argument for step_s outside kMinStep_s .. kMaxStep_s,
+/// or max_Hz above Nyquist (beyond a rounding of 1e-12).
 inline void CheckStep(double step_s, double max_Hz) {
-  if (!IsSamplingStep(step_s)) {
-    ThrowInvalid("Cwt: step_s", "a finite value > 0 whose rate 1 / step_s is finite",
-                 ToText(step_s));
-  }
+  if (!IsTransformStep(step_s)) ThrowInvalid("Cwt: step_s", StepExpectation(), ToText(step_s));
   const double nyquist_Hz = 0.5 / step_s;
   if (max_Hz > nyquist_Hz * (1.0 + 1e-12)) {
     ThrowInvalid("Cwt: frequencies.max_frequency_Hz",

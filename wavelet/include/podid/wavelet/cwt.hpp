@@ -361,8 +361,9 @@ class CwtTransform {
 
   /// Transforms `signal` (dim N >= 4), sampled every step_s from start_time_s,
   /// into *out (resized as needed, so a reused Scalogram does not reallocate).
-  /// Throws std::invalid_argument for NaN/Inf, a constant signal, step_s <= 0,
-  /// a frequency above Nyquist 1 / (2 step_s), or sizes above memory_budget_bytes.
+  /// Throws std::invalid_argument for NaN/Inf, a constant signal, step_s
+  /// outside 1e-15 .. 1e15 s, a frequency above Nyquist 1 / (2 step_s), or
+  /// sizes above memory_budget_bytes.
   void Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
                double step_s,
                Scalogram* out,
@@ -383,7 +384,7 @@ class CwtTransform {
   bool Produced(const Scalogram& scalogram) const;
 
   /// The FFT lengths Compute() would use for `samples` (>= 4) at step_s
-  /// (> 0); throws std::invalid_argument otherwise, or when the padded length
+  /// (1e-15 .. 1e15 s); throws std::invalid_argument otherwise, or when the padded length
   /// would exceed 2^27 points. Nothing is planned.
   FftLengths Lengths(Eigen::Index samples, double step_s) const;
 
