@@ -41,10 +41,12 @@ struct PlanArguments {
 void Run(const PlanArguments& a) {
   // (samples, step) of every record to plan for.
   std::vector<std::pair<long, double>> records;
+  std::vector<std::string> labels;  // per record: what an error names
   const bool fs_given = a.fs_option->count() > 0;
-  if (fs_given && !IsSamplingRate(a.fs_Hz)) {
-    ThrowInvalid("plan --fs", "a finite sampling frequency > 0 Hz with a finite step 1 / fs",
-                 ToText(a.fs_Hz));
+  // The transforms' step range (1e-15 .. 1e15 s) as frequencies.
+  if (fs_given && !(IsSamplingRate(a.fs_Hz) && 1.0 / a.fs_Hz >= wavelet::kMinStep_s &&
+                    1.0 / a.fs_Hz <= wavelet::kMaxStep_s)) {
+    ThrowInvalid("plan --fs", "a sampling frequency between 1e-15 Hz and 1e15 Hz", ToText(a.fs_Hz));
   }
   if (!a.samples.empty() && !fs_given) {
     ThrowInvalid("plan --samples", "--fs HZ (the sampling frequency) as well", "no --fs");
@@ -56,12 +58,14 @@ void Run(const PlanArguments& a) {
   for (const std::string& path : a.data) {
     const TimeSeries series = a.reading.ReadConditioned(path);
     records.emplace_back(static_cast<long>(series.samples()), series.step_s());
+    labels.push_back(path);
   }
   for (long n : a.samples) {
     if (n < 4 || n > kMaxSamples) {
       ThrowInvalid("plan --samples", "4.." + ToText(kMaxSamples), ToText(n));
     }
     records.emplace_back(n, 1.0 / a.fs_Hz);
+    labels.push_back("--samples " + ToText(n));
   }
   if (records.empty()) ThrowInvalid("plan", "DATA files or --samples N --fs HZ", "neither");
   if (records.size() > kMaxRecords) {
@@ -72,21 +76,27 @@ void Run(const PlanArguments& a) {
   wavelet::MorletWavelet psi;
   a.wavelet.ApplyTo(&psi);
   wavelet::FftLengths lengths;
-  for (const auto& [n, step] : records) {
-    std::vector<std::string> paddings = {a.padding};
-    if (a.padding.empty()) paddings = {"zero", "reflect"};
-    for (const std::string& padding : paddings) {
-      wavelet::CwtOptions options;
-      options.wavelet = psi;
-      options.padding = wavelet::ParsePadding(padding);
-      options.frequencies = a.grid.Grid(
-          0.5 / step, "the Nyquist frequency of a record of step " + ToText(step) + " s");
-      std::string why;
-      if (!options.IsValid(&why)) throw std::invalid_argument("plan: " + why);
-      for (bool band_limited : {false, true}) {
-        options.band_limited = band_limited;
-        wavelet::MergeFftLengths(wavelet::CwtFftLengths(options, n, step), &lengths);
+  for (std::size_t r = 0; r < records.size(); ++r) {
+    try {
+      const auto [n, step] = records[r];
+      std::vector<std::string> paddings = {a.padding};
+      if (a.padding.empty()) paddings = {"zero", "reflect"};
+      for (const std::string& padding : paddings) {
+        wavelet::CwtOptions options;
+        options.wavelet = psi;
+        options.padding = wavelet::ParsePadding(padding);
+        options.frequencies = a.grid.Grid(
+            0.5 / step, "the Nyquist frequency of a record of step " + ToText(step) + " s");
+        std::string why;
+        if (!options.IsValid(&why)) throw std::invalid_argument("plan: " + why);
+        for (bool band_limited : {false, true}) {
+          options.band_limited = band_limited;
+          wavelet::MergeFftLengths(wavelet::CwtFftLengths(options, n, step), &lengths);
+        }
       }
+    } catch (const std::invalid_argument& e) {
+      // Name the record: a file's step comes from its time column.
+      throw std::invalid_argument(labels[r] + ": " + e.what());
     }
   }
   const wavelet::PlanEffort effort =
@@ -130,7 +140,8 @@ void AddPlanCommand(CLI::App& app) {
   a->reading.AddTo(*command);
   command->add_option("--samples", a->samples, "Record lengths N[,N...] (4..67108864), with --fs")
       ->delimiter(',');
-  a->fs_option = command->add_option("--fs", a->fs_Hz, "Sampling frequency (Hz) of --samples");
+  a->fs_option =
+      command->add_option("--fs", a->fs_Hz, "Sampling frequency (Hz) of --samples, 1e-15..1e15");
   a->grid.AddTo(*command, "Highest analysis frequency (Hz), capped at Nyquist");
   a->wavelet.AddTo(*command, " to plan for, as for cwt");
   command->add_option("--padding", a->padding,

@@ -27,14 +27,22 @@ grep -q "expected --fs HZ" "$out/stderr" || fail "--fs message"
 "$podid" plan --samples 3 --fs 100 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--samples 3 not exit 1"
 # A given --fs must be a finite rate > 0 (-5 was reported as "no --fs", inf
-# as an internal step_s of 0) whose step is finite (1e-320: step inf); --fs
-# without --samples plans nothing.
-for fs in -5 0 nan inf 1e-320; do
+# as an internal step_s of 0) whose step is finite (1e-320: step inf) and
+# within the transforms' steps, 1e-15 .. 1e15 s; --fs without --samples
+# plans nothing.
+for fs in -5 0 nan inf 1e-320 1e-16 1.1e15; do
   "$podid" plan --samples 999 --fs "$fs" 2>"$out/stderr"
   [ $? -eq 1 ] || fail "--fs $fs not exit 1"
-  grep -q "plan --fs: expected a finite sampling frequency > 0 Hz with a finite step 1 / fs, got" \
+  grep -q "plan --fs: expected a sampling frequency between 1e-15 Hz and 1e15 Hz, got" \
     "$out/stderr" || fail "--fs $fs message: $(cat "$out/stderr")"
 done
+# A file's step outside that range: the error names the file.
+awk -F, 'NR == 1 { print; next } { printf "%.12e", $1 * 1e-12; for (c = 2; c <= NF; c++) printf ",%s", $c; print "" }' \
+  "$data" >"$out/tiny_step.csv"
+"$podid" plan "$out/tiny_step.csv" 2>"$out/stderr"
+[ $? -eq 1 ] || fail "plan of a 2e-16 s step not exit 1"
+grep -q "^podid: error: $out/tiny_step.csv: FFT lengths: step_s: expected a finite value between 1e-15 s and 1e15 s, got 2e-16" \
+  "$out/stderr" || fail "plan of a 2e-16 s step: $(cat "$out/stderr")"
 # The same rule for cwt's --step and --rate: a subnormal step's rate is inf.
 "$podid" cwt "$data" --channel w6 --step 1e-320 -o "$out/sub.csv" 2>"$out/stderr"
 [ $? -eq 1 ] || fail "cwt --step 1e-320 not exit 1"

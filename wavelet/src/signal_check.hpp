@@ -7,17 +7,17 @@
 
 #include "podid/core/error.hpp"
 #include "podid/core/time_series.hpp"
+#include "podid/wavelet/cwt.hpp"
 
 namespace podid::wavelet::internal {
 
-/// Sampling steps a transform accepts: 1 fs (a rate of 1 PHz) to 1e15 s.
-/// The energy normalisation multiplies W by sqrt(s), and a scale with any
-/// bin in its band lies between about step_s and 2 P step_s (P <= 2^27), so
-/// within 2^-50 .. 2^50 s (which this range is inside) sqrt(s) stays within
-/// 2^-26 .. 2^39: the headroom the bounds below are chosen for. A step of
-/// 1e-200 s gave float outputs of 0 in every cell, 1e60 s gave inf.
-inline constexpr double kMinStep_s = 1e-15;
-inline constexpr double kMaxStep_s = 1e15;
+// Steps are kMinStep_s .. kMaxStep_s (cwt.hpp). The energy normalisation
+// multiplies W by sqrt(s), and a scale with any bin in its band lies between
+// about step_s and 2 P step_s (P <= 2^27), so within 2^-50 .. 2^50 s (which
+// that range is inside) sqrt(s) stays within 2^-26 .. 2^39: the headroom the
+// bounds below are chosen for. A step of 1e-200 s gave float outputs of 0
+// in every cell, 1e60 s gave inf.
+static_assert(kMinStep_s >= 0x1p-50 && kMaxStep_s <= 0x1p50);
 
 /// Every transform scales its input by 2^-e to a peak in [1, 2); the
 /// coefficients are returned in signal units when |e| <= this: |W| <= 4

@@ -206,6 +206,12 @@ struct MorletWavelet {
 };
 using Wavelet = MorletWavelet;
 
+/// Sampling steps every transform accepts (1 fs, a rate of 1 PHz, to 1e15
+/// s): within them the energy normalisation's sqrt(s) keeps the outputs in
+/// range (docs/wavelet.md, "Algorithm and padding"). Shared with `podid plan`.
+inline constexpr double kMinStep_s = 1e-15;
+inline constexpr double kMaxStep_s = 1e15;
+
 /// The grid's bounds (FrequencyGrid::IsValid), shared with the front-ends'
 /// checks of --voices and --bins (podid cwt, podid plan, Python's voices).
 inline constexpr int kMaxVoicesPerOctave = 1024;
