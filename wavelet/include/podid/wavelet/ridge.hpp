@@ -179,7 +179,9 @@ class RidgeFrequencyEstimator {
   RidgeFrequencyEstimator& operator=(RidgeFrequencyEstimator&&) noexcept;
 
   /// The main ridge of `signal` (dim N >= 4, step step_s). The returned
-  /// reference stays valid until the next call. Bad input: std::invalid_argument.
+  /// reference stays valid until the next call. Bad input (as for
+  /// CwtTransform::Compute: NaN/Inf, a constant signal, step_s outside
+  /// kMinStep_s .. kMaxStep_s, a frequency above Nyquist): std::invalid_argument.
   const RidgeTrack& Estimate(const Eigen::Ref<const Eigen::VectorXd>& signal, double step_s);
 
   /// The scalogram of the last Estimate() (decimated in band-limited mode):
