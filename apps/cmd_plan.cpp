@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <memory>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "cli_common.hpp"
@@ -39,13 +38,17 @@ struct PlanArguments {
 };
 
 void Run(const PlanArguments& a) {
-  // (samples, step) of every record to plan for.
-  std::vector<std::pair<long, double>> records;
-  std::vector<std::string> labels;  // per record: what an error names
+  // Every record to plan for, and what an error about it names.
+  struct Record {
+    long samples;
+    double step_s;
+    std::string label;
+  };
+  std::vector<Record> records;
   const bool fs_given = a.fs_option->count() > 0;
-  // The transforms' step range (1e-15 .. 1e15 s) as frequencies.
-  if (fs_given && !(IsSamplingRate(a.fs_Hz) && 1.0 / a.fs_Hz >= wavelet::kMinStep_s &&
-                    1.0 / a.fs_Hz <= wavelet::kMaxStep_s)) {
+  // The transforms' step range as frequencies (0, NaN, inf and subnormal
+  // rates give steps outside it).
+  if (fs_given && !wavelet::IsTransformStep(1.0 / a.fs_Hz)) {
     ThrowInvalid("plan --fs", "a sampling frequency between 1e-15 Hz and 1e15 Hz", ToText(a.fs_Hz));
   }
   if (!a.samples.empty() && !fs_given) {
@@ -57,15 +60,13 @@ void Run(const PlanArguments& a) {
   }
   for (const std::string& path : a.data) {
     const TimeSeries series = a.reading.ReadConditioned(path);
-    records.emplace_back(static_cast<long>(series.samples()), series.step_s());
-    labels.push_back(path);
+    records.push_back({static_cast<long>(series.samples()), series.step_s(), path});
   }
   for (long n : a.samples) {
     if (n < 4 || n > kMaxSamples) {
       ThrowInvalid("plan --samples", "4.." + ToText(kMaxSamples), ToText(n));
     }
-    records.emplace_back(n, 1.0 / a.fs_Hz);
-    labels.push_back("--samples " + ToText(n));
+    records.push_back({n, 1.0 / a.fs_Hz, "--samples " + ToText(n)});
   }
   if (records.empty()) ThrowInvalid("plan", "DATA files or --samples N --fs HZ", "neither");
   if (records.size() > kMaxRecords) {
@@ -76,9 +77,10 @@ void Run(const PlanArguments& a) {
   wavelet::MorletWavelet psi;
   a.wavelet.ApplyTo(&psi);
   wavelet::FftLengths lengths;
-  for (std::size_t r = 0; r < records.size(); ++r) {
+  for (const Record& record : records) {
     try {
-      const auto [n, step] = records[r];
+      const long n = record.samples;
+      const double step = record.step_s;
       std::vector<std::string> paddings = {a.padding};
       if (a.padding.empty()) paddings = {"zero", "reflect"};
       for (const std::string& padding : paddings) {
@@ -96,7 +98,7 @@ void Run(const PlanArguments& a) {
       }
     } catch (const std::invalid_argument& e) {
       // Name the record: a file's step comes from its time column.
-      throw std::invalid_argument(labels[r] + ": " + e.what());
+      throw std::invalid_argument(record.label + ": " + e.what());
     }
   }
   const wavelet::PlanEffort effort =

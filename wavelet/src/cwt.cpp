@@ -433,7 +433,7 @@ Scalogram Cwt(const Eigen::Ref<const Eigen::VectorXd>& signal,
 
 FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
   if (samples < 4) ThrowInvalid("FFT lengths: samples", "at least 4", ToText(samples));
-  if (!internal::IsTransformStep(step_s)) {
+  if (!IsTransformStep(step_s)) {
     ThrowInvalid("FFT lengths: step_s", internal::StepExpectation(), ToText(step_s));
   }
   const Sizes z = impl_->Plan(samples, step_s);

@@ -35,10 +35,6 @@ inline constexpr int kMaxUnscaledFloatExponent = 32;
 
 /// The message of a step outside kMinStep_s .. kMaxStep_s (or not finite).
 inline const char* StepExpectation() { return "a finite value between 1e-15 s and 1e15 s"; }
-/// Whether step_s is one a transform accepts.
-inline bool IsTransformStep(double step_s) {
-  return std::isfinite(step_s) && step_s >= kMinStep_s && step_s <= kMaxStep_s;
-}
 
 /// Throws std::invalid_argument for fewer than 4 samples.
 inline void CheckSamples(Eigen::Index n) {

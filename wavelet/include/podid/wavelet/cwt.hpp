@@ -80,6 +80,7 @@
 // spreads one transform's scales over worker threads).
 
 #include <Eigen/Core>
+#include <cmath>
 #include <complex>
 #include <cstdint>
 #include <limits>
@@ -211,6 +212,10 @@ using Wavelet = MorletWavelet;
 /// range (docs/wavelet.md, "Algorithm and padding"). Shared with `podid plan`.
 inline constexpr double kMinStep_s = 1e-15;
 inline constexpr double kMaxStep_s = 1e15;
+/// Whether step_s is one a transform accepts (finite, within the two above).
+inline bool IsTransformStep(double step_s) {
+  return std::isfinite(step_s) && step_s >= kMinStep_s && step_s <= kMaxStep_s;
+}
 
 /// The grid's bounds (FrequencyGrid::IsValid), shared with the front-ends'
 /// checks of --voices and --bins (podid cwt, podid plan, Python's voices).
