@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <cstdlib>
 #include <limits>
 #include <numbers>
@@ -14,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "podid/wavelet/ridge.hpp"
 #include "test_support.hpp"
 
 namespace podid::wavelet {
@@ -317,6 +320,80 @@ TEST(Cwt, ShortReflectPaddingEqualsTheEvenExtension) {
       ExpectMatricesNear(sg.coefficients.imag(), direct.imag(), kRelativeTolerance * scale));
 }
 
+TEST(Cwt, ReflectPaddingOfARecordShorterThanTheSupport) {
+  // 5 kHz down to 10 Hz: s = 477 samples, support 3548 (band tolerance) and
+  // 2512 (the padding's 1e-6 envelope radius, 5.26 s) on each side, both more
+  // than the record's half. A fast length just above 2N - 2 put the jump
+  // 1.1 s from the data (2.7e-2 of max |W| inside the cone for 1001
+  // samples); now:
+  //   1001 samples: N + 2 x 2512 > 2 (2N - 2), so P = 2N - 2 = 2000, one whole
+  //     period without a jump: W equals the even extension's to the 1e-10
+  //     of FftPathEqualsDirectConvolution, everywhere;
+  //   2001 samples: P >= N + 2 x 2512, the jump where every envelope is below
+  //     1e-6 of its peak. kBorderTolerance 1e-6 of max |W| bounds the border
+  //     coefficients (the envelope's mass beyond 5.26 s is 1.5e-7 of its
+  //     total, times a jump of at most twice the signal's range); inside the
+  //     cone (coi_factor 1, 1.41 s from each end) it is exp(-(6.67)^2 / 2) =
+  //     2e-10 of the peak: 1e-10 of max |W| as everywhere else.
+  constexpr double kRelativeTolerance = 1e-10;
+  constexpr double kBorderTolerance = 1e-6;
+  const double step = 2e-4;
+  for (Eigen::Index n : {1001, 2001}) {
+    const Eigen::VectorXd x = MixedSignal(n, step);
+    CwtOptions o;
+    o.padding = Padding::kReflect;
+    o.remove_mean = false;
+    o.coi_factor = 1.0;
+    o.frequencies.min_frequency_Hz = 10.0;
+    o.frequencies.max_frequency_Hz = 120.0;
+    o.frequencies.voices_per_octave = 1;
+    CwtTransform transform(o);
+    Scalogram sg;
+    transform.Compute(x, step, &sg);
+    if (n == 1001) {
+      EXPECT_EQ(transform.padded_length(), 2 * n - 2);
+    } else {
+      EXPECT_GE(transform.padded_length(), n + 2 * 2512);
+    }
+    const Eigen::MatrixXcd even =
+        DirectCwt(Pad(x, Padding::kReflect, 2 * n - 2), n, step, sg.scales_s, o.wavelet);
+    const double scale = even.cwiseAbs().maxCoeff();
+    double inside = 0.0, all = 0.0;
+    for (Eigen::Index k = 0; k < even.cols(); ++k) {
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const double e = std::abs(sg.coefficients(i, k) - even(i, k)) / scale;
+        all = std::max(all, e);
+        if (sg.frequencies_Hz(k) >= sg.coi_frequency_Hz(i)) inside = std::max(inside, e);
+      }
+    }
+    EXPECT_LE(inside, kRelativeTolerance) << n;
+    EXPECT_LE(all, n == 1001 ? kRelativeTolerance : kBorderTolerance) << n;
+    std::printf("%d samples, P = %d: max |W - W_even| / max |W| %.2g, inside the cone %.2g\n",
+                static_cast<int>(n), static_cast<int>(transform.padded_length()), all, inside);
+  }
+}
+
+TEST(Cwt, CoiFactorZeroMarksEverySampleInside) {
+  // "0 means no cone": the end samples too, where the distance to the end is
+  // 0 (they were marked outside, their cone frequency inf), in the whole
+  // scalogram and in the streamed ridge alike.
+  const double step = 1e-3;
+  const Eigen::VectorXd x = MixedSignal(1001, step);
+  CwtOptions o;
+  o.coi_factor = 0.0;
+  o.frequencies.min_frequency_Hz = 10.0;
+  o.frequencies.max_frequency_Hz = 120.0;
+  CwtTransform transform(o);
+  Scalogram sg;
+  transform.Compute(x, step, &sg);
+  EXPECT_EQ(sg.coi_frequency_Hz.size(), x.size());
+  EXPECT_EQ(sg.coi_frequency_Hz.maxCoeff(), 0.0);
+  RidgeFrequencyOptions ro;
+  ro.cwt.coi_factor = 0.0;
+  const RidgeTrack track = RidgeFrequencyEstimator(ro).Estimate(x, step);
+  EXPECT_EQ(track.InsideCoiCount(), track.size());
+}
+
 TEST(Cwt, PaddedLengthsHaveOnlyFactors2357) {
   // 10^4 samples used to pad to 2N - 2 = 19998 = 2 3^2 11 101 (9x slower
   // than fCWT in the issue); every padded length is now 7-smooth, at least
@@ -336,9 +413,10 @@ TEST(Cwt, PaddedLengthsHaveOnlyFactors2357) {
       const FftLengths lengths = CwtTransform(o).Lengths(n, 1.0 / 64.0);
       ASSERT_EQ(lengths.real_forward.size(), 1u);
       const Eigen::Index p = lengths.real_forward[0];
-      // 1 Hz at 64 Hz: s = 61.1 samples, support ceil(7.43 s) = 454 samples.
+      // 1 Hz at 64 Hz: s = 61.1 samples, support ceil(7.43 s) = 454 samples;
+      // reflect pads to the envelope's 1e-6 radius, ceil(5.26 s) = 322 samples.
       const Eigen::Index minimum =
-          padding == Padding::kReflect ? std::min(2 * n - 2, n + 2 * 454) : n + std::min(n, 454L);
+          padding == Padding::kReflect ? n + 2 * 322 : n + std::min(n, 454L);
       EXPECT_TRUE(smooth(p)) << p;
       EXPECT_GE(p, minimum) << n;
       EXPECT_LE(p, minimum + minimum / 4 + 8) << n;

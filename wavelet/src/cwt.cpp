@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "cone.hpp"
 #include "fftw_plans.hpp"
 #include "full_rate.hpp"
 #include "huge_pages.hpp"
@@ -32,6 +33,13 @@ bool Fail(std::string* why, std::string message) {
   if (why != nullptr) *why = std::move(message);
   return false;
 }
+
+// Reflect padding's one jump lies where every coefficient's envelope is
+// below this fraction of its peak (5.26 s for Morlet): at the border
+// coefficients only (exp(-(5.26 + 1.41)^2 / 2) = 2e-10 inside the cone at
+// coi_factor 1). The band tolerance's 7.43 s instead would pad the objective's
+// 5001-sample record to 12288 points, not 10240: 5-10 % per evaluation.
+constexpr double kReflectJumpWeight = 1e-6;
 
 // Time-domain half-width of the wavelet at scale s, in units of s: Morlet's
 // Gaussian envelope falls below band_tolerance beyond 2 sigma_t sqrt(ln(1 /
@@ -136,8 +144,24 @@ Sizes CwtTransform::Impl::Plan(Eigen::Index samples, double step) const {
   const double nd = static_cast<double>(samples);
   switch (options.padding) {
     case Padding::kReflect: {
-      const double minimum = std::min(2.0 * nd - 2.0, nd + 2.0 * support);
-      z.p = internal::FastFftLength(static_cast<long long>(minimum));
+      // The padded sequence is the even extension (period 2N - 2) up to one
+      // jump, which no envelope may reach above kReflectJumpWeight: N + 2 of
+      // these radii, rounded up to a fast length. Where that would cost more
+      // than twice one period, P = 2N - 2 itself, which has no jump at all
+      // (any factors). A fast length just above 2N - 2 did not suffice: a
+      // jump 1.1 s from the data, 2.7e-2 of max |W| inside the cone for 1001
+      // samples at 5 kHz down to 10 Hz (docs/wavelet.md, "Algorithm and padding").
+      const double period = 2.0 * nd - 2.0;
+      const double needed =
+          nd + 2.0 * std::ceil(SupportRadius(time_spread,
+                                             options.wavelet.family == WaveletFamily::kMorse,
+                                             kReflectJumpWeight) *
+                               scales_s.maxCoeff() / step);
+      const long long fast =
+          needed <= 2.0 * period ? internal::FastFftLength(static_cast<long long>(needed)) : 0;
+      z.p = fast != 0 && static_cast<double>(fast) <= 2.0 * period
+                ? static_cast<Eigen::Index>(fast)
+                : static_cast<Eigen::Index>(period);
       break;
     }
     case Padding::kZero:
@@ -213,9 +237,8 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   for (Eigen::Index j = 0; j < times; ++j) {
     const Eigen::Index sample = j * d;
     const double edge_s = static_cast<double>(std::min(sample, n - 1 - sample)) * step_s;
-    coi_frequency_Hz(j) = edge_s > 0.0
-                              ? options.coi_factor * kappa * 2.0 * time_spread / (2.0 * kPi * edge_s)
-                              : std::numeric_limits<double>::infinity();
+    coi_frequency_Hz(j) =
+        internal::ConeFrequency_Hz(options.coi_factor, kappa, time_spread, edge_s);
   }
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "band_transform.hpp"
+#include "cone.hpp"
 #include "podid/core/error.hpp"
 #include "podid/wavelet/ridge.hpp"
 #include "ridge_cost.hpp"
@@ -136,8 +137,7 @@ void RidgeFrequencyEstimator::Impl::LayOut(Eigen::Index n, double step_s) {
     const Eigen::Index sample = j * b.decimation();
     const double edge_s = static_cast<double>(std::min(sample, n - 1 - sample)) * step_s;
     sg.coi_frequency_Hz(j) =
-        edge_s > 0.0 ? options.cwt.coi_factor * b.kappa() * 2.0 * b.time_spread() / (2.0 * kPi * edge_s)
-                     : std::numeric_limits<double>::infinity();
+        internal::ConeFrequency_Hz(options.cwt.coi_factor, b.kappa(), b.time_spread(), edge_s);
   }
   programme =
       std::make_unique<internal::RidgeProgramme>(x, options.ridge.penalty_s / sg.step_s, maximum);

@@ -57,10 +57,14 @@
 //   kReflect  the even extension: sample i of the padded sequence is
 //             x_{r(i)} for i < N + R and x_{r(i - P)} after, r(m) = |m| mirrored at
 //             the ends (period 2N - 2), R = ceil((P - N) / 2); the minimum P is
-//             N + 2 support at the lowest frequency, at most 2N - 2 (then, with
-//             P = 2N - 2, there is no jump anywhere; otherwise the one jump is at
-//             least min(support, (P - N) / 2) samples from the data);
-//   kZero     (default) x_0 .. x_{N-1} followed by zeros, minimum P = N + min(N, support);
+//             N + 2 r' s at the lowest frequency, r' the support's radius at 1e-6
+//             instead of band_tolerance (5.26 for Morlet): the one jump then lies
+//             where every envelope is below 1e-6 of its peak. Or P = 2N - 2 exactly
+//             (no jump at all, any factors) where that minimum, rounded up,
+//             would exceed 2 (2N - 2);
+//   kZero     (default) x_0 .. x_{N-1} followed by zeros, minimum P = N + min(N, support)
+//             (a wavelet longer than the record also reaches the record's
+//             periodic copy, P samples on);
 //   kPeriodic x_0 .. x_{N-1}, P = N (no choice of length).
 // Full rate (the default): scale k's band of K_k bins is inverted by a pruned
 // inverse FFT (wavelet/src/pruned_inverse.hpp): with D_k the largest power of
