@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "../../wavelet/src/ridge_cost.hpp"  // internal: RidgeCostOfPower
+#include "podid/wavelet/cwt.hpp"             // FrequencyGrid
 
 namespace podid::wavelet {
 namespace {
@@ -237,6 +238,54 @@ TEST(RidgeProgramme, EqualsTheBruteForceExactlyOnANearlyUniformGrid) {
     }
     ASSERT_TRUE(SamePathsAsTheBruteForce(x, lambda, cost, trial, rng));
   }
+}
+
+TEST(RidgeProgramme, HugePenaltiesGiveTheFlattestPath) {
+  // Once the cheapest jump, lambda dx^2, exceeds what any path can gain
+  // from all its columns (times x the range of a column's costs), the
+  // optimum is the constant path k* = argmin_k sum_j cost(k, j), found here
+  // by summing the costs. The envelope cross-multiplied intersections of
+  // size lambda x^2 by 2 lambda dx: from lambda ~ 1e154 they overflowed and
+  // the path left the grid or wandered (podid cwt --penalty 1e152 at 5 kHz).
+  // Up to the largest accepted lambda, kMaxRidgeJumpCost / (2 max |x|)^2,
+  // on the log grid of podid cwt's default (10-120 Hz, 32 voices), through
+  // Push, PushLast and PushLastPowers (costs of powers in (1e-3, 1]).
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const Eigen::VectorXd f = FrequencyGrid::Log(10.0, 120.0, 32).Frequencies_Hz();
+  const Eigen::VectorXd x = f.array().log();
+  const Eigen::Index freqs = x.size(), times = 3000;
+  const double reach = 2.0 * x.cwiseAbs().maxCoeff();
+  const double largest = internal::kMaxRidgeJumpCost / (reach * reach) * (1.0 - 1e-15);
+  Eigen::MatrixXd power(freqs, times);
+  for (Eigen::Index j = 0; j < times; ++j) {
+    // A drifting ridge (where a small penalty would follow it) over a floor.
+    const double centre = 10.0 + 90.0 * static_cast<double>(j) / static_cast<double>(times);
+    for (Eigen::Index k = 0; k < freqs; ++k) {
+      const double d = (static_cast<double>(k) - centre) / 4.0;
+      power(k, j) = std::max(1e-3, std::exp(-d * d) * (0.5 + 0.5 * uniform(rng)));
+    }
+  }
+  Eigen::MatrixXd cost = power;
+  for (Eigen::Index j = 0; j < times; ++j)
+    internal::RidgeCostOfPower(cost.col(j).data(), freqs, cost.col(j).data());
+  Eigen::Index flattest = 0;
+  cost.rowwise().sum().minCoeff(&flattest);
+  // The flattest path is optimal: one jump costs more than the costs' whole range.
+  const double min_dx = (x.tail(freqs - 1) - x.head(freqs - 1)).minCoeff();
+  const double range = cost.maxCoeff() - cost.minCoeff();
+  const Eigen::VectorXi want = Eigen::VectorXi::Constant(times, static_cast<int>(flattest));
+  for (double lambda : {1e150, 5e155, 1e200, largest}) {
+    ASSERT_GT(lambda * min_dx * min_dx, static_cast<double>(times) * range);
+    ASSERT_LE(lambda * reach * reach, internal::kMaxRidgeJumpCost);
+    EXPECT_EQ(ProgrammePath(x, lambda, cost), want) << "lambda " << lambda;
+    EXPECT_EQ(PushLastPath(x, lambda, cost, 1, false), want) << "lambda " << lambda;
+    EXPECT_EQ(PushLastPath(x, lambda, cost, 1, true), want) << "lambda " << lambda;
+    EXPECT_EQ(PushLastPath(x, lambda, power, 1, false, nullptr, true), want) << "lambda " << lambda;
+  }
+  // And a small penalty follows the drifting ridge (the costs are not flat).
+  const Eigen::VectorXi small = ProgrammePath(x, 1.0, cost);
+  EXPECT_GT(small.maxCoeff() - small.minCoeff(), 60);
 }
 
 TEST(RidgeProgramme, PushLastGivesPushsPathOnClearAndNoisyRidges) {

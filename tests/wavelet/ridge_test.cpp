@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "../../wavelet/src/ridge_programme.hpp"  // internal: kMaxRidgeJumpCost
 #include "test_support.hpp"
 
 namespace podid::wavelet {
@@ -423,14 +424,69 @@ TEST(Ridge, BadInputNamesWhatWasExpected) {
   o.penalty_s = 1e308;
   ASSERT_TRUE(o.IsValid(nullptr));
   PODID_EXPECT_THROW_WITH(FindRidges(sg, o), std::invalid_argument,
-                          "RidgeOptions.penalty_s: expected a penalty whose jump cost penalty_s / "
-                          "step_s x (2 max |ln f|)^2 is finite");
+                          "RidgeOptions.penalty_s: expected a penalty whose largest jump cost "
+                          "penalty_s / step_s x (2 max |ln f|)^2 is at most 1e+296");
   RidgeFrequencyOptions streamed;
   streamed.ridge.penalty_s = 1e308;
   PODID_EXPECT_THROW_WITH(RidgeFrequency(x, kStep, streamed), std::invalid_argument,
-                          "RidgeOptions.penalty_s: expected a penalty whose jump cost");
-  streamed.ridge.penalty_s = 1e290;  // lambda 1e293 at kStep: finite costs, a path
+                          "RidgeOptions.penalty_s: expected a penalty whose largest jump cost");
+  streamed.ridge.penalty_s = 1e290;  // jump cost 4.6e295 at kStep, 10-120 Hz: a path
   EXPECT_EQ(RidgeFrequency(x, kStep, streamed).size(), RidgeFrequency(x, kStep).size());
+}
+
+TEST(Ridge, TheLargestAcceptedPenaltyGivesTheFlattestPath) {
+  // The ridges of a chirp (20 -> 80 Hz) and a tone (33 Hz) at penalties from
+  // 1e152 s (where the envelope's products of size lambda^2 overflowed:
+  // podid cwt --penalty 1e152 gave IFs from -1.7 to 622 Hz on a 10-118 Hz
+  // grid) to the largest accepted, kMaxRidgeJumpCost step / (2 max ln f)^2:
+  // any jump then costs more than every column's cost range together
+  // (lambda (ln 2 / 32)^2 >= 2e148 against 5001 columns of at most 30), so
+  // the path is the constant k* = argmin_k sum_j -log|W(j, k)|, summed here
+  // from W. The streamed estimator (band-limited costs) stays on one row
+  // too: the tone's. Above the largest, refused with a message naming
+  // penalty_s and the bound.
+  const Eigen::VectorXd t = Time();
+  const Eigen::VectorXd chirp = (2 * kPi * (20.0 * t.array() + 30.0 * t.array().square())).cos();
+  const Eigen::VectorXd tone = (2 * kPi * 33.0 * t.array()).cos();
+  double largest = 0.0;
+  for (const Eigen::VectorXd* x : {&chirp, &tone}) {
+    const Scalogram sg = Cwt(*x, kStep);
+    const Eigen::VectorXd ln_f = sg.frequencies_Hz.array().log();
+    const double reach = 2.0 * ln_f.cwiseAbs().maxCoeff();
+    largest = internal::kMaxRidgeJumpCost / (reach * reach) * kStep * (1.0 - 1e-15);
+    Eigen::VectorXd sums = Eigen::VectorXd::Zero(sg.frequencies());
+    for (Eigen::Index k = 0; k < sg.frequencies(); ++k) {
+      for (Eigen::Index j = 0; j < sg.times(); ++j)
+        sums(k) -= std::log(std::abs(sg.coefficients(j, k)));
+    }
+    Eigen::Index flattest = 0;
+    sums.minCoeff(&flattest);
+    for (double penalty_s : {1e152, 1e200, largest}) {
+      RidgeOptions o;
+      o.penalty_s = penalty_s;
+      const Eigen::VectorXi path = FindRidges(sg, o).front();
+      EXPECT_EQ(path, Eigen::VectorXi::Constant(sg.times(), static_cast<int>(flattest)))
+          << "penalty " << penalty_s;
+      RidgeFrequencyOptions streamed;
+      streamed.ridge.penalty_s = penalty_s;
+      const RidgeTrack track = RidgeFrequency(*x, kStep, streamed);
+      EXPECT_EQ(track.frequency_index.minCoeff(), track.frequency_index.maxCoeff())
+          << "penalty " << penalty_s;
+      if (x == &tone) {
+        EXPECT_EQ(track.frequency_index(0), flattest) << "penalty " << penalty_s;
+      }
+    }
+  }
+  const Scalogram sg = Cwt(tone, kStep);
+  RidgeOptions o;
+  o.penalty_s = largest * (1.0 + 1e-9);
+  PODID_EXPECT_THROW_WITH(FindRidges(sg, o), std::invalid_argument,
+                          "RidgeOptions.penalty_s: expected a penalty whose largest jump cost "
+                          "penalty_s / step_s x (2 max |ln f|)^2 is at most 1e+296: penalty_s <= ");
+  RidgeFrequencyOptions streamed;
+  streamed.ridge.penalty_s = largest * (1.0 + 1e-9);
+  PODID_EXPECT_THROW_WITH(RidgeFrequency(tone, kStep, streamed), std::invalid_argument,
+                          "is at most 1e+296: penalty_s <= ");
 }
 
 TEST(Ridge, ThePhaseIfNeedsTheTransformThatWroteTheScalogram) {

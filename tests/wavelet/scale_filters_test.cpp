@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace podid::wavelet {
@@ -79,6 +80,61 @@ TEST(ScaleFilters, GeneratedValuesDoNotDependOnTheChunks) {
   for (long long begin : {0LL, 1LL, 127LL, 128LL, 129LL, 1023LL, 1024LL, 5000LL, 22999LL}) {
     for (long long count : {1LL, 7LL, 8LL, 130LL, 511LL, 1000LL, 1024LL}) {
       if (begin + count > n) continue;
+      const double* got = filter.Values(begin, count, scratch);
+      for (long long i = 0; i < count; ++i) {
+        ASSERT_EQ(got[i], whole[static_cast<std::size_t>(begin + i)]) << begin << " + " << i;
+      }
+    }
+  }
+}
+
+// omega0 up to kMaxOmega0 = 100, bands from bin 0 (t = -omega0), as the
+// transforms lay them out: from t = -omega0 the recurrences' ratios up to the
+// peak, exp(omega0^2 / 2), overflowed beyond 37.68 and the values were NaN or
+// 0. Now 0 exactly where t < -32 (the true value is below e^-512 of the
+// peak), and from there within the tolerance above wherever t >= -8 (the
+// default band, 1e-12 of the peak, reaches 7.43); further down the start's
+// rounding of t (half an ulp of 32, 3.6e-15) shifts the Gaussian and costs
+// |t| 3.6e-15 of a value: kTailTolerance = 1e-13 + 32 x 4e-15 = 2.3e-13.
+// Seen: 6.0e-14 within t >= -8, 1.1e-13 below.
+TEST(ScaleFilters, GeneratedFromBinZeroForEveryOmega0) {
+  constexpr double kTailTolerance = 2.3e-13;
+  for (double centre : {6.0, 34.0, 37.6, 37.7, 40.0, 60.0, 100.0}) {
+    // Steps of 1 to 3000 bins per unit of t; bands to t = +7.5.
+    for (double step : {1.0, 0.3, 1.0 / 128.0, 1.0 / 700.0, 1.0 / 3000.0}) {
+      const double amplitude = 2.0 / 102400;
+      const auto n = static_cast<long long>(std::ceil((centre + 7.5) / step)) + 1;
+      const std::vector<double> out = Whole(amplitude, step, centre, 0, n);
+      double worst_band = 0.0, worst_tail = 0.0;
+      for (long long i = 0; i < n; ++i) {
+        const double got = out[static_cast<std::size_t>(i)];
+        ASSERT_TRUE(std::isfinite(got)) << "centre " << centre << " step " << step << " bin " << i;
+        const double t = step * static_cast<double>(i) - centre;
+        const double want = LongDoubleGaussian(amplitude, step, centre, i);
+        if (t < -32.0) {
+          ASSERT_EQ(got, 0.0) << "centre " << centre << " step " << step << " bin " << i;
+          ASSERT_LT(want, amplitude * 4.5e-223);
+          continue;
+        }
+        ASSERT_GT(want, 0.0);
+        const double error = std::abs(got - want) / want;
+        (t >= -8.0 ? worst_band : worst_tail) =
+            std::max(t >= -8.0 ? worst_band : worst_tail, error);
+      }
+      EXPECT_LE(worst_band, kGeneratedTolerance) << "centre " << centre << " step " << step;
+      EXPECT_LE(worst_tail, kTailTolerance) << "centre " << centre << " step " << step;
+      std::printf("centre %5.1f step %.3g: %lld bins, worst %.2g (t >= -8), %.2g (t < -8)\n",
+                  centre, step, n, worst_band, worst_tail);
+    }
+  }
+  // Any cut gives the same values (exact starts from the first kept entry).
+  const double amplitude = 2.0 / 102400, step = 1.0 / 700.0, centre = 100.0;
+  const long long n = 75000;
+  const std::vector<double> whole = Whole(amplitude, step, centre, 0, n);
+  const internal::ScaleFilter filter = internal::ScaleFilter::Gaussian(amplitude, step, centre, 0);
+  double scratch[internal::ScaleFilter::kChunkBins];
+  for (long long begin : {0LL, 47000LL, 47599LL, 47600LL, 47601LL, 48623LL, 48624LL, 60000LL}) {
+    for (long long count : {1LL, 7LL, 130LL, 1024LL}) {
       const double* got = filter.Values(begin, count, scratch);
       for (long long i = 0; i < count; ++i) {
         ASSERT_EQ(got[i], whole[static_cast<std::size_t>(begin + i)]) << begin << " + " << i;

@@ -109,6 +109,7 @@ PODID_CLONES_V4 void ColumnMaxima(const double* power,
 // guess[b] = 1 + floor((zn[b] / zd[b] - x0) * inverse_spacing), in [0, n]: on
 // a uniform grid the first q past the boundary zn / zd (a guess, corrected by
 // exact tests in Segments, so no clone's rounding changes a result). NaN: 0.
+// Segments passes lambda x0 and inverse_spacing / lambda (zn / zd = lambda z).
 PODID_CLONES_V4 void GuessCrossings(const double* zn,
                                     const double* zd,
                                     Eigen::Index count,
@@ -126,29 +127,43 @@ PODID_CLONES_V4 void GuessCrossings(const double* zn,
 }
 
 namespace {
+// 2 max |ln f|, the longest jump in x: below 1490 (|ln f| <= 745 for any double f > 0).
+double Reach(const Eigen::VectorXd& x) {
+  return x.size() > 0 ? 2.0 * x.cwiseAbs().maxCoeff() : 0.0;
+}
 // The largest cost lambda (x_q - x_p)^2 a jump can have.
 double LargestJumpCost(const Eigen::VectorXd& x, double lambda) {
-  const double reach = x.size() > 0 ? 2.0 * x.cwiseAbs().maxCoeff() : 0.0;
-  return lambda * reach * reach;
+  return lambda * Reach(x) * Reach(x);
 }
 }  // namespace
 
 void CheckRidgePenalty(double penalty_s, double step_s, const Eigen::VectorXd& x) {
-  if (std::isfinite(LargestJumpCost(x, penalty_s / step_s))) return;
+  if (LargestJumpCost(x, penalty_s / step_s) <= kMaxRidgeJumpCost) return;
+  const double reach = Reach(x);
   ThrowInvalid("RidgeOptions.penalty_s",
-               "a penalty whose jump cost penalty_s / step_s x (2 max |ln f|)^2 is finite (step " +
-                   ToText(step_s) + " s, frequencies up to " +
-                   ToText(x.size() > 0 ? std::exp(x.maxCoeff()) : 0.0) + " Hz)",
+               "a penalty whose largest jump cost penalty_s / step_s x (2 max |ln f|)^2 is at "
+               "most " +
+                   ToText(kMaxRidgeJumpCost) +
+                   ": penalty_s <= " + ToText(kMaxRidgeJumpCost / (reach * reach) * step_s) +
+                   " s at step " + ToText(step_s) + " s and frequencies " +
+                   ToText(x.size() > 0 ? std::exp(x.minCoeff()) : 0.0) + " to " +
+                   ToText(x.size() > 0 ? std::exp(x.maxCoeff()) : 0.0) + " Hz",
                ToText(penalty_s) + " s");
 }
 
 RidgeProgramme::RidgeProgramme(const Eigen::VectorXd& x, double lambda, bool maximum)
     : x_(x), lambda_(lambda), maximum_(maximum), width_(Width(x.size())) {
-  PODID_CHECK(lambda >= 0.0 && std::isfinite(LargestJumpCost(x, lambda)));  // CheckRidgePenalty
+  PODID_CHECK(lambda >= 0.0 &&
+              LargestJumpCost(x, lambda) <= kMaxRidgeJumpCost);  // CheckRidgePenalty
   none_ = (std::int64_t{1} << (8 * width_)) - 1;
-  // lambda x^2 as the envelope's intersections use it (same rounding at every column).
+  // lambda x^2 and lambda x as the envelope's intersections use them (same
+  // rounding at every column).
   x2_.resize(x_.size());
-  for (Eigen::Index p = 0; p < x_.size(); ++p) x2_(p) = lambda_ * x_(p) * x_(p);
+  lx_.resize(x_.size());
+  for (Eigen::Index p = 0; p < x_.size(); ++p) {
+    x2_(p) = lambda_ * x_(p) * x_(p);
+    lx_(p) = lambda_ * x_(p);
+  }
   prev_.resize(x_.size());
   next_.resize(x_.size());
   first_totals_.resize(x_.size());  // PushLast copies prev_ here: no allocation then
@@ -480,8 +495,11 @@ bool RidgeProgramme::PushBounded(const Columns& c, Eigen::Index count) {
 // Push's full ones (BM_SilverboxRidge, 115-158 cells) 1.07x faster.
 constexpr Eigen::Index kSegmentedCells = 16;
 
-// One column of the envelope. Intersections z = num / den (den > 0) are
-// compared by cross-multiplying: no division on the stack's dependency chain.
+// One column of the envelope. Intersections z = num / (lambda den) (den > 0)
+// are compared by cross-multiplying: no division on the stack's dependency
+// chain. lambda stays out of den: num ~ lambda x^2 times den = 2 lambda dx
+// overflowed beyond lambda ~ 1e154 (penalty 1e152 s at 5 kHz: IFs outside
+// the grid), and x_q against z as lambda x_q den.
 // Raw pointers: through the members, every store to the stack would reload
 // them (they may alias), 1.2x slower.
 template <bool kBounded, typename Index>
@@ -493,6 +511,7 @@ int RidgeProgramme::Relax(const double* cost,
   const double* xs = x_.data();
   const double* pv = prev_.data();
   const double* x2 = x2_.data();
+  const double* lx = lx_.data();
   Eigen::Index* v = v_.data();
   double* hs = h_.data();
   double* xv = xv_.data();
@@ -519,7 +538,7 @@ int RidgeProgramme::Relax(const double* cost,
     const double hp = pv[p] + x2[p];
     const double tx = xs[p];
     double num = hp - top_h;
-    double den = 2.0 * lambda * (tx - top_x);
+    double den = 2.0 * (tx - top_x);
     while (num * top_zd <= top_zn * den) {
       --top;
       top_h = hs[top];
@@ -527,7 +546,7 @@ int RidgeProgramme::Relax(const double* cost,
       top_zn = zn[top];
       top_zd = zd[top];
       num = hp - top_h;
-      den = 2.0 * lambda * (tx - top_x);
+      den = 2.0 * (tx - top_x);
     }
     ++top;
     v[top] = p;
@@ -561,7 +580,7 @@ int RidgeProgramme::Relax(const double* cost,
     }
     const double xq = xs[q];
     if (!segmented) {
-      while (zn[e + 1] < xq * zd[e + 1]) ++e;
+      while (zn[e + 1] < lx[q] * zd[e + 1]) ++e;
     }
     const Eigen::Index p = v[e];
     const double dx = xq - xs[p];
@@ -583,20 +602,21 @@ int RidgeProgramme::Relax(const double* cost,
 // (parabola v_[e]) once x_q is past boundaries 1..e (zn[b] < x_q zd[b], as
 // the pop test cross-multiplied, monotone in q) and not past e + 1: boundary
 // b is first crossed at t_b = the first q >= t_(b-1) past it, from q_first.
+// (zn / zd is lambda z: x_q is compared as lambda x_q.)
 // A scan of q advancing e branched unpredictably at every q (about 40 % of
 // the programme on the Silverbox's columns); from guesses the walks below
 // are nearly always empty. Without guesses (x not uniform) the forward walk
 // from t_(b-1) is that scan.
 void RidgeProgramme::Segments(Eigen::Index top, Eigen::Index q_first, Eigen::Index q_last) {
   const Eigen::Index q_end = q_last + 1;
-  const double* xs = x_.data();
+  const double* lx = lx_.data();
   const double* zn = zn_.data();
   const double* zd = zd_.data();
   Eigen::Index* starts = starts_.data();  // starts[q - q_first]
   std::fill(starts, starts + (q_end - q_first), Eigen::Index{0});
   Eigen::Index* guess = guess_.data();
   if (inverse_spacing_ > 0.0) {
-    GuessCrossings(zn + 1, zd + 1, top, xs[0], inverse_spacing_, x_.size(), guess + 1);
+    GuessCrossings(zn + 1, zd + 1, top, lx[0], inverse_spacing_ / lambda_, x_.size(), guess + 1);
   } else {
     std::fill(guess + 1, guess + top + 1, Eigen::Index{0});  // each walk starts at t
   }
@@ -604,8 +624,8 @@ void RidgeProgramme::Segments(Eigen::Index top, Eigen::Index q_first, Eigen::Ind
   for (Eigen::Index b = 1; b <= top; ++b) {
     const double num = zn[b], den = zd[b];
     Eigen::Index s = std::clamp(guess[b], t, q_end);
-    while (s > t && num < xs[s - 1] * den) --s;
-    while (s < q_end && !(num < xs[s] * den)) ++s;
+    while (s > t && num < lx[s - 1] * den) --s;
+    while (s < q_end && !(num < lx[s] * den)) ++s;
     if (s == q_end) break;  // this boundary and the later ones lie beyond q_last
     t = s;
     ++starts[t - q_first];

@@ -10,10 +10,20 @@
 
 namespace podid::wavelet::internal {
 
+/// The largest jump cost lambda (2 max |ln f|)^2 the programme accepts. A
+/// column's totals exceed the last column's smallest by at most one jump and
+/// one cost (|cost| < 1e3, a log-magnitude): even a path forced to jump at
+/// each of 2^26 columns stays below 2^26 (1e296 + 1e3) = 6.7e303; the
+/// envelope multiplies differences of totals plus lambda x^2 (below 1.4e304)
+/// by 2 dx < 2^12 (|ln f| <= 745): 5.5e307, below DBL_MAX = 1.8e308. With
+/// lambda in the products (2 lambda dx) they overflowed from lambda ~ 1e154
+/// (podid cwt --penalty 1e152 at 5 kHz: IFs outside the grid); a penalty of
+/// 1e308 s gave lambda = inf and inf or NaN in every envelope test.
+inline constexpr double kMaxRidgeJumpCost = 1e296;
+
 /// Throws std::invalid_argument (naming RidgeOptions.penalty_s) unless the
 /// programme's largest jump cost lambda (2 max |ln f|)^2, lambda = penalty_s /
-/// step_s, is finite: a penalty of 1e308 s gave lambda = inf and lambda x^2 =
-/// inf or NaN (x = 0 at 1 Hz) in every envelope test.
+/// step_s, is at most kMaxRidgeJumpCost.
 void CheckRidgePenalty(double penalty_s, double step_s, const Eigen::VectorXd& x);
 
 class RidgeProgramme {
@@ -88,7 +98,7 @@ class RidgeProgramme {
   void PushColumns(const Columns& c, Eigen::Index count);
   bool PushBounded(const Columns& c, Eigen::Index count);
 
-  Eigen::VectorXd x_, x2_;
+  Eigen::VectorXd x_, x2_, lx_;  // x, lambda x^2, lambda x
   double lambda_;
   bool maximum_;
   int width_;  // bytes per back-pointer

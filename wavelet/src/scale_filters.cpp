@@ -14,10 +14,18 @@ using V8 = double __attribute__((vector_size(64)));
 constexpr Eigen::Index kLanes = 8;
 constexpr Eigen::Index kBlock = 128;   // bins of one block of the 8 lanes
 constexpr Eigen::Index kExact = 1024;  // bins between two exact (std::exp) starts
+// Entries with t < -kTail are 0 (exactly, below e^-512 = 4.4e-223 of the
+// peak). From the band's bin 0, t = -omega0, a start's ratios up to the peak
+// reached exp(omega0^2 / 2): inf beyond omega0 = 37.68 (DBL_MAX = e^709.8),
+// with g = A exp(-omega0^2 / 2) 0 beyond about 38.5, so W was NaN or 0.
+// From t >= -32 the ratios stay below e^512 and g above A e^-512, normal for
+// A >= 1e-85 (A = n(s) psi^(omega0) / P: above 1e-17 below Nyquist at any
+// accepted step and length).
+constexpr double kTail = 32.0;
 
 // Entries [begin, end) of the generated filter into out (entry begin at
-// out[0]). Exact starts at the multiples of kExact, so any cut of a band
-// gives the same values. One GCC vector of 8 lanes: one AVX-512 register in
+// out[0]). Exact starts at f.zeros plus multiples of kExact, so any cut of a
+// band gives the same values. One GCC vector of 8 lanes: one AVX-512 register in
 // the v4 clone, two AVX2 ones in the v3 clone, four SSE2 ones otherwise.
 PODID_CLONES_V4 void Generate(const ScaleFilter::Generator& f,
                               Eigen::Index begin,
@@ -25,7 +33,11 @@ PODID_CLONES_V4 void Generate(const ScaleFilter::Generator& f,
                               double* out) {
   const double c = f.step, c8 = static_cast<double>(kLanes) * c,
                cb = static_cast<double>(kBlock) * c;
-  for (Eigen::Index e0 = begin - begin % kExact; e0 < end; e0 += kExact) {
+  // The far lower tail (entries before f.zeros) is 0; exact starts from there.
+  const Eigen::Index zeros = std::clamp(f.zeros, begin, end);
+  std::fill(out, out + (zeros - begin), 0.0);
+  const Eigen::Index from = std::max(begin, f.zeros);
+  for (Eigen::Index e0 = from - (from - f.zeros) % kExact; e0 < end; e0 += kExact) {
     // At the block's first bin b: g_b, rho_b = g_(b+1) / g_b, r_b = g_(b+8) /
     // g_b and block_g = g_(b+128) / g_b; each block's from the last one's.
     const double t0 = c * static_cast<double>(f.first + e0) - f.centre;
@@ -83,10 +95,17 @@ ScaleFilter ScaleFilter::Gaussian(double amplitude,
                                   double step,
                                   double centre,
                                   Eigen::Index first) {
+  PODID_CHECK(step > 0.0 && std::isfinite(step) && std::isfinite(centre));
   ScaleFilter f;
   f.generated_ = true;
   const double c = step, c8 = static_cast<double>(kLanes) * c, cb = static_cast<double>(kBlock) * c;
-  f.generator_ = Generator{amplitude,          step, centre, first,
+  // The first entry with t >= -kTail, by the t Generate computes.
+  const auto t = [&](Eigen::Index e) { return c * static_cast<double>(first + e) - centre; };
+  const double guess = std::ceil((centre - kTail) / c) - static_cast<double>(first);
+  Eigen::Index zeros = guess > 0.0 ? static_cast<Eigen::Index>(std::min(guess, 0x1p62)) : 0;
+  while (zeros > 0 && t(zeros - 1) >= -kTail) --zeros;
+  while (t(zeros) < -kTail) ++zeros;
+  f.generator_ = Generator{amplitude,          step, centre, first, zeros,
                            std::exp(-c * c),     // rho_(b+1) / rho_b
                            std::exp(-c8 * c),    // r_(b+1) / r_b
                            std::exp(-c8 * c8),   // r_(b+8) / r_b

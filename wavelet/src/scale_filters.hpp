@@ -13,7 +13,10 @@
 //    at a time, in blocks of 128 bins;
 //  - a block's 8 lane starts from its first bin's g, rho = g_(b+1) / g_b and
 //    r, and those from the previous block's by their own ratios;
-//  - exactly (std::exp) at every 1024th bin, so 4 exp per 1024 bins (libm's
+//  - 0 where t < -32 (below 4.4e-223 of the peak): from t = -omega0 (bin 0)
+//    the ratios up to the peak, exp(omega0^2 / 2), overflowed beyond
+//    omega0 = 37.68 and W was NaN or 0;
+//  - exactly (std::exp) at every 1024th bin from there, so 4 exp per 1024 bins (libm's
 //    exp took about 14 ns a call here: restarts from it every 128 bins cost
 //    as much as the table's loads they replaced): a value carries at most
 //    about 530 roundings, 5.9e-14 of itself (test ScaleFilters.*, within 1e-13).
@@ -47,6 +50,7 @@ class ScaleFilter {
   struct Generator {
     double amplitude, step, centre;
     Eigen::Index first;
+    Eigen::Index zeros;  // entries [0, zeros): t < -kTail, generated as 0 (scale_filters.cpp)
     double lane_rho, lane_ratio, ratio_step, block_g_step, block_rho_step, block_r_step;
   };
 
