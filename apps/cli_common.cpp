@@ -132,6 +132,22 @@ void CheckOutputFolder(const NamedFile& folder) {
     ThrowInvalid(folder.what, "a writable folder",
                  "\"" + folder.path + "\": " + existing.string() + ": " + std::strerror(errno));
   }
+  // Root passes access() whatever the mode: a folder with no write bit is
+  // read-only for root too (as ResolveOutput judges the files).
+  struct stat status {};
+  if (::stat(existing.c_str(), &status) == 0 &&
+      (status.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0) {
+    ThrowInvalid(folder.what, "a writable folder",
+                 "\"" + folder.path + "\": " + existing.string() + " is read-only");
+  }
+}
+
+CLI::Validator NonEmptyPath(const std::string& what) {
+  return CLI::Validator(
+      [what](std::string& text) -> std::string {
+        return text.empty() ? "expected " + what + ", got an empty one" : std::string();
+      },
+      "");
 }
 
 CLI::Validator IntegerIn(long long lower, long long upper) {

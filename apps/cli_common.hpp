@@ -44,7 +44,8 @@ struct NamedFile {
 std::vector<NamedFile> CaseInputFiles(const CaseArguments& arguments);
 
 /// Run by every command before it computes anything. Each output (empty
-/// paths are skipped) must be writable as WriteFileAtomically will write it
+/// paths, options not given, are skipped: NonEmptyPath refuses a given empty
+/// one) must be writable as WriteFileAtomically will write it
 /// (its folder exists and is writable, it is not a folder, see ResolveOutput),
 /// and must not be the same file as an input or as another output: files are
 /// compared by device and inode after following symlinks, so a symlink, a hard
@@ -56,6 +57,12 @@ void CheckOutputs(const std::vector<NamedFile>& inputs, const std::vector<NamedF
 /// it is a writable folder, or its nearest existing ancestor is one. Throws
 /// std::invalid_argument.
 void CheckOutputFolder(const NamedFile& folder);
+
+/// A CLI11 check for an output option's path: not empty. An empty path would
+/// otherwise read as "option not given" (every command skips empty outputs),
+/// so `-o ''` wrote nothing and exited 0. `what` is e.g. "a file path"; the
+/// message reads "--plot: expected a file path, got an empty one".
+CLI::Validator NonEmptyPath(const std::string& what = "a file path");
 
 /// A CLI11 check for an integer option in [lower, upper]; its message reads
 /// "expected an integer in [lower, upper], got <text>".

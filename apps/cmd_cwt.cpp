@@ -191,6 +191,36 @@ void PrintRidge(const wavelet::RidgeTrack& track, double coi_factor, const std::
               track.frequency_Hz(last), track.amplitude(last));
 }
 
+// A result beyond double precision (an input near 1.8e308: the in-band
+// signal or an amplitude rounds up to inf) is a computation that failed, not
+// a value to print or write: exit 2 naming the reason, before any file is
+// staged. A NaN IF is no failure: it marks a screened sample (docs/wavelet.md).
+void CheckFinite(const CwtArguments& a,
+                 const std::string& label,
+                 const Eigen::VectorXd& signal,
+                 const std::vector<wavelet::RidgeTrack>& tracks,
+                 const std::vector<Eigen::VectorXd>& in_band,
+                 const wavelet::Scalogram* kept) {
+  std::string what;
+  if (!a.inverse.empty() && !in_band.empty() && !in_band.back().allFinite()) {
+    what = "the inverse CWT (--inverse)";
+  }
+  for (const wavelet::RidgeTrack& track : tracks) {
+    if (what.empty() && track.amplitude.array().isInf().any()) what = "the ridge's amplitude";
+    if (what.empty() && track.frequency_Hz.array().isInf().any()) what = "the ridge's IF";
+  }
+  if (what.empty() && kept != nullptr && (!a.scalogram.empty() || !a.plot.empty()) &&
+      kept->coefficients.size() > 0 &&
+      !std::isfinite(kept->coefficients.cwiseAbs().maxCoeff() * kept->coefficient_scale)) {
+    what = std::string(a.synchrosqueeze ? "|T|" : "|W|") + " (--scalogram, --plot)";
+  }
+  if (what.empty()) return;
+  throw CommandFailed("cwt: " + Escaped(label) + " of " + Escaped(a.data) + ": " + what +
+                      " overflowed double precision (the input's peak magnitude is " +
+                      ToText(signal.cwiseAbs().maxCoeff()) +
+                      "; scale the data down); no file written");
+}
+
 void Run(const CwtArguments& a) {
   CheckOutputs({{"data file", a.data}}, {{"-o", a.output},
                                          {"--inverse", a.inverse},
@@ -288,6 +318,10 @@ void Run(const CwtArguments& a) {
       }
       throw std::invalid_argument(Escaped(label + " of " + a.data + ": ") + what);
     }
+    CheckFinite(a, label, signal, tracks.back(), in_band,
+                streamed           ? nullptr
+                : a.synchrosqueeze ? &squeezed.sst
+                                   : &whole);
     // The grid (times, frequencies, decimation, cone) of either path.
     const wavelet::Scalogram& sg = streamed           ? estimator->scalogram()
                                    : a.synchrosqueeze ? squeezed.sst
@@ -442,14 +476,33 @@ void Run(const CwtArguments& a) {
     written.push_back(std::string(symbol) + " -> " + a.scalogram);
   }
   if (!a.plot.empty()) {
-    // At most ~1000 time columns keep the PNG quick to draw.
-    const Eigen::Index stride = std::max<Eigen::Index>(1, sg.times() / 1000);
+    // At most kPlotColumns times and kPlotRows frequencies, whatever the
+    // record and --bins: gnuplot takes about 250 bytes a cell (2.3 GB at 9000
+    // frequencies) and the data file 30, and the PNG has only 650 pixels of
+    // height. Each row is the largest |W| of a group of adjacent frequencies,
+    // at the group's middle one, so a ridge narrower than a group stays
+    // visible where plain decimation could step over it.
+    constexpr Eigen::Index kPlotColumns = 1000, kPlotRows = 500;
+    const Eigen::Index stride =
+        std::max<Eigen::Index>(1, (sg.times() + kPlotColumns - 1) / kPlotColumns);
     const Eigen::Index columns = (sg.times() + stride - 1) / stride;
-    Eigen::VectorXd t(columns);
-    Eigen::MatrixXd z(columns, sg.frequencies());
+    const Eigen::Index group =
+        std::max<Eigen::Index>(1, (sg.frequencies() + kPlotRows - 1) / kPlotRows);
+    const Eigen::Index rows = (sg.frequencies() + group - 1) / group;
+    Eigen::VectorXd t(columns), f(rows);
+    for (Eigen::Index r = 0; r < rows; ++r) {
+      const Eigen::Index first = r * group, last = std::min(first + group, sg.frequencies()) - 1;
+      f(r) = sg.frequencies_Hz((first + last) / 2);
+    }
+    Eigen::MatrixXd z(columns, rows);
     for (Eigen::Index i = 0; i < columns; ++i) {
       t(i) = t0_s + sg.time_s(i * stride);
-      z.row(i) = sg.coefficients.row(i * stride).cwiseAbs() * sg.coefficient_scale;
+      for (Eigen::Index r = 0; r < rows; ++r) {
+        const Eigen::Index first = r * group;
+        const Eigen::Index count = std::min(group, sg.frequencies() - first);
+        z(i, r) = sg.coefficients.row(i * stride).segment(first, count).cwiseAbs().maxCoeff() *
+                  sg.coefficient_scale;
+      }
     }
     Eigen::VectorXd coi = sg.coi_frequency_Hz;
     const Eigen::VectorXd coi_time_s = sg.time_s.array() + t0_s;
@@ -467,7 +520,7 @@ void Run(const CwtArguments& a) {
     axes.y_label = "f (Hz)";
     axes.log_y = !a.grid.bins;
     const PlotOutcome outcome = PlotHeatMap(
-        a.plot, axes, symbol, t, sg.frequencies_Hz, z,
+        a.plot, axes, symbol, t, f, z,
         {{"ridge IF (inside cone)", track.time_s, ridge_f}, {"cone of influence", coi_time_s, coi}},
         &batch);
     if (outcome == PlotOutcome::kWritten) written.push_back("plot -> " + a.plot);
@@ -550,14 +603,20 @@ void AddCwtCommand(CLI::App& app) {
                         "grid; --scalogram and --plot show |T|");
   if_from->excludes(synchrosqueeze);
   synchrosqueeze->excludes(if_from);
-  command->add_option("-o,--output", a->output, "Ridge CSV: t,f_Hz,amplitude,inside_coi");
-  command->add_option("--inverse", a->inverse,
-                      "In-band part of each signal by the inverse CWT (2 Re sum_k W ds/s / C:\n"
-                      "the components well inside --fmin..--fmax, no DC) as CSV: t, one column\n"
-                      "per signal");
-  command->add_option("--scalogram", a->scalogram,
-                      "|W| (|T| with --synchrosqueeze) CSV: t, one column per frequency");
-  command->add_option("--plot", a->plot, "Scalogram PNG with the ridge (needs gnuplot)");
+  command->add_option("-o,--output", a->output, "Ridge CSV: t,f_Hz,amplitude,inside_coi")
+      ->check(NonEmptyPath());
+  command
+      ->add_option("--inverse", a->inverse,
+                   "In-band part of each signal by the inverse CWT (2 Re sum_k W ds/s / C:\n"
+                   "the components well inside --fmin..--fmax, no DC) as CSV: t, one column\n"
+                   "per signal")
+      ->check(NonEmptyPath());
+  command
+      ->add_option("--scalogram", a->scalogram,
+                   "|W| (|T| with --synchrosqueeze) CSV: t, one column per frequency")
+      ->check(NonEmptyPath());
+  command->add_option("--plot", a->plot, "Scalogram PNG with the ridge (needs gnuplot)")
+      ->check(NonEmptyPath());
   command->callback([a] {
     if (a->channel.empty() && a->pom == 0) {
       ThrowInvalid("cwt", "--channel NAME or --pom K", "neither");

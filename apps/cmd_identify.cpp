@@ -316,10 +316,14 @@ void AddIdentifyCommand(CLI::App& app) {
   command->add_option("--seed", args->seed, "Seed of the Latin hypercube and random algorithms")
       ->capture_default_str()
       ->check(IntegerIn(0, std::numeric_limits<long long>::max()));
-  command->add_option("--json", args->json, "Write the result and history as JSON");
-  command->add_option("--plot-dir", args->plot_dir,
-                      "Write signals.csv and plots (fig2a_start.png, fig2b_optimum.png, convergence.png, "
-                      "ridge.png) to this folder");
+  command->add_option("--json", args->json, "Write the result and history as JSON")
+      ->check(NonEmptyPath());
+  command
+      ->add_option(
+          "--plot-dir", args->plot_dir,
+          "Write signals.csv and plots (fig2a_start.png, fig2b_optimum.png, convergence.png, "
+          "ridge.png) to this folder")
+      ->check(NonEmptyPath("a folder path"));
   command
       ->add_option("--threads", args->threads,
                    "Threads running the starts (0: OMP_NUM_THREADS or the cores, shared by the MPI "

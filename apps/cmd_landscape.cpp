@@ -134,9 +134,12 @@ void AddLandscapeCommand(CLI::App& app) {
           "Worker threads (0: OMP_NUM_THREADS or the cores, shared by the MPI ranks on a machine)")
       ->check(IntegerIn(0, ident::kMaxThreads))
       ->capture_default_str();
-  command->add_option("-o,--output", args->output, "CSV with a column per objective");
-  command->add_option("--json", args->json, "Metrics as JSON");
-  command->add_option("--plot", args->plot, "PNG of the curves (1-D) or of the first objective (2-D)");
+  command->add_option("-o,--output", args->output, "CSV with a column per objective")
+      ->check(NonEmptyPath());
+  command->add_option("--json", args->json, "Metrics as JSON")->check(NonEmptyPath());
+  command
+      ->add_option("--plot", args->plot, "PNG of the curves (1-D) or of the first objective (2-D)")
+      ->check(NonEmptyPath());
   command->callback([args] {
     args->objective.PrepareData();  // -m and the data options become [data] keys
     std::vector<NamedFile> inputs = CaseInputFiles(args->objective.input);

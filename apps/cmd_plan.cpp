@@ -1,10 +1,14 @@
 // podid plan: measure FFTW plans ahead of time into the on-disk wisdom cache,
 // so that later `podid cwt` / `identify` runs plan nothing (docs/wavelet.md,
 // "Planning").
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -37,7 +41,27 @@ struct PlanArguments {
   std::string effort = "measure";
 };
 
+// The wisdom cache is the command's only output: checked, as every command
+// checks its outputs, before anything is read or measured. The library
+// creates the folders it lacks and renames its file over whatever is at the
+// path, so only a missing cache, a folder in the file's place, and a folder
+// that cannot be made or written are refused here.
+void CheckWisdomDestination(const std::string& path) {
+  if (path.empty()) {
+    ThrowInvalid("plan: wisdom cache",
+                 "XDG_CACHE_HOME (an absolute path) or HOME set, to save the plans in",
+                 "neither set");
+  }
+  struct stat status {};
+  if (::lstat(path.c_str(), &status) == 0 && S_ISDIR(status.st_mode)) {
+    ThrowInvalid("plan: wisdom cache", "a file (or none yet)", "\"" + path + "\", a folder");
+  }
+  CheckOutputFolder({"plan: wisdom cache", std::filesystem::path(path).parent_path().string()});
+}
+
 void Run(const PlanArguments& a) {
+  const std::string wisdom_path = wavelet::FftWisdomPath();
+  CheckWisdomDestination(wisdom_path);
   // Every record to plan for, and what an error about it names.
   struct Record {
     long samples;
@@ -122,8 +146,11 @@ void Run(const PlanArguments& a) {
   if (summary.saved) {
     std::printf("wisdom -> %s\n", summary.wisdom_path.c_str());
   } else if (!summary.message.empty()) {
-    std::printf("wisdom not saved: %s (plans are measured again next time)\n",
-                summary.message.c_str());
+    // Saving the wisdom is the command's whole purpose: a failure is one
+    // (cwt, which only uses the wisdom, carries on without it).
+    throw std::runtime_error("plan: wisdom not saved to " + summary.wisdom_path + ": " +
+                             summary.message + " (the " + ToText(summary.measured) +
+                             " plan(s) measured are lost)");
   }
 }
 
@@ -135,7 +162,8 @@ void AddPlanCommand(CLI::App& app) {
       "plan",
       "Measure the FFT plans of `podid cwt` and identification for these records ahead of\n"
       "time, into the cache $XDG_CACHE_HOME/podid (else ~/.cache/podid). Without it each\n"
-      "process uses quick estimated plans. docs/wavelet.md, \"Planning\"");
+      "process uses quick estimated plans. Exit status 1, before measuring where it can\n"
+      "be seen, if the cache cannot be written. docs/wavelet.md, \"Planning\"");
   command->add_option("data", a->data,
                       "Time series (.csv, .mat, .uff or .unv) whose length and step to plan for,\n"
                       "read and conditioned with the data options below as cwt reads them");

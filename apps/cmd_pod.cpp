@@ -140,9 +140,11 @@ void AddPodCommand(CLI::App& app) {
                    "Drop modes with sigma <= this (0: off; noise filtering, section 2.3)")
       ->check(NumberIn({0.0}));
   command->add_flag("--no-mean", a->no_mean, "Do not subtract each channel's time mean (eq. 1)");
-  command->add_option("--json", a->json,
-                      "Write the decomposition (U, sigma, lambda, energy) as JSON");
-  command->add_option("-o,--output", a->output, "Write the time modes V as CSV (t,v1..vk)");
+  command
+      ->add_option("--json", a->json, "Write the decomposition (U, sigma, lambda, energy) as JSON")
+      ->check(NonEmptyPath());
+  command->add_option("-o,--output", a->output, "Write the time modes V as CSV (t,v1..vk)")
+      ->check(NonEmptyPath());
   command->callback([a] { RunPod(*a); });
 }
 

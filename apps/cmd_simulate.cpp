@@ -26,8 +26,10 @@ void AddSimulateCommand(CLI::App& app) {
       "(columns t,w1..wN as in the reference data). Exit status 2 if the integration\n"
       "fails; the history up to the failure is still written.");
   args->input.AddTo(*command);
-  command->add_option("-o,--output", args->output,
-                      "Output CSV (default: <case name>_simulated.csv in the current folder)");
+  command
+      ->add_option("-o,--output", args->output,
+                   "Output CSV (default: <case name>_simulated.csv in the current folder)")
+      ->check(NonEmptyPath());
   command->add_flag("--no-noise", args->no_noise, "Ignore the case's [noise] table");
   command->add_flag("--report", args->report, "Print the full simulation report");
   command->callback([args] {

@@ -115,7 +115,18 @@ wavelet::FrequencyGrid GridArguments::Grid(double cap_Hz, const std::string& cap
         "at most " + ToText(wavelet::kMaxFrequencies) + " frequencies (--voices x octaves)",
         ToText(voices) + " x " + ToText(std::log2(top_Hz / fmin_Hz)) + " octaves");
   }
-  return wavelet::FrequencyGrid::Log(fmin_Hz, top_Hz, voices);
+  // One frequency is no grid: the transform runs, but the inverse, the
+  // synchrosqueezing and the ridge's refinement need neighbours, and their
+  // errors would name the library's scalogram instead of these options.
+  const wavelet::FrequencyGrid grid = wavelet::FrequencyGrid::Log(fmin_Hz, top_Hz, voices);
+  if (std::string why; grid.IsValid(&why) && grid.Frequencies_Hz().size() < 2) {
+    ThrowInvalid("--fmin/--fmax/--voices",
+                 "a band of at least 2 frequencies, one step of the grid (1/" + ToText(voices) +
+                     " octave: an upper frequency of at least " +
+                     ToText(fmin_Hz * std::exp2(1.0 / voices)) + " Hz)",
+                 ToText(std::log2(top_Hz / fmin_Hz)) + " octaves, 1 frequency");
+  }
+  return grid;
 }
 
 }  // namespace podid::cli

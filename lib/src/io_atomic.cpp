@@ -156,10 +156,26 @@ bool IsDescriptorNumber(const std::string& name) {
   return true;
 }
 
+/// No write bit for anyone: someone made it read-only. access() alone does not
+/// see it for root (CAP_DAC_OVERRIDE writes through any mode), who would
+/// otherwise replace a 0444 file or write into a 0555 folder.
+bool NoWriteBit(mode_t mode) { return (mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0; }
+
+std::string ModeText(mode_t mode) {
+  char text[8];
+  std::snprintf(text, sizeof text, "%04o", static_cast<unsigned>(mode & 07777));
+  return text;
+}
+
 /// Fails unless `folder` (the resolved folder of `path`) takes new files.
 void CheckFolderWritable(const std::string& path, const std::string& folder) {
   if (::faccessat(AT_FDCWD, folder.c_str(), W_OK | X_OK, AT_EACCESS) != 0) {
     Fail(path, "cannot create a temporary file in " + folder + ": " + std::strerror(errno));
+  }
+  struct stat status {};
+  if (::stat(folder.c_str(), &status) == 0 && NoWriteBit(status.st_mode)) {
+    Fail(path, "cannot create a temporary file in " + folder + ": the folder is read-only (mode " +
+                   ModeText(status.st_mode) + ")");
   }
 }
 
@@ -223,10 +239,14 @@ OutputTarget ResolveOutput(const std::string& path) {
     target.device = status.st_dev;
     target.inode = status.st_ino;
     if (S_ISREG(status.st_mode)) {
-      CheckFolderWritable(path, folder);
+      // The file before its folder: "read-only file" says more than the folder's error.
       if (::faccessat(AT_FDCWD, joined.c_str(), W_OK, AT_EACCESS) != 0) {
         Fail(path, "the file is read-only (" + std::string(std::strerror(errno)) + ")");
       }
+      if (NoWriteBit(status.st_mode)) {
+        Fail(path, "the file is read-only (mode " + ModeText(status.st_mode) + ")");
+      }
+      CheckFolderWritable(path, folder);
     } else {
       target.kind = OutputTarget::Kind::kSpecial;
       if (::faccessat(AT_FDCWD, joined.c_str(), W_OK, AT_EACCESS) != 0) {

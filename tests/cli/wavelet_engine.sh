@@ -84,10 +84,42 @@ grep -q "measured [1-9][0-9]* plan(s) (FFTW_PATIENT)" "$out/plan5" || fail "pati
 "$podid" plan --samples 64 --fs 1000 --fmin 100 --fmax 400 --padding zero --effort patient \
   >"$out/plan6" || fail "second plan --effort patient exited $?"
 grep -q "measured 0 plan(s) (FFTW_PATIENT)" "$out/plan6" || fail "patient again: $(cat "$out/plan6")"
-# An unwritable cache costs speed, never an error.
-XDG_CACHE_HOME=/proc/podid-no-such-dir "$podid" plan --samples 999 --fs 1000 --fmin 20 --fmax 400 \
-  >"$out/plan3" || fail "plan with an unwritable cache exited $?"
-grep -q "wisdom not saved" "$out/plan3" || fail "unwritable cache not reported"
+# The cache is plan's output: one it cannot write is an error (exit 1, on
+# stderr), found before measuring (it used to measure, print "wisdom not
+# saved" on stdout and exit 0). cwt only reads the cache: never an error.
+plan_refused() {  # plan_refused WHAT NEEDLE [env assignments...]
+  local what=$1 needle=$2
+  shift 2
+  env "$@" "$podid" plan --samples 999 --fs 1000 --fmin 20 --fmax 400 >"$out/plan3" 2>"$out/stderr"
+  local rc=$?
+  [ $rc -eq 1 ] || fail "plan, $what: exit $rc, expected 1"
+  grep -q -- "^podid: error: plan: wisdom cache: $needle" "$out/stderr" ||
+    fail "plan, $what: $(cat "$out/stderr")"
+  [ ! -s "$out/plan3" ] || fail "plan, $what: measured before refusing: $(cat "$out/plan3")"
+}
+plan_refused "a cache under /proc" "expected a writable folder" XDG_CACHE_HOME=/proc/podid-no-such-dir
+printf 'x\n' >"$out/cache_file"
+plan_refused "XDG_CACHE_HOME a file" "expected a folder (or a path to create one), got \"$out/cache_file/podid\": $out/cache_file is not a folder" \
+  XDG_CACHE_HOME="$out/cache_file"
+mkdir -p "$out/dir_cache/podid/fftw3-wisdom"
+plan_refused "the wisdom file a folder" "expected a file (or none yet), got \"$out/dir_cache/podid/fftw3-wisdom\", a folder" \
+  XDG_CACHE_HOME="$out/dir_cache"
+plan_refused "no HOME, no XDG_CACHE_HOME" "expected XDG_CACHE_HOME (an absolute path) or HOME set" \
+  -u HOME -u XDG_CACHE_HOME
+# ...and one that fails after measuring (a full disk: RLIMIT_FSIZE 0 with
+# SIGXFSZ ignored, so write() fails with EFBIG) too, on stderr.
+message=$(
+  export XDG_CACHE_HOME="$out/full_cache"
+  ulimit -f 0
+  trap '' XFSZ
+  exec "$podid" plan --samples 999 --fs 1000 --fmin 20 --fmax 400 2>&1 >/dev/null
+)
+rc=$?
+[ $rc -eq 1 ] || fail "plan on a full disk: exit $rc, expected 1 ($message)"
+echo "$message" | grep -q "^podid: error: plan: wisdom not saved to $out/full_cache/podid/fftw3-wisdom: .*plan(s) measured are lost" ||
+  fail "plan on a full disk: $message"
+XDG_CACHE_HOME="$out/cache_file" "$podid" cwt "$data" --channel w6 >/dev/null 2>"$out/stderr" ||
+  fail "cwt with XDG_CACHE_HOME a file exited $?: $(cat "$out/stderr")"
 # A cache file FFTW's own reader would hang on (a FIFO) is ignored, named, replaced.
 mkdir -p "$out/fifo/podid" && mkfifo "$out/fifo/podid/fftw3-wisdom"
 XDG_CACHE_HOME="$out/fifo" timeout 60 "$podid" cwt "$data" --channel w6 >/dev/null ||

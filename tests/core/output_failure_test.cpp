@@ -166,6 +166,39 @@ TEST(SpecialTargets, ReadOnlyFileIsRefused) {
   EXPECT_EQ(dir.Entries(), std::vector<std::string>{"locked.csv"});
 }
 
+TEST(SpecialTargets, NoWriteBitIsRefusedWhoeverWrites) {
+  // Root passes access(W_OK) whatever the mode and replaced a 0444 file, also
+  // through a symlink and in a 0555 folder: the mode bits refuse it now, for
+  // every user (CI runs this as root).
+  const TempDir dir;
+  const std::string folder = dir.File("locked");
+  ASSERT_TRUE(std::filesystem::create_directory(folder));
+  const std::string path = folder + "/precious.csv";
+  Write(path, "precious\n");
+  ASSERT_EQ(::chmod(path.c_str(), 0444), 0);
+  const std::string link = dir.File("link.csv");
+  std::filesystem::create_symlink(path, link);
+  for (const std::string& target : {path, link}) {
+    PODID_EXPECT_THROW_WITH(Write(target, "new\n"), std::runtime_error,
+                            "cannot write " + target + ": the file is read-only");
+  }
+  ASSERT_EQ(::chmod(folder.c_str(), 0555), 0);
+  PODID_EXPECT_THROW_WITH(Write(link, "new\n"), std::runtime_error,
+                          "cannot write " + link + ": the file is read-only");
+  PODID_EXPECT_THROW_WITH(Write(folder + "/new.csv", "new\n"), std::runtime_error,
+                          "cannot write " + folder + "/new.csv: cannot create a temporary file in");
+  PODID_EXPECT_THROW_WITH(ResolveOutput(folder + "/new.csv"), std::runtime_error,
+                          "cannot create a temporary file in");
+  ASSERT_EQ(::chmod(folder.c_str(), 0755), 0);  // for TempDir's removal
+  EXPECT_EQ(ReadText(path), "precious\n");
+  EXPECT_EQ(Sorted(dir.Entries()), (std::vector<std::string>{"link.csv", "locked"}));
+  std::vector<std::string> inside;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    inside.push_back(entry.path().filename().string());
+  }
+  EXPECT_EQ(inside, std::vector<std::string>{"precious.csv"});
+}
+
 TEST(SpecialTargets, FifoIsWrittenInPlace) {
   const TempDir dir;
   const std::string fifo = dir.File("pipe");

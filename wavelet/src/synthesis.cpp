@@ -88,7 +88,9 @@ Eigen::VectorXd InverseCwt(const Scalogram& scalogram) {
            (w(k) * Denormalise(scalogram.wavelet, scalogram.scales_s(k)));
   }
   const double c = ReconstructionConstant(scalogram.wavelet);
-  return sum.real() * (2.0 * scalogram.coefficient_scale / c);
+  // coefficient_scale last: 2 x a scale near the largest double overflowed
+  // (an input of 1e308 came back inf) where the signal itself is finite.
+  return (sum.real() * (2.0 / c)) * scalogram.coefficient_scale;
 }
 
 bool SynchrosqueezeOptions::IsValid(std::string* why) const {
@@ -295,7 +297,8 @@ RidgeTrack TrackSqueezedPath(const SynchrosqueezedTransform& sst,
          l <= std::min<Eigen::Index>(freqs - 1, k + 1); ++l) {
       sum += s.coefficients(j, l);
     }
-    track.amplitude(j) = 2.0 * std::abs(sum) * s.coefficient_scale / c;
+    // coefficient_scale last, as in InverseCwt: no overflow before the result's.
+    track.amplitude(j) = std::abs(sum) * (2.0 / c) * s.coefficient_scale;
     track.inside_coi(j) = s.InsideCoi(j, k);
   }
   // Screening, as TrackRidge screens: where |T| on the path is a negligible
