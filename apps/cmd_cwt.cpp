@@ -249,12 +249,22 @@ void Run(const CwtArguments& a) {
   cwt.padding = wavelet::ParsePadding(a.padding);
   cwt.coi_factor = a.coi_factor;
   cwt.threads = a.threads;
+  // Without a scalogram to write or plot, --synchrosqueeze or --inverse, one ridge is streamed
+  // (RidgeFrequencyEstimator: memory bounded by blocks, about 1 byte per
+  // output cell, instead of 16-32 for the whole transform; the same ridge to
+  // about band_tolerance, tests StreamedRidge.*); --threads >= 2 then runs
+  // the next block's transform beside the ridge's dynamic programme.
+  const bool streamed = a.ridges == 1 && a.scalogram.empty() && a.plot.empty() &&
+                        !a.synchrosqueeze && a.inverse.empty();
   // The transform's budget is for W's 16 bytes a coefficient: the
-  // synchrosqueezed T replaces W, its reassignment field takes 8 more, and
-  // --scalogram copies |W| or |T| (8 more) before writing.
-  const double cell_bytes =
-      16.0 + (a.synchrosqueeze ? 8.0 : 0.0) + (a.scalogram.empty() ? 0.0 : 8.0);
-  cwt.memory_budget_bytes = a.max_memory_MB * 1048576.0 * 16.0 / cell_bytes;
+  // synchrosqueezed T replaces W, its reassignment field takes 8 more,
+  // --scalogram copies |W| or |T| (8 more) before writing, and the ridge
+  // search over the whole transform (FindRidges) holds a cost (8) and a
+  // back-pointer (1-4: 4 counted) a cell. Without the search's 12, 2000
+  // samples x 9500 frequencies under --max-memory 300 peaked at 503 MB.
+  const double cell_bytes = 16.0 + (a.synchrosqueeze ? 8.0 : 0.0) +
+                            (a.scalogram.empty() ? 0.0 : 8.0) + (streamed ? 0.0 : 12.0);
+  cwt.memory_budget_bytes = std::floor(a.max_memory_MB * 1048576.0 * 16.0 / cell_bytes);
   cwt.frequencies = a.grid.Grid();
   options.ridge.method = wavelet::ParseRidgeMethod(a.ridge);
   options.ridge.estimator = wavelet::ParseFrequencyEstimator(a.if_from);
@@ -266,13 +276,6 @@ void Run(const CwtArguments& a) {
   }
 
   // One transform for every signal (same length and step: laid out once).
-  // Without a scalogram to write or plot, --synchrosqueeze or --inverse, one ridge is streamed
-  // (RidgeFrequencyEstimator: memory bounded by blocks, about 1 byte per
-  // output cell, instead of 16-32 for the whole transform; the same ridge to
-  // about band_tolerance, tests StreamedRidge.*); --threads >= 2 then runs
-  // the next block's transform beside the ridge's dynamic programme.
-  const bool streamed = a.ridges == 1 && a.scalogram.empty() && a.plot.empty() &&
-                        !a.synchrosqueeze && a.inverse.empty();
   std::unique_ptr<wavelet::CwtTransform> transform;
   std::unique_ptr<wavelet::RidgeFrequencyEstimator> estimator;
   if (streamed) {
@@ -313,8 +316,8 @@ void Run(const CwtArguments& a) {
         // The budget the transform saw is --max-memory's share for W.
         what += " [--max-memory " + ToText(a.max_memory_MB) + " MB x 16 / " + ToText(cell_bytes) +
                 ": W's share of the " + ToText(cell_bytes) + " bytes a coefficient takes with" +
-                (a.synchrosqueeze ? " --synchrosqueeze" : "") +
-                (a.scalogram.empty() ? "" : " --scalogram") + "]";
+                (a.synchrosqueeze ? " --synchrosqueeze," : "") +
+                (a.scalogram.empty() ? "" : " --scalogram,") + " the ridge search]";
       }
       throw std::invalid_argument(Escaped(label + " of " + a.data + ": ") + what);
     }

@@ -88,31 +88,36 @@ awk 'BEGIN { print "t,x"; for (i = 0; i <= 2000; i++) { t = i / 1000;
 [ "$(wc -l <"$out/tone_sst.csv")" -eq 2002 ] || fail "one tone, two SST ridges: rows"
 awk -F, 'NR > 1 && tolower($5) == "nan" { n++ } END { exit n < 1 }' "$out/tone_sst.csv" \
   || fail "one tone, two SST ridges: no nan row in the second ridge"
-# W (then T in its place) and the reassignment field: 24 bytes a cell
-# (5001 x 115 x 24 = 13.8 MB; W alone 9.2 MB).
-"$podid" cwt "$data" --channel w6 --synchrosqueeze --max-memory 12 2>"$out/stderr"
-[ $? -eq 1 ] || fail "--synchrosqueeze in 12 MB not exit 1"
-grep -q "\[--max-memory 12 MB x 16 / 24: W's share of the 24 bytes a coefficient takes with --synchrosqueeze\]" \
+# W (then T in its place), the reassignment field and the ridge search's
+# cost and back-pointer: 36 bytes a cell for W's 16. W's share, with the
+# filters and FFT buffers, is 10.09 MB (5001 x 115 cells): 22.7 MB (21.6 MiB)
+# in all with --synchrosqueeze, 17.7 MB (16.8 MiB) for W and the search.
+"$podid" cwt "$data" --channel w6 --synchrosqueeze --max-memory 20 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--synchrosqueeze in 20 MB not exit 1"
+grep -q "\[--max-memory 20 MB x 16 / 36: W's share of the 36 bytes a coefficient takes with --synchrosqueeze, the ridge search\]" \
   "$out/stderr" || fail "SST memory message: $(cat "$out/stderr")"
 # The smallest limit: W's share of 1 MB is a budget, not a bad option.
 "$podid" cwt "$data" --channel w6 --synchrosqueeze --scalogram "$out/sc1.csv" --max-memory 1 \
   2>"$out/stderr"
 [ $? -eq 1 ] || fail "--synchrosqueeze --scalogram in 1 MB not exit 1"
-grep -q "\[--max-memory 1 MB x 16 / 32: W's share" "$out/stderr" \
+grep -q "\[--max-memory 1 MB x 16 / 44: W's share" "$out/stderr" \
   || fail "1 MB memory message: $(cat "$out/stderr")"
 [ ! -e "$out/sc1.csv" ] || fail "a refused transform wrote its scalogram"
 # The refusal names this command's options, not the library's fields.
 "$podid" cwt "$data" --channel w6 --ridges 2 --max-memory 1 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--ridges 2 in 1 MB not exit 1"
-grep -q "expected at most 1048576 bytes (--max-memory), got .*a higher --fmin or --band-limited)$" \
+grep -q "expected at most 599186 bytes (--max-memory), got .*a higher --fmin or --band-limited) \[--max-memory 1 MB x 16 / 28: W's share of the 28 bytes a coefficient takes with the ridge search\]$" \
   "$out/stderr" || fail "whole-transform memory message: $(cat "$out/stderr")"
 "$podid" cwt "$data" --channel w6 --max-memory 1 2>"$out/stderr"
 [ $? -eq 1 ] || fail "streamed ridge in 1 MB not exit 1"
 grep -q "(--max-memory), got .*fewer frequencies or --band-limited)$" "$out/stderr" \
   || fail "streamed memory message: $(cat "$out/stderr")"
-"$podid" cwt "$data" --channel w6 --ridges 2 --max-memory 12 >/dev/null || fail "W alone in 12 MB failed"
-"$podid" cwt "$data" --channel w6 --synchrosqueeze --max-memory 16 -o "$out/sst16.csv" >/dev/null \
-  || fail "--synchrosqueeze in 16 MB failed"
+"$podid" cwt "$data" --channel w6 --ridges 2 --max-memory 16 2>/dev/null >/dev/null \
+  && fail "W and the ridge search (16.8 MiB) in 16 MB"
+"$podid" cwt "$data" --channel w6 --ridges 2 --max-memory 17 >/dev/null \
+  || fail "W and the ridge search in 17 MB failed"
+"$podid" cwt "$data" --channel w6 --synchrosqueeze --max-memory 22 -o "$out/sst22.csv" >/dev/null \
+  || fail "--synchrosqueeze in 22 MB failed"
 
 # --inverse: the in-band part of each signal (the inverse CWT). x = a 30 Hz
 # tone plus a 300 Hz one far above the 10-120 Hz grid, y = a 45 Hz tone: the
@@ -139,10 +144,11 @@ head -1 "$out/all.csv" | grep -q '^t,w1_f_Hz,w1_amplitude,w1_inside_coi,w2_f_Hz,
 "$podid" cwt "$data" --channel w3 --band-limited -o "$out/w3.csv" >/dev/null || fail "w3 exited $?"
 [ "$(cut -d, -f2-4 "$out/w3.csv" | tail -n +2)" = "$(cut -d, -f8-10 "$out/all.csv" | tail -n +2)" ] \
   || fail "--channel all's w3 columns differ from --channel w3"
-# The kept ridges are bounded by --max-memory too (6 x 16 x 313 x 64 bytes = 1.8 MB).
-"$podid" cwt "$data" --channel all --ridges 16 --band-limited --max-memory 1 2>"$out/stderr"
-[ $? -eq 1 ] || fail "16 ridges of 6 channels in 1 MB not exit 1"
-grep -q "expected at least 2 MB for 6 channels x 16 ridges x 313 output times, got 1 MB" "$out/stderr" \
+# The kept ridges are bounded by --max-memory too (6 x 16 x 313 x 64 bytes =
+# 1.8 MiB; the transform with its ridge search needs 1.35 MiB of the 1.5).
+"$podid" cwt "$data" --channel all --ridges 16 --band-limited --max-memory 1.5 2>"$out/stderr"
+[ $? -eq 1 ] || fail "16 ridges of 6 channels in 1.5 MB not exit 1"
+grep -q "expected at least 2 MB for 6 channels x 16 ridges x 313 output times, got 1.5 MB" "$out/stderr" \
   || fail "ridge memory message: $(cat "$out/stderr")"
 "$podid" cwt "$data" --channel all --plot "$out/all.png" 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--channel all --plot not exit 1"
@@ -293,4 +299,24 @@ done
 "$podid" cwt "$out/tone300.csv" --channel x --if bogus 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--if bogus not exit 1"
 grep -q 'expected one of phase, scale, got "bogus"' "$out/stderr" || fail "--if bogus message"
+# --max-memory bounds the process: the ridge search over the whole transform
+# (a cost and a back-pointer a cell) counts. 2000 samples x 9500 frequencies
+# with --ridges 2 passed a 300 MB limit and peaked at 503 MB; W and the search
+# need 2000 x 9500 x 28 bytes = 507 MB. Peak RSS of the child, in MiB; the
+# allowance is the refused run's own peak (the process without a transform).
+awk 'BEGIN { print "t,a"; for (i = 0; i < 2000; i++) { t = i / 1000
+  printf "%.6f,%.12f\n", t, sin(2 * 3.141592653589793 * 50 * t) } }' >"$out/mem.csv"
+peak_mb() {
+  python3 -c 'import resource, subprocess, sys
+r = subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+print(r.returncode, int(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024))' "$@"
+}
+read -r rc base <<<"$(peak_mb "$podid" cwt "$out/mem.csv" --channel a --fmin 10 --fmax 200 \
+  --bins 9500 --ridges 2 --max-memory 300)"
+[ "$rc" -eq 1 ] || fail "--bins 9500 --ridges 2 in 300 MB not exit 1 (exit $rc)"
+read -r rc peak <<<"$(peak_mb "$podid" cwt "$out/mem.csv" --channel a --fmin 10 --fmax 200 \
+  --bins 9500 --ridges 2 --max-memory 520)"
+[ "$rc" -eq 0 ] || fail "--bins 9500 --ridges 2 in 520 MB exited $rc"
+[ "$peak" -le $((520 + base)) ] || fail "--max-memory 520: peak $peak MB (process alone $base MB)"
+
 echo "cli.cwt: ok"
