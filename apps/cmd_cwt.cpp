@@ -228,10 +228,14 @@ void Run(const CwtArguments& a) {
                                          {"--plot", a.plot}});
   const TimeSeries series = a.reading.ReadConditioned(a.data);
   const auto signals = SelectSignals(a, series);
-  const bool several = signals.size() > 1;
+  // --channel all, whatever the count left after the constant channels: the
+  // CSV's columns then always name their channel (one analysed channel wrote
+  // plain `f_Hz` columns before, and took --scalogram and --plot).
+  const bool several = a.channel == "all";
   if (several && (!a.scalogram.empty() || !a.plot.empty())) {
     ThrowInvalid("cwt --scalogram/--plot", "a single --channel or --pom",
-                 "--channel all (" + ToText(signals.size()) + " channels)");
+                 "--channel all (" + ToText(signals.size()) + " channel" +
+                     (signals.size() == 1 ? "" : "s") + " analysed)");
   }
   const double step_s = series.step_s();
   const double t0_s = series.time_s(0);
@@ -350,7 +354,9 @@ void Run(const CwtArguments& a) {
     }
     if (c == 0) {
       std::printf("podid cwt: %s of %s: %ld samples, step %.6g s (fs %.6g Hz)\n",
-                  several ? ("all " + ToText(signals.size()) + " channels").c_str()
+                  several ? ("all " + ToText(signals.size()) + " channel" +
+                             (signals.size() == 1 ? " analysed" : "s"))
+                                .c_str()
                           : label.c_str(),
                   a.data.c_str(), static_cast<long>(signal.size()), step_s, 1.0 / step_s);
       std::printf("%s (%s), %ld frequencies %.6g-%.6g Hz (%s), %s padding%s\n",

@@ -236,6 +236,18 @@ awk -F, 'NR == 1 { print $0 ",dead"; next } { print $0 ",0" }' "$data" >"$out/de
 grep -q "note: --channel all: 1 constant channel skipped (no ridge): dead$" "$out/dead_err" \
   || fail "no note on the dead channel: $(cat "$out/dead_err")"
 grep -q "dead" "$out/dead_r.csv" && fail "the dead channel is in the ridge CSV"
+# --channel all with one channel left still names it, and still excludes
+# --scalogram and --plot (they were taken, and the columns were bare f_Hz).
+cut -d, -f1,2 "$data" >"$out/one.csv"
+awk -F, 'NR == 1 { print $0 ",dead"; next } { print $0 ",0" }' "$out/one.csv" >"$out/one_dead.csv"
+"$podid" cwt "$out/one_dead.csv" --channel all -o "$out/one_r.csv" >/dev/null 2>&1 \
+  || fail "cwt --channel all with one live channel exited $?"
+head -1 "$out/one_r.csv" | grep -q "^t,w1_f_Hz,w1_amplitude,w1_inside_coi$" \
+  || fail "one live channel's header: $(head -1 "$out/one_r.csv")"
+"$podid" cwt "$out/one_dead.csv" --channel all --scalogram "$out/one_sc.csv" 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--channel all --scalogram with one live channel not exit 1"
+grep -q "(1 channel analysed)" "$out/stderr" || fail "one-channel all message: $(cat "$out/stderr")"
+[ ! -e "$out/one_sc.csv" ] || fail "a refused --channel all wrote its scalogram"
 "$podid" cwt "$out/dead.csv" --channel dead >/dev/null 2>"$out/dead_err"
 [ $? -eq 1 ] || fail "a constant --channel: expected exit 1"
 grep -q "^podid: error: dead of $out/dead.csv: .*non-constant" "$out/dead_err" \
