@@ -133,7 +133,6 @@ OutsideGrid CountOutsideGrid(const wavelet::RidgeTrack& track, const Eigen::Vect
   return out;
 }
 
-// Prints the IF statistics of one ridge inside the cone of influence.
 // A transform's memory error in this command's options: the library names its
 // fields (CwtOptions::memory_budget_bytes, min_frequency_Hz, band_limited).
 std::string MemoryErrorInOptionNames(std::string what) {
@@ -146,6 +145,7 @@ std::string MemoryErrorInOptionNames(std::string what) {
   return what;
 }
 
+// Prints the IF statistics of one ridge inside the cone of influence.
 void PrintRidge(const wavelet::RidgeTrack& track, double coi_factor, const std::string& prefix) {
   double lo = INFINITY, hi = -INFINITY;
   Eigen::Index first = -1, last = -1, inside = 0;
@@ -250,7 +250,7 @@ void Run(const CwtArguments& a) {
   wavelet::CwtOptions& cwt = options.cwt;
   cwt.band_limited = a.band_limited;
   a.wavelet.ApplyTo(&cwt.wavelet);
-  cwt.padding = wavelet::ParsePadding(a.padding);
+  cwt.padding = ParseOption("--padding", a.padding, wavelet::ParsePadding);
   cwt.coi_factor = a.coi_factor;
   cwt.threads = a.threads;
   // Without a scalogram to write or plot, --synchrosqueeze or --inverse, one ridge is streamed
@@ -270,8 +270,8 @@ void Run(const CwtArguments& a) {
                             (a.scalogram.empty() ? 0.0 : 8.0) + (streamed ? 0.0 : 12.0);
   cwt.memory_budget_bytes = std::floor(a.max_memory_MB * 1048576.0 * 16.0 / cell_bytes);
   cwt.frequencies = a.grid.Grid();
-  options.ridge.method = wavelet::ParseRidgeMethod(a.ridge);
-  options.ridge.estimator = wavelet::ParseFrequencyEstimator(a.if_from);
+  options.ridge.method = ParseOption("--ridge", a.ridge, wavelet::ParseRidgeMethod);
+  options.ridge.estimator = ParseOption("--if", a.if_from, wavelet::ParseFrequencyEstimator);
   options.ridge.penalty_s = a.penalty_s;
   options.ridge.ridges = a.ridges;
   std::string why;

@@ -110,7 +110,7 @@ void Run(const PlanArguments& a) {
       for (const std::string& padding : paddings) {
         wavelet::CwtOptions options;
         options.wavelet = psi;
-        options.padding = wavelet::ParsePadding(padding);
+        options.padding = ParseOption("--padding", padding, wavelet::ParsePadding);
         options.frequencies = a.grid.Grid(
             0.5 / step, "the Nyquist frequency of a record of step " + ToText(step) + " s");
         std::string why;

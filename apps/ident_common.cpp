@@ -1,5 +1,6 @@
 #include "ident_common.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -27,7 +28,7 @@ void ObjectiveArguments::AddTo(CLI::App& command) {
                    "Compare with the measured singular values as they are, also when --modes > 1")
       ->excludes(corrected);
   command.add_option("--mode-band", mode_bands,
-                     "Ridge band of mode K >= 2 (repeatable; default: the --fmin..--fmax width in octaves "
+                     "Ridge band of mode K >= 2 (repeatable, each K once, HIGH <= Nyquist; default: the --fmin..--fmax width in octaves "
                      "centred on the mode's spectral peak)")
       ->type_name("K=LOW:HIGH");
   command
@@ -101,9 +102,34 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
     }
     const auto k = static_cast<std::size_t>(mode);
     if (options.mode_bands.size() < k) options.mode_bands.resize(k);
+    if (!options.mode_bands[k - 1].follow()) {  // the later one silently won
+      ThrowInvalid("--mode-band", "each mode K at most once",
+                   "mode " + ToText(mode) + " twice (" + Excerpt(band) + ")");
+    }
     options.mode_bands[k - 1] = {low, high};
   }
   CheckBand(fmin_Hz, fmax_Hz);
+  // The library would refuse a band above Nyquist in its field names
+  // ("Cwt: frequencies.max_frequency_Hz"); only the wavelet term reads it.
+  const double nyquist_Hz = 0.5 / data.step_s();
+  const bool ridges =
+      std::any_of(options.weightings.begin(), options.weightings.end(),
+                  [](const ident::NamedObjective& o) { return o.weights.NeedsRidges(); });
+  if (ridges && fmax_Hz > nyquist_Hz) {
+    ThrowInvalid("--fmax",
+                 "at most the measured data's Nyquist frequency, " + ToText(nyquist_Hz) +
+                     " Hz (step " + ToText(data.step_s()) + " s)",
+                 ToText(fmax_Hz) + " Hz");
+  }
+  for (std::size_t k = 0; ridges && k < options.mode_bands.size(); ++k) {
+    if (!options.mode_bands[k].follow() && options.mode_bands[k].max_Hz > nyquist_Hz) {
+      ThrowInvalid(
+          "--mode-band",
+          "HIGH at most the measured data's Nyquist frequency, " + ToText(nyquist_Hz) + " Hz",
+          ToText(k + 1) + "=" + ToText(options.mode_bands[k].min_Hz) + ":" +
+              ToText(options.mode_bands[k].max_Hz));
+    }
+  }
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin_Hz;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax_Hz;
   options.ridge.ridge.penalty_s = penalty_s;

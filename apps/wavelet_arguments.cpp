@@ -9,24 +9,6 @@
 #include "podid/core/error.hpp"
 
 namespace podid::cli {
-namespace {
-
-// The library's parse of a name, its message naming the option ("--wavelet:
-// expected one of morlet, morse, got ...") instead of the field.
-template <typename Parse>
-auto ParseOption(const char* option, const std::string& text, Parse parse) {
-  try {
-    return parse(text);
-  } catch (const std::invalid_argument& e) {
-    const std::string message = e.what();
-    const std::size_t colon = message.find(": ");
-    throw std::invalid_argument(
-        option + (colon == std::string::npos ? ": " + message : message.substr(colon)));
-  }
-}
-
-}  // namespace
-
 void WaveletArguments::AddTo(CLI::App& command, const std::string& what) {
   command
       .add_option("--wavelet", family,

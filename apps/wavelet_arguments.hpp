@@ -7,11 +7,26 @@
 #include <CLI/CLI.hpp>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "podid/wavelet/cwt.hpp"
 
 namespace podid::cli {
+
+/// The library's parse of a name, its message naming the option ("--padding:
+/// expected one of reflect, zero, periodic, got ...") instead of its field.
+template <typename Parse>
+auto ParseOption(const char* option, const std::string& text, Parse parse) {
+  try {
+    return parse(text);
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    const std::size_t colon = message.find(": ");
+    throw std::invalid_argument(
+        option + (colon == std::string::npos ? ": " + message : message.substr(colon)));
+  }
+}
 
 struct WaveletArguments {
   std::string family = "morlet";

@@ -104,4 +104,27 @@ if (ulimit -v 400000; "$podid" --version) >/dev/null 2>&1; then
   grep -q "^podid: error: out of memory: " "$out/stderr" || fail "out of memory: $(cat "$out/stderr")"
 fi
 
+# Option names, not the library's fields: a band above the measured data's
+# Nyquist frequency was "Cwt: frequencies.max_frequency_Hz: ..."; a repeated
+# --mode-band silently kept the later one; cwt's names were "padding:",
+# "ridge method:", "frequency estimator:".
+expect 1 "--fmax: expected at most the measured data's Nyquist frequency, 2500 Hz (step 0.0002 s), got 3000 Hz" -- \
+  identify "$case_file" -m "$measured" --objective wavelet --fmax 3000
+expect 1 "--fmax: expected at most the measured data's Nyquist" -- \
+  landscape "$case_file" -m "$measured" --param knl --range 40:60:5 --objective wavelet --fmax 3000
+expect 1 "--mode-band: expected HIGH at most the measured data's Nyquist frequency, 2500 Hz, got 2=10:3000" -- \
+  identify "$case_file" -m "$measured" --objective wavelet --modes 2 --mode-band 2=10:3000
+expect 1 '--mode-band: expected each mode K at most once, got mode 2 twice ("2=20:100")' -- \
+  identify "$case_file" -m "$measured" --objective wavelet --modes 2 --mode-band 2=10:100 \
+  --mode-band 2=20:100
+# Without a wavelet term --fmax is not read: no Nyquist check.
+"$podid" identify "$case_file" -m "$measured" --objective full --fmax 3000 --max-evaluations 1 \
+  >/dev/null 2>&1 || fail "identify --objective full with --fmax 3000 exited $?"
+expect 1 '--padding: expected one of reflect, zero, periodic, got "foo"' -- \
+  cwt "$measured" --channel w1 --padding foo
+expect 1 '--ridge: expected one of max, penalised, got "foo"' -- cwt "$measured" --channel w1 --ridge foo
+expect 1 '--if: expected one of phase, scale, got "foo"' -- cwt "$measured" --channel w1 --if foo
+expect 1 '--samples 100: --padding: expected one of reflect, zero, periodic, got "foo"' -- \
+  plan --samples 100 --fs 1000 --padding foo
+
 echo "hostile inputs: ok"
