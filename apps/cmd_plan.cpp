@@ -82,6 +82,10 @@ void Run(const PlanArguments& a) {
     ThrowInvalid("plan --fs", "--samples N (the record lengths at that frequency) as well",
                  "no --samples");
   }
+  if (a.data.empty() && !a.reading.FirstGiven().empty()) {  // it was silently ignored
+    ThrowInvalid("plan " + a.reading.FirstGiven(), "DATA files to read and condition with it",
+                 "--samples alone (give the conditioned records' lengths and --fs instead)");
+  }
   for (const std::string& path : a.data) {
     const TimeSeries series = a.reading.ReadConditioned(path);
     records.push_back({static_cast<long>(series.samples()), series.step_s(), path});

@@ -36,7 +36,15 @@ std::string Number(double x) {
 
 }  // namespace
 
+std::string DataArguments::FirstGiven() const {
+  for (const CLI::Option* option : added_) {
+    if (option->count() > 0) return option->get_name();
+  }
+  return "";
+}
+
 void DataArguments::AddTo(CLI::App& command, const std::string& prefix) {
+  const std::size_t before = command.get_options().size();
   prefix_ = prefix;
   const std::string p = "--" + prefix;
   command.add_option(p + "variable", variable,
@@ -80,6 +88,8 @@ void DataArguments::AddTo(CLI::App& command, const std::string& prefix) {
           "new Nyquist frequency)")
       ->capture_default_str()
       ->check(IntegerIn(1, kMaxDecimation));
+  const auto all = command.get_options();
+  added_.assign(all.begin() + static_cast<std::ptrdiff_t>(before), all.end());
 }
 
 std::vector<std::string> DataArguments::ChannelList() const {

@@ -42,6 +42,9 @@ struct DataArguments {
   /// identify and landscape pass the command line to the case this way, so
   /// the measured and the simulated signals are conditioned alike.
   std::vector<std::string> CaseSets(const std::string& path) const;
+  /// The first of these options given on the command line ("--decimate"), or
+  /// "" for none: plan refuses them without a DATA file to apply them to.
+  std::string FirstGiven() const;
 
  private:
   std::vector<std::string> ChannelList() const;
@@ -51,6 +54,7 @@ struct DataArguments {
   CLI::Option* highpass_option_ = nullptr;
   CLI::Option* bandpass_option_ = nullptr;
   CLI::Option* order_option_ = nullptr;
+  std::vector<const CLI::Option*> added_;  // every option AddTo added, in order
   std::string prefix_;
 };
 

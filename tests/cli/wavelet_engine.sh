@@ -26,6 +26,15 @@ ls "$out/cache/podid" | grep -qv '^fftw3-wisdom$' && fail "temporary files left 
 grep -q "expected --fs HZ" "$out/stderr" || fail "--fs message"
 "$podid" plan --samples 3 --fs 100 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--samples 3 not exit 1"
+# The data options condition DATA files: with --samples alone they were
+# silently ignored (the same plans as without them).
+for option in "--decimate 4" "--window 0:1" "--rate 5" "--variable x"; do
+  # shellcheck disable=SC2086
+  "$podid" plan --samples 64 --fs 1000 $option 2>"$out/stderr"
+  [ $? -eq 1 ] || fail "plan --samples with $option not exit 1"
+  grep -q "plan ${option% *}: expected DATA files to read and condition with it, got --samples alone" \
+    "$out/stderr" || fail "plan --samples with $option: $(cat "$out/stderr")"
+done
 # A given --fs must be a finite rate > 0 (-5 was reported as "no --fs", inf
 # as an internal step_s of 0) whose step is finite (1e-320: step inf) and
 # within the transforms' steps, 1e-15 .. 1e15 s; --fs without --samples
