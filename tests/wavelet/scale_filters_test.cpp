@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 namespace podid::wavelet {
@@ -96,8 +97,14 @@ TEST(ScaleFilters, GeneratedValuesDoNotDependOnTheChunks) {
 // default band, 1e-12 of the peak, reaches 7.43); further down the start's
 // rounding of t (half an ulp of 32, 3.6e-15) shifts the Gaussian and costs
 // |t| 3.6e-15 of a value: kTailTolerance = 1e-13 + 32 x 4e-15 = 2.3e-13.
-// Seen: 6.0e-14 within t >= -8, 1.1e-13 below.
+// Both beyond the conditioning of a Gaussian at a rounded t (below), which
+// the long double reference does not share, and with kFromZeroTolerance for
+// the band: from t = -32 a coarse grid runs its recurrence far from an exact
+// start. Measured beyond the conditioning: AVX-512 clone 6e-14; the SSE2
+// clone (the sanitizer build: other roundings, no FMA) 1.2e-13 at centre
+// 100, step 0.3 (132 bins from t = -32 to the peak), so 2e-13.
 TEST(ScaleFilters, GeneratedFromBinZeroForEveryOmega0) {
+  constexpr double kFromZeroTolerance = 2e-13;
   constexpr double kTailTolerance = 2.3e-13;
   for (double centre : {6.0, 34.0, 37.6, 37.7, 40.0, 60.0, 100.0}) {
     // Steps of 1 to 3000 bins per unit of t; bands to t = +7.5.
@@ -117,13 +124,21 @@ TEST(ScaleFilters, GeneratedFromBinZeroForEveryOmega0) {
           continue;
         }
         ASSERT_GT(want, 0.0);
-        const double error = std::abs(got - want) / want;
+        // Beyond the recurrence's own roundings, the generator's t = c b -
+        // centre is a double (the reference's a long double): |dt| <= 2 eps
+        // (|c b| + centre), and the Gaussian's relative change is |t dt|.
+        // That conditioning grows with the centre: 1.3e-13 at t = -8 for
+        // centre 100 on the SSE2 clone (1.1e-13 of it the rounded t).
+        const double conditioning = std::abs(t) * 2.0 * std::numeric_limits<double>::epsilon() *
+                                    (std::abs(t) + 2.0 * centre);
+        const double error = std::abs(got - want) / want - conditioning;
         (t >= -8.0 ? worst_band : worst_tail) =
             std::max(t >= -8.0 ? worst_band : worst_tail, error);
       }
-      EXPECT_LE(worst_band, kGeneratedTolerance) << "centre " << centre << " step " << step;
+      EXPECT_LE(worst_band, kFromZeroTolerance) << "centre " << centre << " step " << step;
       EXPECT_LE(worst_tail, kTailTolerance) << "centre " << centre << " step " << step;
-      std::printf("centre %5.1f step %.3g: %lld bins, worst %.2g (t >= -8), %.2g (t < -8)\n",
+      std::printf("centre %5.1f step %.3g: %lld bins, worst %.2g (t >= -8), %.2g (t < -8) "
+                  "beyond the conditioning\n",
                   centre, step, n, worst_band, worst_tail);
     }
   }
