@@ -131,7 +131,6 @@ void Run(const PlanArguments& a) {
   }
   const wavelet::PlanEffort effort =
       a.effort == "patient" ? wavelet::PlanEffort::kPatient : wavelet::PlanEffort::kMeasure;
-  const wavelet::PlanSummary summary = wavelet::MeasureFftPlans(lengths, effort);
   std::string list;
   for (int n : lengths.real_forward) list += (list.empty() ? "" : ", ") + ToText(n) + " real";
   for (int n : lengths.complex_forward) list += ", " + ToText(n) + " complex forward";
@@ -139,7 +138,11 @@ void Run(const PlanArguments& a) {
   for (const auto& [m, d] : lengths.interleaved_backward) {
     list += ", " + ToText(d) + " x " + ToText(m) + " complex";
   }
+  // Before measuring, flushed: at 2^26 samples the measurement takes minutes
+  // (over 90 s), which looked like a hang with nothing printed.
   std::printf("podid plan: FFT lengths %s\n", list.c_str());
+  std::fflush(stdout);
+  const wavelet::PlanSummary summary = wavelet::MeasureFftPlans(lengths, effort);
   std::printf("measured %d plan(s) (FFTW_%s) in %.3g s, %d already measured\n", summary.measured,
               effort == wavelet::PlanEffort::kPatient ? "PATIENT" : "MEASURE", summary.seconds,
               summary.known);
