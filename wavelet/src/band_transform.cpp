@@ -40,14 +40,6 @@ PODID_CLONES_V3 double WeightedSum(const double* a, const double* w, Eigen::Inde
   return sum;
 }
 
-// The even extension's index: m mirrored at 0 and n - 1 (period 2n - 2).
-Eigen::Index Mirror(Eigen::Index m, Eigen::Index n) {
-  const Eigen::Index period = 2 * n - 2;
-  m %= period;
-  if (m < 0) m += period;
-  return m < n ? m : period - m;
-}
-
 // A block's inverse length at least this many times its two overlaps: the
 // overlap then costs at most 1/4 of the transform. Not more: shorter blocks
 // keep a block's costs (times x frequencies) nearer the cache, which paid
@@ -56,10 +48,6 @@ Eigen::Index Mirror(Eigen::Index m, Eigen::Index n) {
 constexpr Eigen::Index kOverlapShare = 4;
 
 }  // namespace
-
-double SupportRadius(double time_spread, bool morse, double band_tolerance) {
-  return (morse ? 1.5 : 1.0) * 2.0 * time_spread * std::sqrt(std::log(1.0 / band_tolerance));
-}
 
 BandTransform::BandTransform(const CwtOptions& options)
     : options_(options), reference_(options) {

@@ -20,14 +20,11 @@
 #include <complex>
 #include <vector>
 
+#include "extent.hpp"
 #include "fftw_plans.hpp"
 #include "podid/wavelet/cwt.hpp"
 
 namespace podid::wavelet::internal {
-
-/// The Gaussian envelope's half-width in units of the scale beyond which it
-/// is below band_tolerance (Morse: 1.5 times its own, being only nearly Gaussian).
-double SupportRadius(double time_spread, bool morse, double band_tolerance);
 
 class BandTransform {
  public:

@@ -12,7 +12,7 @@
 #include <thread>
 #include <vector>
 
-#include "cone.hpp"
+#include "extent.hpp"
 #include "fftw_plans.hpp"
 #include "full_rate.hpp"
 #include "huge_pages.hpp"
@@ -40,22 +40,6 @@ bool Fail(std::string* why, std::string message) {
 // coi_factor 1). The band tolerance's 7.43 s instead would pad the objective's
 // 5001-sample record to 12288 points, not 10240: 5-10 % per evaluation.
 constexpr double kReflectJumpWeight = 1e-6;
-
-// Time-domain half-width of the wavelet at scale s, in units of s: Morlet's
-// Gaussian envelope falls below band_tolerance beyond 2 sigma_t sqrt(ln(1 /
-// tolerance)) = sqrt(2 ln(1 / tolerance)); a Morse envelope is only nearly
-// Gaussian, so it gets 1.5 times its own. Used for the padding length only.
-double SupportRadius(double time_spread, bool morse, double band_tolerance) {
-  return (morse ? 1.5 : 1.0) * 2.0 * time_spread * std::sqrt(std::log(1.0 / band_tolerance));
-}
-
-// The even extension's index: m mirrored at 0 and N - 1 (period 2N - 2).
-Eigen::Index Mirror(Eigen::Index m, Eigen::Index n) {
-  const Eigen::Index period = 2 * n - 2;
-  m %= period;
-  if (m < 0) m += period;
-  return m < n ? m : period - m;
-}
 
 // The sizes one Compute() allocates for a layout, before allocating them.
 struct Sizes {
@@ -138,9 +122,13 @@ void CwtTransform::Impl::Band(Eigen::Index k, Eigen::Index p, double step, Eigen
 // Every length and count of a layout, from closed forms (nothing allocated).
 Sizes CwtTransform::Impl::Plan(Eigen::Index samples, double step) const {
   Sizes z;
-  const double radius = SupportRadius(
-      time_spread, options.wavelet.family == WaveletFamily::kMorse, options.band_tolerance);
-  const double support = std::ceil(radius * scales_s.maxCoeff() / step);
+  const bool morse = options.wavelet.family == WaveletFamily::kMorse;
+  // In samples at the lowest frequency, at a tolerance (of the envelope's peak).
+  const auto support_at = [&](double tolerance) {
+    return std::ceil(internal::SupportRadius(time_spread, morse, tolerance) * scales_s.maxCoeff() /
+                     step);
+  };
+  const double support = support_at(options.band_tolerance);
   const double nd = static_cast<double>(samples);
   switch (options.padding) {
     case Padding::kReflect: {
@@ -152,11 +140,7 @@ Sizes CwtTransform::Impl::Plan(Eigen::Index samples, double step) const {
       // jump 1.1 s from the data, 2.7e-2 of max |W| inside the cone for 1001
       // samples at 5 kHz down to 10 Hz (docs/wavelet.md, "Algorithm and padding").
       const double period = 2.0 * nd - 2.0;
-      const double needed =
-          nd + 2.0 * std::ceil(SupportRadius(time_spread,
-                                             options.wavelet.family == WaveletFamily::kMorse,
-                                             kReflectJumpWeight) *
-                               scales_s.maxCoeff() / step);
+      const double needed = nd + 2.0 * support_at(kReflectJumpWeight);
       const long long fast =
           needed <= 2.0 * period ? internal::FastFftLength(static_cast<long long>(needed)) : 0;
       z.p = fast != 0 && static_cast<double>(fast) <= 2.0 * period
@@ -334,8 +318,8 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
     for (Eigen::Index i = 0; i < n; ++i) x[i] -= mean;
   }
   if (s.options.padding == Padding::kReflect) {
-    for (Eigen::Index i = n; i < n + s.r; ++i) x[i] = x[Mirror(i, n)];
-    for (Eigen::Index i = n + s.r; i < s.p; ++i) x[i] = x[Mirror(i - s.p, n)];
+    for (Eigen::Index i = n; i < n + s.r; ++i) x[i] = x[internal::Mirror(i, n)];
+    for (Eigen::Index i = n + s.r; i < s.p; ++i) x[i] = x[internal::Mirror(i - s.p, n)];
   } else if (s.options.padding == Padding::kZero) {
     std::fill(x + n, x + s.p, 0.0);
   }

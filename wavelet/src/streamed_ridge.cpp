@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "band_transform.hpp"
-#include "cone.hpp"
+#include "extent.hpp"
 #include "podid/core/error.hpp"
 #include "podid/wavelet/ridge.hpp"
 #include "ridge_cost.hpp"
