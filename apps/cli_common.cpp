@@ -1,13 +1,9 @@
 #include "cli_common.hpp"
 
-#include <fcntl.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
@@ -128,17 +124,11 @@ void CheckOutputFolder(const NamedFile& folder) {
     ThrowInvalid(folder.what, "a folder (or a path to create one)",
                  "\"" + folder.path + "\": " + existing.string() + " is not a folder");
   }
-  if (::faccessat(AT_FDCWD, existing.c_str(), W_OK | X_OK, AT_EACCESS) != 0) {
+  // As ResolveOutput judges a file's folder (a 0555 one is read-only for root too).
+  const std::string why = FolderNotWritable(existing.string());
+  if (!why.empty()) {
     ThrowInvalid(folder.what, "a writable folder",
-                 "\"" + folder.path + "\": " + existing.string() + ": " + std::strerror(errno));
-  }
-  // Root passes access() whatever the mode: a folder with no write bit is
-  // read-only for root too (as ResolveOutput judges the files).
-  struct stat status {};
-  if (::stat(existing.c_str(), &status) == 0 &&
-      (status.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0) {
-    ThrowInvalid(folder.what, "a writable folder",
-                 "\"" + folder.path + "\": " + existing.string() + " is read-only");
+                 "\"" + folder.path + "\": " + existing.string() + ": " + why);
   }
 }
 

@@ -169,17 +169,22 @@ std::string ModeText(mode_t mode) {
 
 /// Fails unless `folder` (the resolved folder of `path`) takes new files.
 void CheckFolderWritable(const std::string& path, const std::string& folder) {
-  if (::faccessat(AT_FDCWD, folder.c_str(), W_OK | X_OK, AT_EACCESS) != 0) {
-    Fail(path, "cannot create a temporary file in " + folder + ": " + std::strerror(errno));
-  }
-  struct stat status {};
-  if (::stat(folder.c_str(), &status) == 0 && NoWriteBit(status.st_mode)) {
-    Fail(path, "cannot create a temporary file in " + folder + ": the folder is read-only (mode " +
-                   ModeText(status.st_mode) + ")");
-  }
+  const std::string why = FolderNotWritable(folder);
+  if (!why.empty()) Fail(path, "cannot create a temporary file in " + folder + ": " + why);
 }
 
 }  // namespace
+
+std::string FolderNotWritable(const std::string& folder) {
+  if (::faccessat(AT_FDCWD, folder.c_str(), W_OK | X_OK, AT_EACCESS) != 0) {
+    return std::strerror(errno);
+  }
+  struct stat status {};
+  if (::stat(folder.c_str(), &status) == 0 && NoWriteBit(status.st_mode)) {
+    return "the folder is read-only (mode " + ModeText(status.st_mode) + ")";
+  }
+  return "";
+}
 
 OutputTarget ResolveOutput(const std::string& path) {
   namespace fs = std::filesystem;

@@ -146,6 +146,13 @@ struct OutputTarget {
 /// or std::invalid_argument for an empty path or one ending in '/'.
 OutputTarget ResolveOutput(const std::string& path);
 
+/// Why the existing folder `folder` takes no new files: access() refuses it
+/// (strerror), or it has no write bit ("the folder is read-only (mode
+/// 0555)": read-only for root too, whom access() lets through); "" when it
+/// takes them. ResolveOutput's check of a file's folder, and the CLI's of an
+/// output folder.
+std::string FolderNotWritable(const std::string& folder);
+
 /// Writes a file: `write` fills a stream; the target is ResolveOutput(path).
 ///  * kFile: atomically. The stream goes to a temporary in the target's own
 ///    folder ("<folder>/.<name>.tmp-<pid>-<n>", O_EXCL, registered for removal
