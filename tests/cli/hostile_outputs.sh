@@ -30,13 +30,7 @@ before=$(sums)
 expect_refused() {
   local what="$1"
   shift
-  "$podid" "$@" >stdout 2>stderr
-  local rc=$?
-  [ $rc -eq 1 ] || fail "$what: exit $rc, expected 1 ($(cat stderr))"
-  [ "$(wc -l <stderr)" -eq 1 ] || fail "$what: not one line: $(cat stderr)"
-  grep -q "^podid: error: .*the same file" stderr || fail "$what: message: $(cat stderr)"
-  [ ! -s stdout ] || fail "$what: computed before refusing: $(head -2 stdout)"
-  [ "$(sums)" = "$before" ] || fail "$what: an input changed"
+  cli_refused "$what" "^podid: error: .*the same file" "$@"
 }
 
 expect_refused "simulate -o case" simulate case.toml -o case.toml

@@ -35,13 +35,7 @@ before=$(sums)
 refused() {
   local needle="$1"
   shift
-  "$podid" "$@" >stdout 2>stderr
-  local rc=$?
-  [ $rc -eq 1 ] || fail "$*: exit $rc, expected 1 ($(cat stderr))"
-  [ "$(wc -l <stderr)" -eq 1 ] || fail "$*: not one line: $(cat stderr)"
-  grep -q -- "^podid: error: $needle" stderr || fail "$*: message: $(cat stderr)"
-  [ ! -s stdout ] || fail "$*: computed before refusing: $(head -2 stdout)"
-  [ "$(sums)" = "$before" ] || fail "$*: a read-only file changed"
+  cli_refused "$*" "^podid: error: $needle" "$@"
   [ "$(ls -A rodir)" = precious.csv ] || fail "$*: wrote in the read-only folder: $(ls -A rodir)"
   return 0
 }

@@ -30,3 +30,20 @@ cli_realdata() {
     exit 77
   fi
 }
+
+# cli_refused LABEL PATTERN COMMAND...: "$podid" COMMAND exits 1 with one line
+# on stderr matching the grep pattern PATTERN, prints nothing on stdout
+# (nothing was computed before refusing), and the caller's `sums` (checksums
+# of the files that must stay intact) still prints $before. Run in the
+# caller's folder: it writes ./stdout and ./stderr.
+cli_refused() {
+  local label="$1" pattern="$2"
+  shift 2
+  "$podid" "$@" >stdout 2>stderr
+  local rc=$?
+  [ $rc -eq 1 ] || fail "$label: exit $rc, expected 1 ($(cat stderr))"
+  [ "$(wc -l <stderr)" -eq 1 ] || fail "$label: not one line: $(cat stderr)"
+  grep -q -- "$pattern" stderr || fail "$label: message: $(cat stderr)"
+  [ ! -s stdout ] || fail "$label: computed before refusing: $(head -2 stdout)"
+  [ "$(sums)" = "$before" ] || fail "$label: a file that must stay intact changed"
+}
