@@ -133,7 +133,8 @@ double Reach(const Eigen::VectorXd& x) {
 }
 // The largest cost lambda (x_q - x_p)^2 a jump can have.
 double LargestJumpCost(const Eigen::VectorXd& x, double lambda) {
-  return lambda * Reach(x) * Reach(x);
+  const double reach = Reach(x);
+  return lambda * reach * reach;
 }
 }  // namespace
 
