@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -32,7 +33,7 @@ struct PlanArguments {
   // As cwt reads DATA (--rate / --step for a file without time, --window,
   // --decimate...): the same record length and step, so the same plans.
   DataArguments reading;
-  std::vector<long> samples;
+  std::vector<std::string> samples;  // each occurrence's N[,N...], read by ParseSamples
   double fs_Hz = 0.0;
   CLI::Option* fs_option = nullptr;
   GridArguments grid;        // cwt's --fmin, --fmax, --voices, --bins
@@ -59,6 +60,37 @@ void CheckWisdomDestination(const std::string& path) {
   CheckOutputFolder({"plan: wisdom cache", std::filesystem::path(path).parent_path().string()});
 }
 
+// The lengths of --samples N[,N...] (one or more occurrences), each in
+// 4..kMaxSamples. Read here instead of by CLI11's delimiter, which drops
+// empty items: "1000,,2000" was read as two lengths.
+std::vector<long> ParseSamples(const std::vector<std::string>& given) {
+  std::vector<long> samples;
+  for (const std::string& list : given) {
+    std::size_t begin = 0;
+    while (true) {
+      const std::size_t end = std::min(list.find(',', begin), list.size());
+      const std::string item = list.substr(begin, end - begin);
+      long n = 0;
+      const auto [ptr, ec] = std::from_chars(item.data(), item.data() + item.size(), n);
+      if (item.empty() || ec != std::errc() || ptr != item.data() + item.size()) {
+        ThrowInvalid("plan --samples",
+                     "record lengths N[,N...], each a whole number 4.." + ToText(kMaxSamples),
+                     item.empty() ? "an empty item in " + Excerpt(list) : Excerpt(item));
+      }
+      if (n < 4 || n > kMaxSamples) {
+        ThrowInvalid("plan --samples", "4.." + ToText(kMaxSamples), ToText(n));
+      }
+      if (samples.size() == kMaxRecords) {
+        ThrowInvalid("plan --samples", "at most " + ToText(kMaxRecords) + " lengths", "more");
+      }
+      samples.push_back(n);
+      if (end == list.size()) break;
+      begin = end + 1;
+    }
+  }
+  return samples;
+}
+
 void Run(const PlanArguments& a) {
   const std::string wisdom_path = wavelet::FftWisdomPath();
   CheckWisdomDestination(wisdom_path);
@@ -75,10 +107,11 @@ void Run(const PlanArguments& a) {
   if (fs_given && !wavelet::IsTransformStep(1.0 / a.fs_Hz)) {
     ThrowInvalid("plan --fs", "a sampling frequency between 1e-15 Hz and 1e15 Hz", ToText(a.fs_Hz));
   }
-  if (!a.samples.empty() && !fs_given) {
+  const std::vector<long> samples = ParseSamples(a.samples);
+  if (!samples.empty() && !fs_given) {
     ThrowInvalid("plan --samples", "--fs HZ (the sampling frequency) as well", "no --fs");
   }
-  if (fs_given && a.samples.empty()) {
+  if (fs_given && samples.empty()) {
     ThrowInvalid("plan --fs", "--samples N (the record lengths at that frequency) as well",
                  "no --samples");
   }
@@ -90,10 +123,7 @@ void Run(const PlanArguments& a) {
     const TimeSeries series = a.reading.ReadConditioned(path);
     records.push_back({static_cast<long>(series.samples()), series.step_s(), path});
   }
-  for (long n : a.samples) {
-    if (n < 4 || n > kMaxSamples) {
-      ThrowInvalid("plan --samples", "4.." + ToText(kMaxSamples), ToText(n));
-    }
+  for (long n : samples) {
     records.push_back({n, 1.0 / a.fs_Hz, "--samples " + ToText(n)});
   }
   if (records.empty()) ThrowInvalid("plan", "DATA files or --samples N --fs HZ", "neither");
@@ -176,7 +206,7 @@ void AddPlanCommand(CLI::App& app) {
                       "read and conditioned with the data options below as cwt reads them");
   a->reading.AddTo(*command);
   command->add_option("--samples", a->samples, "Record lengths N[,N...] (4..67108864), with --fs")
-      ->delimiter(',');
+      ->type_name("N[,N...]");
   a->fs_option =
       command->add_option("--fs", a->fs_Hz, "Sampling frequency (Hz) of --samples, 1e-15..1e15");
   a->grid.AddTo(*command, "Highest analysis frequency (Hz), capped at Nyquist");

@@ -82,7 +82,24 @@ grep -q -- "--normalisation: expected one of amplitude, energy, got \"l2\"" "$ou
   fail "--normalisation message: $(cat "$out/stderr")"
 "$podid" plan --samples 999 --fs 1000 --effort fast 2>"$out/stderr"
 [ $? -eq 1 ] || fail "--effort fast not exit 1"
-grep -q "effort: fast not in {measure,patient}" "$out/stderr" || fail "--effort message: $(cat "$out/stderr")"
+grep -q -- '--effort: expected one of measure, patient, got "fast"' "$out/stderr" ||
+  fail "--effort message: $(cat "$out/stderr")"
+# --samples: every item a length (CLI11's delimiter dropped empty items).
+for bad in "1000,,2000" "1000," "1e9" "abc"; do
+  "$podid" plan --samples "$bad" --fs 1000 2>"$out/stderr"
+  [ $? -eq 1 ] || fail "plan --samples $bad not exit 1"
+  grep -q -- "--samples: expected record lengths N\[,N...\]" "$out/stderr" ||
+    fail "--samples $bad message: $(cat "$out/stderr")"
+done
+# CLI11's own wording, told as podid's "expected X, got Y".
+"$podid" plan --samples 999 --fs 1000 --fs 2000 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--fs twice not exit 1"
+grep -q -- "--fs: expected one value (the option given once), got 2" "$out/stderr" ||
+  fail "--fs twice message: $(cat "$out/stderr")"
+"$podid" plan --samples 999 --fs 1kHz 2>"$out/stderr"
+[ $? -eq 1 ] || fail "--fs 1kHz not exit 1"
+grep -q -- '--fs: expected a number, got "1kHz"' "$out/stderr" ||
+  fail "--fs 1kHz message: $(cat "$out/stderr")"
 # --effort patient measures again what FFTW_MEASURE wisdom covers (FFTW_PATIENT
 # is more rigorous), then finds it.
 "$podid" plan --samples 64 --fs 1000 --fmin 100 --fmax 400 --padding zero >"$out/plan4" ||
