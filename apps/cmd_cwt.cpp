@@ -191,32 +191,26 @@ void PrintRidge(const wavelet::RidgeTrack& track, double coi_factor, const std::
               track.frequency_Hz(last), track.amplitude(last));
 }
 
-// A result beyond double precision (an input near 1.8e308: the in-band
-// signal or an amplitude rounds up to inf) is a computation that failed, not
-// a value to print or write: exit 2 naming the reason, before any file is
-// staged. A NaN IF is no failure: it marks a screened sample (docs/wavelet.md).
+// A result beyond double precision (an input near 1.8e308) is a computation
+// that failed, not a value to print or write: exit 2 naming the reason,
+// before any file is staged. The library throws std::overflow_error for the
+// in-band signal and the ridges' amplitudes (caught in Run); W and T are
+// stored in units of coefficient_scale, so only |W| or |T| written out in
+// signal units is checked here. A NaN IF is no failure: it marks a screened
+// sample (docs/wavelet.md).
 void CheckFinite(const CwtArguments& a,
                  const std::string& label,
                  const Eigen::VectorXd& signal,
-                 const std::vector<wavelet::RidgeTrack>& tracks,
-                 const std::vector<Eigen::VectorXd>& in_band,
                  const wavelet::Scalogram* kept) {
-  std::string what;
-  if (!a.inverse.empty() && !in_band.empty() && !in_band.back().allFinite()) {
-    what = "the inverse CWT (--inverse)";
+  if (kept == nullptr || (a.scalogram.empty() && a.plot.empty()) ||
+      kept->coefficients.size() == 0 ||
+      std::isfinite(kept->coefficients.cwiseAbs().maxCoeff() * kept->coefficient_scale)) {
+    return;
   }
-  for (const wavelet::RidgeTrack& track : tracks) {
-    if (what.empty() && track.amplitude.array().isInf().any()) what = "the ridge's amplitude";
-    if (what.empty() && track.frequency_Hz.array().isInf().any()) what = "the ridge's IF";
-  }
-  if (what.empty() && kept != nullptr && (!a.scalogram.empty() || !a.plot.empty()) &&
-      kept->coefficients.size() > 0 &&
-      !std::isfinite(kept->coefficients.cwiseAbs().maxCoeff() * kept->coefficient_scale)) {
-    what = std::string(a.synchrosqueeze ? "|T|" : "|W|") + " (--scalogram, --plot)";
-  }
-  if (what.empty()) return;
-  throw CommandFailed("cwt: " + Escaped(label) + " of " + Escaped(a.data) + ": " + what +
-                      " overflowed double precision (the input's peak magnitude is " +
+  throw CommandFailed("cwt: " + Escaped(label) + " of " + Escaped(a.data) + ": " +
+                      (a.synchrosqueeze ? "|T|" : "|W|") +
+                      " (--scalogram, --plot) overflowed double precision (the input's peak "
+                      "magnitude is " +
                       ToText(signal.cwiseAbs().maxCoeff()) +
                       "; scale the data down); no file written");
 }
@@ -311,6 +305,10 @@ void Run(const CwtArguments& a) {
           }
         }
       }
+    } catch (const std::overflow_error& e) {  // the library's: a value beyond 1.8e308
+      throw CommandFailed("cwt: " + Escaped(label) + " of " + Escaped(a.data) + ": " + e.what() +
+                          " (the input's peak magnitude is " +
+                          ToText(signal.cwiseAbs().maxCoeff()) + "); no file written");
     } catch (const std::invalid_argument& e) {  // name the signal the error is about
       // Escaped as ThrowInvalid escapes (e.what() already is: escaping is idempotent).
       std::string what = e.what();
@@ -325,10 +323,7 @@ void Run(const CwtArguments& a) {
       }
       throw std::invalid_argument(Escaped(label + " of " + a.data + ": ") + what);
     }
-    CheckFinite(a, label, signal, tracks.back(), in_band,
-                streamed           ? nullptr
-                : a.synchrosqueeze ? &squeezed.sst
-                                   : &whole);
+    CheckFinite(a, label, signal, streamed ? nullptr : a.synchrosqueeze ? &squeezed.sst : &whole);
     // The grid (times, frequencies, decimation, cone) of either path.
     const wavelet::Scalogram& sg = streamed           ? estimator->scalogram()
                                    : a.synchrosqueeze ? squeezed.sst

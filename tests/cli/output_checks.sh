@@ -128,7 +128,7 @@ for extra in --synchrosqueeze "--inverse max_inv.csv"; do
     grep -qi 'amplitude inf' stdout && fail "1.79e308 $extra: printed an inf amplitude"
   else
     [ $rc -eq 2 ] || fail "1.79e308 $extra: exit $rc, expected 0 or 2: $(cat stderr)"
-    grep -q "overflowed double precision (the input's peak magnitude is 1.79e+308" stderr \
+    grep -q "overflowed double precision" stderr && grep -q "peak magnitude is 1.79e+308" stderr \
       || fail "1.79e308 $extra: message: $(cat stderr)"
     [ ! -e max_ridge.csv ] && [ ! -e max_inv.csv ] || fail "1.79e308 $extra: a file was written"
   fi

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -81,6 +82,99 @@ TEST(Denoise, PureNoiseIsRemovedAndGivenSigmaIsUsed) {
   EXPECT_EQ(summary.noise_sigma, 1.0);
   EXPECT_GT(summary.zeroed_coefficients, summary.coefficients * 99 / 100);
   EXPECT_LT(Rms(out), 0.2);
+}
+
+// Whether every element of a equals 2^k times b's (bit for bit).
+bool ScaledExactly(const Eigen::VectorXd& a, const Eigen::VectorXd& b, int k) {
+  if (a.size() != b.size()) return false;
+  for (Eigen::Index i = 0; i < a.size(); ++i) {
+    if (a(i) != std::ldexp(b(i), k)) return false;
+  }
+  return true;
+}
+
+TEST(Denoise, ScalingTheInputByAPowerOfTwoScalesTheOutputExactly) {
+  // The transform, the median, lambda and the thresholding all commute with
+  // 2^k when nothing leaves the normal range: bit-identical results.
+  const Eigen::VectorXd x = MakeSignal(0.05, 3).noisy;
+  for (ThresholdRule rule : {ThresholdRule::kSoft, ThresholdRule::kHard}) {
+    DenoiseOptions o;
+    o.rule = rule;
+    o.levels = 3;
+    DenoiseSummary unit;
+    const Eigen::VectorXd out = Denoise(x, o, &unit);
+    for (int k : {-1000, -300, 300, 1000}) {
+      const Eigen::VectorXd scaled = x * std::ldexp(1.0, k);
+      ASSERT_TRUE(ScaledExactly(scaled, x, k)) << "2^" << k << " x rounded";
+      DenoiseSummary summary;
+      const Eigen::VectorXd y = Denoise(scaled, o, &summary);
+      EXPECT_TRUE(ScaledExactly(y, out, k)) << ToString(rule) << " 2^" << k;
+      EXPECT_EQ(summary.noise_sigma, std::ldexp(unit.noise_sigma, k));
+      EXPECT_EQ(summary.threshold, std::ldexp(unit.threshold, k));
+      EXPECT_EQ(summary.zeroed_coefficients, unit.zeroed_coefficients);
+    }
+  }
+}
+
+// 1000 samples of a 50 Hz unit sine at 1 ms.
+Eigen::VectorXd Tone() {
+  Eigen::VectorXd x(1000);
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    x(i) = std::sin(2 * kPi * 50.0 * static_cast<double>(i) * 1e-3);
+  }
+  return x;
+}
+
+TEST(Denoise, AToneNearTheLargestDoubleIsDenoisedLikeTheUnitTone) {
+  // 1.7e308 x tone overflowed in the transform and came back inf. It is
+  // 2^1023 times a tone of peak 1.89 (exactly: no sample leaves the normal
+  // range), so its output is 2^1023 times that tone's, bit for bit.
+  const Eigen::VectorXd big = 1.7e308 * Tone();
+  const Eigen::VectorXd unit = std::ldexp(1.0, -1023) * big;
+  ASSERT_TRUE(ScaledExactly(big, unit, 1023));
+  for (ThresholdRule rule : {ThresholdRule::kSoft, ThresholdRule::kHard}) {
+    DenoiseOptions o;
+    o.rule = rule;
+    const Eigen::VectorXd y = Denoise(big, o);
+    ASSERT_TRUE(y.allFinite()) << ToString(rule);
+    const Eigen::VectorXd reference = Denoise(unit, o);
+    EXPECT_TRUE(ScaledExactly(y, reference, 1023)) << ToString(rule);
+  }
+}
+
+TEST(Denoise, ASubnormalToneIsDenoisedLikeItsScaledUpCopy) {
+  // 1e-310 x tone is subnormal (about 44 bits of the tone kept). Scaling it
+  // up by 2^1030 is exact, and so is the internal scaling of both: the same
+  // output once rounded back to the subnormals, bit for bit.
+  const Eigen::VectorXd tiny = 1e-310 * Tone();
+  const Eigen::VectorXd up = tiny.unaryExpr([](double v) { return std::ldexp(v, 1030); });
+  ASSERT_TRUE(ScaledExactly(up, tiny, 1030));
+  for (ThresholdRule rule : {ThresholdRule::kSoft, ThresholdRule::kHard}) {
+    DenoiseOptions o;
+    o.rule = rule;
+    const Eigen::VectorXd y = Denoise(tiny, o);
+    const Eigen::VectorXd reference = Denoise(up, o);
+    EXPECT_TRUE(ScaledExactly(y, reference, -1030)) << ToString(rule);
+  }
+}
+
+TEST(Denoise, AnOutputAboveTheLargestDoubleThrows) {
+  // A step cut to its finest-level approximation rings: measured peak
+  // 1.25 x the step's height. At the largest double that overshoot is
+  // not representable: std::overflow_error, not inf.
+  Eigen::VectorXd step(1000);
+  for (Eigen::Index i = 0; i < step.size(); ++i) step(i) = i < 501 ? -1.0 : 1.0;
+  DenoiseOptions o;
+  o.rule = ThresholdRule::kHard;
+  o.levels = 1;
+  o.noise_sigma = 1.0;
+  o.threshold_scale = 1e6;  // every finest detail is zeroed
+  const double ring = Denoise(step, o).cwiseAbs().maxCoeff();
+  ASSERT_GT(ring, 1.0);
+  const double top = std::numeric_limits<double>::max();
+  o.noise_sigma = top;
+  PODID_EXPECT_THROW_WITH(Denoise(top * step, o), std::overflow_error,
+                          "Denoise: the denoised signal overflowed");
 }
 
 TEST(Denoise, BadInputNamesWhatWasExpected) {

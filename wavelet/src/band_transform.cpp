@@ -11,6 +11,7 @@
 #include "podid/core/error.hpp"
 #include "podid/core/target_clones.hpp"
 #include "ridge_cost.hpp"
+#include "signal_check.hpp"
 
 namespace podid::wavelet::internal {
 namespace {
@@ -208,8 +209,7 @@ bool BandTransform::Layout(Eigen::Index samples, double step_s, double max_block
 void BandTransform::SetSignal(const Eigen::Ref<const Eigen::VectorXd>& signal) {
   PODID_CHECK(signal.size() == n_);
   loaded_ = -1;
-  std::frexp(signal.cwiseAbs().maxCoeff(), &exponent_);
-  exponent_ -= 1;
+  exponent_ = PeakExponent(signal);
   // One block: CwtTransform's padded sequence, built as it builds it.
   double* x = blocks_ == 1 ? segment_.get() : signal_.data();
   // 2^-e is a normal double for |e| <= 1000: multiplying is exact like ldexp, and cheaper.

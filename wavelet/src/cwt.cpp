@@ -16,6 +16,7 @@
 #include "fftw_plans.hpp"
 #include "full_rate.hpp"
 #include "huge_pages.hpp"
+#include "moved_from.hpp"
 #include "podid/core/error.hpp"
 #include "podid/wavelet/plans.hpp"
 #include "pruned_inverse.hpp"
@@ -67,6 +68,21 @@ bool CwtOptions::IsValid(std::string* why) const {
   if (!(memory_budget_bytes >= 65536.0 && memory_budget_bytes <= 17592186044416.0)) {
     return Fail(why, "CwtOptions.memory_budget_bytes: expected 2^16..2^44, got " +
                          ToText(memory_budget_bytes));
+  }
+  // Any other int cast to these left P = 0 (a division by zero) or aborted.
+  if (padding != Padding::kReflect && padding != Padding::kZero && padding != Padding::kPeriodic) {
+    return Fail(why, "CwtOptions.padding: expected kReflect, kZero or kPeriodic, got " +
+                         ToText(static_cast<int>(padding)));
+  }
+  if (output != CwtOutput::kComplex && output != CwtOutput::kComplexFloat &&
+      output != CwtOutput::kMagnitudeFloat) {
+    return Fail(why,
+                "CwtOptions.output: expected kComplex, kComplexFloat or kMagnitudeFloat, got " +
+                    ToText(static_cast<int>(output)));
+  }
+  if (planning != FftPlanning::kEstimate && planning != FftPlanning::kMeasure) {
+    return Fail(why, "CwtOptions.planning: expected kEstimate or kMeasure, got " +
+                         ToText(static_cast<int>(planning)));
   }
   return true;
 }
@@ -120,7 +136,13 @@ void CwtTransform::Impl::Band(Eigen::Index k, Eigen::Index p, double step, Eigen
 }
 
 // Every length and count of a layout, from closed forms (nothing allocated).
+// Throws std::invalid_argument beyond FFTW plans' 2^27 points, checked on the
+// record first so that nothing below overflows (2^63 samples hung).
 Sizes CwtTransform::Impl::Plan(Eigen::Index samples, double step) const {
+  if (samples > internal::kMaxPlanLength) {
+    ThrowInvalid("Cwt: signal", "at most 2^27 = 134217728 samples (FFTs of at most 2^27 points)",
+                 ToText(samples) + " samples");
+  }
   Sizes z;
   const bool morse = options.wavelet.family == WaveletFamily::kMorse;
   // In samples at the lowest frequency, at a tolerance (of the envelope's peak).
@@ -154,6 +176,11 @@ Sizes CwtTransform::Impl::Plan(Eigen::Index samples, double step) const {
     case Padding::kPeriodic:
       z.p = samples;
       break;
+  }
+  if (z.p > internal::kMaxPlanLength) {
+    ThrowInvalid("Cwt: padded length", "at most 2^27 = 134217728 points (FFTW plans' limit)",
+                 ToText(z.p) + " points for " + ToText(samples) + " samples (" +
+                     ToString(options.padding) + " padding)");
   }
   Eigen::Index widest = 1;
   for (Eigen::Index k = 0; k < scales_s.size(); ++k) {
@@ -285,18 +312,26 @@ CwtTransform::~CwtTransform() = default;
 CwtTransform::CwtTransform(CwtTransform&&) noexcept = default;
 CwtTransform& CwtTransform::operator=(CwtTransform&&) noexcept = default;
 
-const CwtOptions& CwtTransform::options() const { return impl_->options; }
-Eigen::Index CwtTransform::padded_length() const { return impl_->p; }
-Eigen::Index CwtTransform::inverse_length() const { return impl_->m; }
+namespace {
+constexpr const char* kOwner = "CwtTransform";
+}  // namespace
+
+const CwtOptions& CwtTransform::options() const {
+  return internal::CheckedImpl(impl_, kOwner).options;
+}
+Eigen::Index CwtTransform::padded_length() const { return internal::CheckedImpl(impl_, kOwner).p; }
+Eigen::Index CwtTransform::inverse_length() const { return internal::CheckedImpl(impl_, kOwner).m; }
 
 void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
                            double step_s,
                            Scalogram* out,
                            double start_time_s) {
-  PODID_CHECK(out != nullptr);
-  Impl& s = *impl_;
+  Impl& s = internal::CheckedImpl(impl_, kOwner);
+  if (out == nullptr) {
+    throw std::invalid_argument("CwtTransform::Compute: expected a Scalogram to write, got null");
+  }
   const Eigen::Index n = signal.size();
-  internal::CheckSignal(signal, step_s, s.options.frequencies.max_frequency_Hz);
+  internal::CheckSignal(signal, step_s, s.options.frequencies);
   if (!std::isfinite(start_time_s)) {
     ThrowInvalid("Cwt: start_time_s", "a finite value", ToText(start_time_s));
   }
@@ -308,9 +343,7 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
   // Scale by 2^-e (exact) to a peak in [1, 2): no overflow in the mean or
   // the FFT, no underflow in |W|^2, whatever the signal's magnitude; 2^e
   // itself is representable (e <= 1023 for the largest double).
-  int exponent = 0;
-  std::frexp(signal.cwiseAbs().maxCoeff(), &exponent);
-  exponent -= 1;
+  const int exponent = internal::PeakExponent(signal);
   double* x = s.padded.get();
   for (Eigen::Index i = 0; i < n; ++i) x[i] = std::ldexp(signal(i), -exponent);
   if (s.options.remove_mean) {
@@ -408,8 +441,10 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
 }
 
 void CwtTransform::TimeDerivative(Eigen::Index frequency_index, Eigen::VectorXcd* out) const {
-  PODID_CHECK(out != nullptr);
-  const Impl& s = *impl_;
+  const Impl& s = internal::CheckedImpl(impl_, kOwner);
+  if (out == nullptr) {
+    throw std::invalid_argument("TimeDerivative: expected a vector to write, got null");
+  }
   if (s.computation == 0) {
     ThrowInvalid("TimeDerivative: transform", "a Compute() that succeeded first", "none");
   }
@@ -424,7 +459,7 @@ void CwtTransform::TimeDerivative(Eigen::Index frequency_index, Eigen::VectorXcd
 }
 
 bool CwtTransform::Produced(const Scalogram& scalogram) const {
-  const Impl& s = *impl_;
+  const Impl& s = internal::CheckedImpl(impl_, kOwner);
   return s.computation != 0 && scalogram.computation == s.computation &&
          scalogram.times() == s.times && scalogram.frequencies() == s.scales_s.size();
 }
@@ -443,15 +478,15 @@ FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
   if (!IsTransformStep(step_s)) {
     ThrowInvalid("FFT lengths: step_s", internal::StepExpectation(), ToText(step_s));
   }
-  const Sizes z = impl_->Plan(samples, step_s);
-  if (z.p > (1 << 27)) ThrowInvalid("FFT lengths", "at most 2^27 points", ToText(z.p));
+  const Impl& s = internal::CheckedImpl(impl_, kOwner);
+  const Sizes z = s.Plan(samples, step_s);
   FftLengths lengths{{static_cast<int>(z.p)}, {static_cast<int>(z.m)}, {}, {static_cast<int>(z.p)}};
-  if (!impl_->options.band_limited) {
+  if (!s.options.band_limited) {
     // The full-rate path's pruned inverses, one plan per distinct D: batches
     // of G inverses of length M = P / D.
-    for (Eigen::Index k = 0; k < impl_->scales_s.size(); ++k) {
+    for (Eigen::Index k = 0; k < s.scales_s.size(); ++k) {
       Eigen::Index a = 0, b = 0;
-      impl_->Band(k, z.p, step_s, &a, &b);
+      s.Band(k, z.p, step_s, &a, &b);
       const Eigen::Index d =
           internal::PrunedInverse::Decimation(z.p, std::max<Eigen::Index>(b - a + 1, 1));
       const std::pair<int, int> pair(static_cast<int>(z.p / d),
@@ -464,12 +499,11 @@ FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
 }
 
 Eigen::VectorXd CwtTransform::WhiteNoiseMagnitude(Eigen::Index samples, double step_s) const {
-  const Impl& s = *impl_;
+  const Impl& s = internal::CheckedImpl(impl_, kOwner);
   // Compute()'s checks on the record's size and step (the same messages).
   internal::CheckSamples(samples);
-  internal::CheckStep(step_s, s.options.frequencies.max_frequency_Hz);
+  internal::CheckStep(step_s, s.options.frequencies);
   const Sizes z = s.Plan(samples, step_s);
-  if (z.p > (1 << 27)) ThrowInvalid("white-noise magnitude", "at most 2^27 padded points", ToText(z.p));
   // The filters as Layout sets them; a unit impulse has |X_b| = 1 at every
   // bin, so its transform's energy over the P output times is P sum_b g_b^2
   // (the inverse FFT is unnormalised; g carries the 1/P).

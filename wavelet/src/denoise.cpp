@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "podid/core/error.hpp"
+#include "signal_check.hpp"
 
 namespace podid::wavelet {
 namespace {
@@ -56,6 +57,9 @@ bool DenoiseOptions::IsValid(std::string* why) const {
   } else if (!std::isfinite(noise_sigma) || noise_sigma < 0.0) {
     message = "DenoiseOptions.noise_sigma: expected a finite value >= 0 (0 = estimate), got " +
               ToText(noise_sigma);
+  } else if (rule != ThresholdRule::kSoft && rule != ThresholdRule::kHard) {
+    // An int cast to the enum was read as kHard.
+    message = "DenoiseOptions.rule: expected kSoft or kHard, got " + ToText(static_cast<int>(rule));
   }
   if (message.empty()) return true;
   if (why != nullptr) *why = message;
@@ -77,12 +81,17 @@ Eigen::VectorXd Denoise(const Eigen::Ref<const Eigen::VectorXd>& signal,
     p *= 2;
     ++depth;
   }
+  // Scaled by 2^-e (exact) to a peak in [1, 2), as Cwt does: a tone of
+  // 1.7e308 overflowed in the transform and came back inf, and 1e-310's
+  // subnormals lost their bits in it. Other inputs give the same bits as
+  // unscaled: every step commutes with a power of two.
+  const int exponent = internal::PeakExponent(signal);
   // Mirror extension x_0 .. x_{N-1}, x_{N-2}, ... (period 2N - 2) up to P.
   std::vector<double> data(static_cast<std::size_t>(p));
   const Eigen::Index period = std::max<Eigen::Index>(2 * n - 2, 1);
   for (Eigen::Index i = 0; i < p; ++i) {
     const Eigen::Index r = i % period;
-    data[static_cast<std::size_t>(i)] = signal(r < n ? r : period - r);
+    data[static_cast<std::size_t>(i)] = std::ldexp(signal(r < n ? r : period - r), -exponent);
   }
 
   std::unique_ptr<gsl_wavelet, WaveletFree> wavelet(gsl_wavelet_alloc(
@@ -98,8 +107,9 @@ Eigen::VectorXd Denoise(const Eigen::Ref<const Eigen::VectorXd>& signal,
   // holds 2^(j-1) details at [2^(j-1), 2^j); the finest level is [P/2, P).
   const int levels = options.levels == 0 ? depth : std::min(options.levels, depth);
   const Eigen::Index first = p >> levels;
-  double sigma = options.noise_sigma;
-  if (sigma == 0.0) {
+  // sigma and lambda in units of 2^e here, in signal units in the summary.
+  double sigma = std::ldexp(options.noise_sigma, -exponent);
+  if (options.noise_sigma == 0.0) {
     std::vector<double> finest;
     finest.reserve(static_cast<std::size_t>(p / 2));
     for (Eigen::Index i = p / 2; i < p; ++i) {
@@ -107,8 +117,8 @@ Eigen::VectorXd Denoise(const Eigen::Ref<const Eigen::VectorXd>& signal,
     }
     sigma = Median(std::move(finest)) / 0.6744897501960817;  // Phi^-1(3/4)
   }
-  const double lambda =
-      options.threshold_scale * sigma * std::sqrt(2.0 * std::log(static_cast<double>(n)));
+  const double root = std::sqrt(2.0 * std::log(static_cast<double>(n)));
+  const double lambda = options.threshold_scale * sigma * root;
   Eigen::Index zeroed = 0;
   for (Eigen::Index i = first; i < p; ++i) {
     double& d = data[static_cast<std::size_t>(i)];
@@ -122,15 +132,30 @@ Eigen::VectorXd Denoise(const Eigen::Ref<const Eigen::VectorXd>& signal,
   PODID_CHECK(gsl_wavelet_transform_inverse(wavelet.get(), data.data(), 1,
                                             static_cast<std::size_t>(p),
                                             workspace.get()) == GSL_SUCCESS);
+  Eigen::VectorXd denoised(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    denoised(i) = std::ldexp(data[static_cast<std::size_t>(i)], exponent);
+  }
+  // Finite input, and still infinite: the denoised signal itself exceeds the
+  // largest double (a step of 1.8e308 rings above it when details are cut).
+  if (!denoised.allFinite()) {
+    throw std::overflow_error(
+        "Denoise: the denoised signal overflowed double precision (above 1.8e308); scale the "
+        "signal down");
+  }
   if (summary != nullptr) {
-    summary->noise_sigma = sigma;
-    summary->threshold = lambda;
+    // A given sigma as given; lambda from it in signal units (inf only if
+    // the true value exceeds the largest double).
+    const double signal_sigma =
+        options.noise_sigma == 0.0 ? std::ldexp(sigma, exponent) : options.noise_sigma;
+    summary->noise_sigma = signal_sigma;
+    summary->threshold = options.threshold_scale * signal_sigma * root;
     summary->levels = levels;
     summary->padded_length = p;
     summary->coefficients = p - first;
     summary->zeroed_coefficients = zeroed;
   }
-  return Eigen::Map<const Eigen::VectorXd>(data.data(), n);
+  return denoised;
 }
 
 }  // namespace podid::wavelet

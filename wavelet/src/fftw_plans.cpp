@@ -31,7 +31,6 @@ namespace internal {
 namespace {
 
 enum class Kind { kRealForward, kComplexBackward, kBatchedBackward, kComplexForward };
-constexpr int kMaxPlanLength = 1 << 27;  // 2 GiB of complex doubles
 
 // Planner effort, in increasing rigour: 0 FFTW_ESTIMATE, then the
 // PlanEffort values + 1 (1 FFTW_MEASURE, 2 FFTW_PATIENT).
@@ -263,6 +262,9 @@ std::string FftWisdomPath() {
 }
 
 void MergeFftLengths(const FftLengths& more, FftLengths* lengths) {
+  if (lengths == nullptr) {
+    throw std::invalid_argument("MergeFftLengths: expected lengths to merge into, got null");
+  }
   const auto merge = [](const auto& add, auto* into) {
     into->insert(into->end(), add.begin(), add.end());
     std::sort(into->begin(), into->end());
@@ -275,6 +277,10 @@ void MergeFftLengths(const FftLengths& more, FftLengths* lengths) {
 }
 
 PlanSummary MeasureFftPlans(const FftLengths& lengths, PlanEffort effort) {
+  if (effort != PlanEffort::kMeasure && effort != PlanEffort::kPatient) {
+    ThrowInvalid("MeasureFftPlans: effort", "kMeasure or kPatient",
+                 ToText(static_cast<int>(effort)));
+  }
   const int wanted = effort == PlanEffort::kPatient ? 2 : 1;
   for (const std::vector<int>* list :
        {&lengths.real_forward, &lengths.complex_backward, &lengths.complex_forward}) {

@@ -21,6 +21,9 @@
 
 namespace podid::wavelet::internal {
 
+/// The longest transform (n x howmany points) planned: 2 GiB of complex doubles.
+inline constexpr int kMaxPlanLength = 1 << 27;
+
 using RealBuffer = podid::internal::FftwBuffer<double>;
 using ComplexBuffer = podid::internal::FftwBuffer<std::complex<double>>;
 

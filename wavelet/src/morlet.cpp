@@ -21,6 +21,13 @@ bool Fail(std::string* why, std::string message) {
   return false;
 }
 
+// The wavelet's own computations (band, time spread, ridge) on invalid
+// parameters: a NaN gamma bisected forever, a NaN omega0 returned NaN.
+void ThrowIfInvalid(const MorletWavelet& wavelet) {
+  std::string why;
+  if (!wavelet.IsValid(&why)) throw std::invalid_argument(why);
+}
+
 }  // namespace
 
 const char* ToString(Normalisation normalisation) {
@@ -96,20 +103,33 @@ Padding ParsePadding(std::string_view name) {
 // ---------------------------------------------------------------- MorletWavelet
 
 bool MorletWavelet::IsValid(std::string* why) const {
-  if (family == WaveletFamily::kMorse) {
-    if (!std::isfinite(gamma) || gamma < kMinMorseGamma || gamma > kMaxMorseGamma) {
-      return Fail(why, "MorletWavelet.gamma: expected a value in [" + ToText(kMinMorseGamma) +
-                           ", " + ToText(kMaxMorseGamma) + "], got " + ToText(gamma));
-    }
-    if (!std::isfinite(beta) || beta < kMinMorseBeta || beta > kMaxMorseBeta) {
-      return Fail(why, "MorletWavelet.beta: expected a value in [" + ToText(kMinMorseBeta) + ", " +
-                           ToText(kMaxMorseBeta) + "], got " + ToText(beta));
-    }
-    if (beta / gamma > kMaxMorseBetaOverGamma) {
-      return Fail(why, "MorletWavelet.beta / gamma: expected <= " + ToText(kMaxMorseBetaOverGamma) +
-                           ", got " + ToText(beta / gamma));
-    }
-    return true;
+  // The enums are ints underneath: a cast of any other value reached the
+  // transforms and was read differently by each (max |W| 0.054 for 1).
+  if (family != WaveletFamily::kMorlet && family != WaveletFamily::kMorse) {
+    return Fail(why, "MorletWavelet.family: expected kMorlet or kMorse, got " +
+                         ToText(static_cast<int>(family)));
+  }
+  if (normalisation != Normalisation::kAmplitude && normalisation != Normalisation::kEnergy) {
+    return Fail(why, "MorletWavelet.normalisation: expected kAmplitude or kEnergy, got " +
+                         ToText(static_cast<int>(normalisation)));
+  }
+  if (convention != ScaleConvention::kRidge && convention != ScaleConvention::kPeak) {
+    return Fail(why, "MorletWavelet.convention: expected kRidge or kPeak, got " +
+                         ToText(static_cast<int>(convention)));
+  }
+  // Both families' parameters, whichever is used: a NaN or negative one is a
+  // mistake wherever it was set (the bindings passed gamma = NaN to Morlet).
+  if (!std::isfinite(gamma) || gamma < kMinMorseGamma || gamma > kMaxMorseGamma) {
+    return Fail(why, "MorletWavelet.gamma: expected a value in [" + ToText(kMinMorseGamma) + ", " +
+                         ToText(kMaxMorseGamma) + "], got " + ToText(gamma));
+  }
+  if (!std::isfinite(beta) || beta < kMinMorseBeta || beta > kMaxMorseBeta) {
+    return Fail(why, "MorletWavelet.beta: expected a value in [" + ToText(kMinMorseBeta) + ", " +
+                         ToText(kMaxMorseBeta) + "], got " + ToText(beta));
+  }
+  if (family == WaveletFamily::kMorse && beta / gamma > kMaxMorseBetaOverGamma) {
+    return Fail(why, "MorletWavelet.beta / gamma: expected <= " + ToText(kMaxMorseBetaOverGamma) +
+                         ", got " + ToText(beta / gamma));
   }
   if (!std::isfinite(omega0) || omega0 <= 0.0) {
     return Fail(why, "MorletWavelet.omega0: expected a finite value > 0, got " + ToText(omega0));
@@ -117,6 +137,10 @@ bool MorletWavelet::IsValid(std::string* why) const {
   if (omega0 < kMinOmega0 && !admissibility_correction) {
     return Fail(why, "MorletWavelet.omega0: expected >= " + ToText(kMinOmega0) +
                          " (or admissibility_correction = true), got " + ToText(omega0));
+  }
+  if (omega0 < kMinCorrectedOmega0) {
+    return Fail(why, "MorletWavelet.omega0: expected >= " + ToText(kMinCorrectedOmega0) +
+                         " with admissibility_correction, got " + ToText(omega0));
   }
   if (omega0 > kMaxOmega0) {
     return Fail(
@@ -156,12 +180,20 @@ double MorletWavelet::FourierTransform(double u) const {
                        : std::sqrt(2.0 * kPi) / std::pow(kPi, 0.25);  // pi^-1/4 sqrt(2 pi)
   const double d = u - omega0;
   double value = std::exp(-0.5 * d * d);
-  if (admissibility_correction) value -= std::exp(-0.5 * (u * u + omega0 * omega0));
+  // exp(-(u - w0)^2 / 2) - exp(-(u^2 + w0^2) / 2) = exp(-(u - w0)^2 / 2) (1 - exp(-u w0)):
+  // no cancellation for small u w0.
+  if (admissibility_correction) value *= -std::expm1(-u * omega0);
   return k * value;
 }
 
 void MorletWavelet::Band(double tolerance, double* lo, double* hi) const {
-  PODID_CHECK(tolerance > 0.0 && tolerance < 1.0 && lo != nullptr && hi != nullptr);
+  if (!(tolerance > 0.0 && tolerance < 1.0)) {
+    ThrowInvalid("MorletWavelet::Band: tolerance", "a value in (0, 1)", ToText(tolerance));
+  }
+  if (lo == nullptr || hi == nullptr) {
+    throw std::invalid_argument("MorletWavelet::Band: expected two outputs, got a null pointer");
+  }
+  ThrowIfInvalid(*this);
   const double log_tolerance = std::log(tolerance);
   if (family == WaveletFamily::kMorlet) {
     const double radius = std::sqrt(-2.0 * log_tolerance);
@@ -191,6 +223,7 @@ void MorletWavelet::Band(double tolerance, double* lo, double* hi) const {
 }
 
 double MorletWavelet::TimeSpread() const {
+  ThrowIfInvalid(*this);
   if (family == WaveletFamily::kMorlet && !admissibility_correction) return std::sqrt(0.5);
   // sigma_t^2 = integral psi^'(u)^2 du / integral psi^(u)^2 du by the
   // trapezoid rule over the band (1e-12 of the peak), 20000 panels;
@@ -224,6 +257,7 @@ std::string MorletWavelet::Describe() const {
 }
 
 double MorletWavelet::RidgeAngularFrequency() const {
+  ThrowIfInvalid(*this);
   const bool energy = normalisation == Normalisation::kEnergy;
   if (family == WaveletFamily::kMorse) {
     // d/du [(beta + n) ln u - u^gamma] = 0, n = 0 (L1) or 1/2 (L2).
@@ -234,12 +268,11 @@ double MorletWavelet::RidgeAngularFrequency() const {
   }
   // d/du log(n(u) psi^(u)) = 0, n(u) = 1 or sqrt(u); the root is bracketed
   // near omega0 and the derivative decreases through it: bisect to rounding.
+  // With psi^ = g (1 - e^(-u w0)), g = exp(-(u - w0)^2 / 2), the log's slope
+  // is w0 / e - u, e = 1 - exp(-u w0): no ratio of two underflowing
+  // exponentials (g and its correction reached 0 from omega0 77.5 on).
   const auto slope = [&](double u) {
-    const double g = std::exp(-0.5 * (u - omega0) * (u - omega0));
-    const double c = std::exp(-0.5 * (u * u + omega0 * omega0));
-    const double psi = g - c;
-    const double dpsi = -(u - omega0) * g + u * c;
-    return dpsi / psi + (energy ? 0.5 / u : 0.0);
+    return omega0 / -std::expm1(-u * omega0) - u + (energy ? 0.5 / u : 0.0);
   };
   double lo = std::max(1e-3, 0.5 * omega0), hi = omega0 + 2.0;
   PODID_CHECK(slope(lo) > 0.0 && slope(hi) < 0.0);
@@ -296,6 +329,10 @@ FrequencyGrid FrequencyGrid::Linear(double min_Hz, double max_Hz, int bins) {
 }
 
 bool FrequencyGrid::IsValid(std::string* why) const {
+  if (spacing != FrequencySpacing::kLog && spacing != FrequencySpacing::kLinear) {
+    return Fail(why, "FrequencyGrid.spacing: expected kLog or kLinear, got " +
+                         ToText(static_cast<int>(spacing)));
+  }
   if (!std::isfinite(min_frequency_Hz) || min_frequency_Hz <= 0.0) {
     return Fail(why, "FrequencyGrid.min_frequency_Hz: expected a finite value > 0, got " +
                          ToText(min_frequency_Hz));
@@ -322,9 +359,11 @@ bool FrequencyGrid::IsValid(std::string* why) const {
           why, "FrequencyGrid: expected a finite ratio max_frequency_Hz / min_frequency_Hz, got " +
                    ToText(max_frequency_Hz) + " / " + ToText(min_frequency_Hz));
     }
-    if (voices_per_octave * std::log2(ratio) > kMaxFrequencies) {
+    // Frequencies_Hz()'s own count: floor(v log2(ratio)) + 1.
+    const double count = std::floor(voices_per_octave * std::log2(ratio) + 1e-9) + 1.0;
+    if (count > kMaxFrequencies) {
       return Fail(why, "FrequencyGrid: expected at most " + ToText(kMaxFrequencies) +
-                           " frequencies, got " + ToText(voices_per_octave * std::log2(ratio)));
+                           " frequencies, got " + ToText(count));
     }
   }
   return true;

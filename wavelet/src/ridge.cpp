@@ -62,6 +62,15 @@ bool RidgeOptions::IsValid(std::string* why) const {
     return Fail(why, "RidgeOptions.min_relative_magnitude: expected a value in [0, 1), got " +
                          ToText(min_relative_magnitude));
   }
+  // Enums are ints underneath: another value gave all-NaN frequencies.
+  if (method != RidgeMethod::kMaximum && method != RidgeMethod::kPenalised) {
+    return Fail(why, "RidgeOptions.method: expected kMaximum or kPenalised, got " +
+                         ToText(static_cast<int>(method)));
+  }
+  if (estimator != FrequencyEstimator::kPhase && estimator != FrequencyEstimator::kScale) {
+    return Fail(why, "RidgeOptions.estimator: expected kPhase or kScale, got " +
+                         ToText(static_cast<int>(estimator)));
+  }
   return true;
 }
 
@@ -229,6 +238,7 @@ RidgeTrack TrackRidge(const Scalogram& scalogram,
       track.frequency_Hz(j) = kNaN;
     }
   }
+  internal::CheckTrackFinite(track, "TrackRidge");
   return track;
 }
 

@@ -5,8 +5,11 @@
 
 #include <Eigen/Core>
 #include <complex>
+#include <stdexcept>
+#include <string>
 
 #include "podid/wavelet/cwt.hpp"
+#include "podid/wavelet/ridge.hpp"
 
 namespace podid::wavelet::internal {
 
@@ -31,5 +34,18 @@ RidgeSample RefineRidgeSample(const MorletWavelet& wavelet,
 /// where |W|^2 and the products are far from overflow and underflow, else by
 /// the complex division (which scales internally); NaN where W = 0.
 double PhaseFrequency_Hz(std::complex<double> w, std::complex<double> dw_dt);
+
+/// Throws std::overflow_error naming `where` if an amplitude or IF of the
+/// track is infinite: from finite coefficients times coefficient_scale, the
+/// value exceeds the largest double (a signal near 1.8e308), a failure to
+/// report rather than a result (podid cwt exits 2 on it).
+inline void CheckTrackFinite(const RidgeTrack& track, const char* where) {
+  const bool amplitude = track.amplitude.array().isInf().any();
+  if (amplitude || track.frequency_Hz.array().isInf().any()) {
+    throw std::overflow_error(
+        std::string(where) + ": the ridge's " + (amplitude ? "amplitude" : "IF") +
+        " overflowed double precision (above 1.8e308); scale the signal down");
+  }
+}
 
 }  // namespace podid::wavelet::internal

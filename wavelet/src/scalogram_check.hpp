@@ -5,6 +5,7 @@
 // transform's last Compute()'s.
 
 #include <cmath>
+#include <string>
 
 #include "podid/core/error.hpp"
 #include "podid/wavelet/cwt.hpp"
@@ -13,8 +14,23 @@ namespace podid::wavelet::internal {
 
 /// Throws std::invalid_argument naming `where` unless scales_s has one entry
 /// per frequency, coi_frequency_Hz one per output time and frequencies_Hz
-/// ascends from above 0, as Compute() writes them.
+/// ascends from above 0, as Compute() writes them, and the scalars it is read
+/// with are too: its wavelet valid (a hand-set NaN beta hung the inverse), its
+/// step and coefficient_scale finite and > 0 (a negative step aborted the
+/// ridge), its decimation >= 1.
 inline void CheckScalogramShape(const Scalogram& scalogram, const char* where) {
+  std::string why;
+  if (!scalogram.wavelet.IsValid(&why)) ThrowInvalid(where, "a valid wavelet", why);
+  if (!(std::isfinite(scalogram.step_s) && scalogram.step_s > 0.0)) {
+    ThrowInvalid(where, "step_s finite and > 0, as Compute() writes it", ToText(scalogram.step_s));
+  }
+  if (!(std::isfinite(scalogram.coefficient_scale) && scalogram.coefficient_scale > 0.0)) {
+    ThrowInvalid(where, "coefficient_scale finite and > 0, as Compute() writes it",
+                 ToText(scalogram.coefficient_scale));
+  }
+  if (scalogram.decimation < 1) {
+    ThrowInvalid(where, "decimation >= 1, as Compute() writes it", ToText(scalogram.decimation));
+  }
   const Eigen::Index times = scalogram.times(), freqs = scalogram.frequencies();
   for (Eigen::Index k = 0; k < freqs; ++k) {
     const double f = scalogram.frequencies_Hz(k);

@@ -8,6 +8,7 @@
 #include "fftw_plans.hpp"
 #include "podid/core/error.hpp"
 #include "podid/core/time_series.hpp"
+#include "signal_check.hpp"
 
 namespace podid::wavelet {
 
@@ -31,16 +32,27 @@ double SpectralPeak_Hz(const Eigen::Ref<const Eigen::VectorXd>& signal, double s
   const int length = static_cast<int>(n);
   internal::RealBuffer x = internal::AllocateReal(static_cast<std::size_t>(length));
   internal::ComplexBuffer spectrum = internal::AllocateComplex(static_cast<std::size_t>(length / 2 + 1));
-  const double mean = signal.mean();
+  // Scale by 2^-e (exact, as Cwt does) to a peak in [1, 2): the mean and
+  // |X|^2 overflowed to NaN at amplitude 1e160 and flushed to 0 at 1e-170.
+  // The peak's bin and refinement are the same for any power of two.
+  const int exponent = internal::PeakExponent(signal);
+  for (int i = 0; i < length; ++i) x[i] = std::ldexp(signal[i], -exponent);
+  const double mean = Eigen::Map<const Eigen::VectorXd>(x.get(), n).mean();
   for (int i = 0; i < length; ++i) {
     const double hann = 0.5 - 0.5 * std::cos(2.0 * M_PI * i / (length - 1));
-    x[i] = hann * (signal[i] - mean);
+    x[i] = hann * (x[i] - mean);
   }
   fftw_execute_dft_r2c(internal::RealForwardPlan(length, false), x.get(), internal::AsFftw(spectrum.get()));
 
-  const double bin_Hz = 1.0 / (length * step_s);
-  const int first = std::max(1, static_cast<int>(std::ceil(min_Hz / bin_Hz)));
-  const int last = std::min(length / 2, static_cast<int>(std::floor(max_Hz / bin_Hz)));
+  // length * step_s overflows for steps near the largest double; 1 / step_s
+  // is finite (IsSamplingStep), so the bin is then > 0 all the same.
+  const double record_s = length * step_s;
+  const double bin_Hz = std::isfinite(record_s) ? 1.0 / record_s : 1.0 / step_s / length;
+  // Clamped in double before the cast: a band of 3e9 Hz over 1 Hz bins was
+  // out of int's range (UB). f / bin_Hz is >= 0 and never NaN (bin_Hz > 0).
+  const double top = length / 2;
+  const int first = static_cast<int>(std::clamp(std::ceil(min_Hz / bin_Hz), 1.0, top + 1.0));
+  const int last = static_cast<int>(std::clamp(std::floor(max_Hz / bin_Hz), 0.0, top));
   if (first > last) {
     ThrowInvalid("SpectralPeak_Hz: band", "a range holding a periodogram bin (resolution " +
                                               ToText(bin_Hz) + " Hz)",

@@ -14,6 +14,7 @@
 
 #include "band_transform.hpp"
 #include "extent.hpp"
+#include "moved_from.hpp"
 #include "podid/core/error.hpp"
 #include "podid/wavelet/ridge.hpp"
 #include "ridge_cost.hpp"
@@ -487,6 +488,7 @@ void RidgeFrequencyEstimator::Impl::Track(const Eigen::VectorXi& path) {
       t.frequency_Hz(j) = kNaN;
     }
   }
+  internal::CheckTrackFinite(t, "RidgeFrequencyEstimator");
 }
 
 RidgeFrequencyEstimator::RidgeFrequencyEstimator(const RidgeFrequencyOptions& options)
@@ -506,26 +508,34 @@ RidgeFrequencyEstimator::~RidgeFrequencyEstimator() = default;
 RidgeFrequencyEstimator::RidgeFrequencyEstimator(RidgeFrequencyEstimator&&) noexcept = default;
 RidgeFrequencyEstimator& RidgeFrequencyEstimator::operator=(RidgeFrequencyEstimator&&) noexcept = default;
 
-const Scalogram& RidgeFrequencyEstimator::scalogram() const { return impl_->scalogram; }
+namespace {
+constexpr const char* kOwner = "RidgeFrequencyEstimator";
+}  // namespace
+
+const Scalogram& RidgeFrequencyEstimator::scalogram() const {
+  return internal::CheckedImpl(impl_, kOwner).scalogram;
+}
 
 Eigen::Index RidgeFrequencyEstimator::blocks() const {
-  return impl_->band ? impl_->band->blocks() : 0;
+  const Impl& s = internal::CheckedImpl(impl_, kOwner);
+  return s.band ? s.band->blocks() : 0;
 }
 
 Eigen::Index RidgeFrequencyEstimator::transformed_scales() const {
-  return impl_->band ? impl_->transformed_count : 0;
+  const Impl& s = internal::CheckedImpl(impl_, kOwner);
+  return s.band ? s.transformed_count : 0;
 }
 
 const RidgeTrack& RidgeFrequencyEstimator::Estimate(const Eigen::Ref<const Eigen::VectorXd>& signal,
                                                     double step_s) {
-  Impl& s = *impl_;
+  Impl& s = internal::CheckedImpl(impl_, kOwner);
   if (s.transform) {
     s.transform->Compute(signal, step_s, &s.scalogram);
     const std::vector<Eigen::VectorXi> paths = FindRidges(s.scalogram, s.options.ridge);
     s.track = TrackRidge(s.scalogram, paths.front(), s.options.ridge, s.transform.get());
     return s.track;
   }
-  internal::CheckSignal(signal, step_s, s.options.cwt.frequencies.max_frequency_Hz);
+  internal::CheckSignal(signal, step_s, s.options.cwt.frequencies);
   s.LayOut(signal.size(), step_s);
   s.Streamed(signal);
   return s.track;

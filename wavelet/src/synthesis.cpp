@@ -6,10 +6,12 @@
 #include <complex>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 
 #include "podid/core/error.hpp"
 #include "ridge_cost.hpp"
+#include "ridge_sample.hpp"
 #include "scalogram_check.hpp"
 
 namespace podid::wavelet {
@@ -90,7 +92,14 @@ Eigen::VectorXd InverseCwt(const Scalogram& scalogram) {
   const double c = ReconstructionConstant(scalogram.wavelet);
   // coefficient_scale last: 2 x a scale near the largest double overflowed
   // (an input of 1e308 came back inf) where the signal itself is finite.
-  return (sum.real() * (2.0 / c)) * scalogram.coefficient_scale;
+  Eigen::VectorXd x = (sum.real() * (2.0 / c)) * scalogram.coefficient_scale;
+  // Still infinite: the in-band signal itself exceeds the largest double.
+  if (!x.allFinite()) {
+    throw std::overflow_error(
+        "InverseCwt: the reconstruction overflowed double precision (above 1.8e308); scale the "
+        "signal down");
+  }
+  return x;
 }
 
 bool SynchrosqueezeOptions::IsValid(std::string* why) const {
@@ -319,6 +328,7 @@ RidgeTrack TrackSqueezedPath(const SynchrosqueezedTransform& sst,
     track.inside_coi(j) = false;
     track.frequency_Hz(j) = kNaN;
   }
+  internal::CheckTrackFinite(track, "SynchrosqueezedRidge");
   return track;
 }
 

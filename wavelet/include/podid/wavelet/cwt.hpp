@@ -164,6 +164,9 @@ WaveletFamily ParseWaveletFamily(std::string_view name);
 /// MorletWavelet's accepted parameters (IsValid; podid cwt checks its options
 /// against the same numbers).
 inline constexpr double kMinOmega0 = 5.0;  ///< without the admissibility correction
+/// With it: below, psi^ ~ omega0 u exp(-u^2 / 2) no longer changes shape, only
+/// shrinks with omega0 towards underflow.
+inline constexpr double kMinCorrectedOmega0 = 0.5;
 inline constexpr double kMaxOmega0 = 100.0;
 inline constexpr double kMinMorseGamma = 1.0, kMaxMorseGamma = 20.0;
 inline constexpr double kMinMorseBeta = 1.0, kMaxMorseBeta = 500.0;
@@ -171,17 +174,19 @@ inline constexpr double kMaxMorseBetaOverGamma = 100.0;
 
 struct MorletWavelet {
   WaveletFamily family = WaveletFamily::kMorlet;
-  double omega0 = 6.0;  ///< kMorlet: centre angular frequency (dimensionless), in (0, 100], >= 5
-                        ///< unless corrected
+  double omega0 = 6.0;  ///< kMorlet: centre angular frequency (dimensionless), in [5, 100]
+                        ///< ([0.5, 100] corrected)
   bool admissibility_correction = false;  ///< kMorlet: subtract exp(-omega0^2/2): psi^(0) = 0
-  double gamma = 3.0;                     ///< kMorse: symmetry, in [1, 20]
-  double beta = 20.0;                     ///< kMorse: decay, in [1, 500], beta / gamma <= 100
+  double gamma = 3.0;                     ///< kMorse: symmetry, in [1, 20] (either family)
+  double beta = 20.0;  ///< kMorse: decay, in [1, 500] (either), beta / gamma <= 100
   Normalisation normalisation = Normalisation::kAmplitude;
   /// How scales map to frequencies. The two agree for kAmplitude (without the
   /// Morlet correction); for kEnergy Morlet omega0 = 6 the ridge is at
   /// s omega = 6.0822, so under kPeak a tone's ridge carries a label 1.35 % below its frequency.
   ScaleConvention convention = ScaleConvention::kRidge;
 
+  /// Every field in range and every enum one of its values. Band, TimeSpread and
+  /// RidgeAngularFrequency throw std::invalid_argument with its reason otherwise.
   bool IsValid(std::string* why) const;
   /// The peak of psi^ alone (no n(s)): omega0 (Morlet without correction), u_p (Morse).
   double PeakAngularFrequency() const;
@@ -377,8 +382,10 @@ class CwtTransform {
   /// Transforms `signal` (dim N >= 4), sampled every step_s from start_time_s,
   /// into *out (resized as needed, so a reused Scalogram does not reallocate).
   /// Throws std::invalid_argument for NaN/Inf, a constant signal, step_s
-  /// outside 1e-15 .. 1e15 s, a frequency above Nyquist 1 / (2 step_s), or
-  /// sizes above memory_budget_bytes.
+  /// outside 1e-15 .. 1e15 s, a frequency above Nyquist 1 / (2 step_s) or
+  /// below 1e-20 times the sampling rate, more than 2^27 samples or
+  /// padded points, sizes above memory_budget_bytes, or a null `out`. A
+  /// moved-from transform throws std::logic_error (so do its other members).
   void Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
                double step_s,
                Scalogram* out,

@@ -48,8 +48,10 @@ struct DenoiseSummary {
   Eigen::Index zeroed_coefficients = 0;  ///< of which |d| <= lambda
 };
 
-/// Denoised copy of `signal` (dim N >= 8). Throws std::invalid_argument for
-/// too short or non-finite signals and invalid options.
+/// Denoised copy of `signal` (dim N >= 8), of any finite magnitude (scaled by
+/// a power of two inside). Throws std::invalid_argument for too short or
+/// non-finite signals and invalid options, std::overflow_error when the
+/// denoised signal exceeds the largest double (a step near it rings above).
 Eigen::VectorXd Denoise(const Eigen::Ref<const Eigen::VectorXd>& signal,
                         const DenoiseOptions& options = {},
                         DenoiseSummary* summary = nullptr);

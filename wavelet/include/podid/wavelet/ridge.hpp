@@ -101,6 +101,8 @@ std::vector<Eigen::VectorXi> FindRidges(const Scalogram& scalogram, const RidgeO
 /// IF and amplitude along `path`. `transform` must be the one whose last
 /// Compute() wrote `scalogram` (kPhase uses its TimeDerivative;
 /// CwtTransform::Produced, else std::invalid_argument); it may be null for kScale.
+/// An amplitude or IF beyond the largest double (a signal near 1.8e308):
+/// std::overflow_error instead of inf.
 RidgeTrack TrackRidge(const Scalogram& scalogram,
                       const Eigen::VectorXi& path,
                       const RidgeOptions& options,
@@ -181,7 +183,9 @@ class RidgeFrequencyEstimator {
   /// The main ridge of `signal` (dim N >= 4, step step_s). The returned
   /// reference stays valid until the next call. Bad input (as for
   /// CwtTransform::Compute: NaN/Inf, a constant signal, step_s outside
-  /// kMinStep_s .. kMaxStep_s, a frequency above Nyquist): std::invalid_argument.
+  /// kMinStep_s .. kMaxStep_s, a frequency above Nyquist or below 1e-20
+  /// times the sampling rate): std::invalid_argument; an amplitude beyond the
+  /// largest double: std::overflow_error. On a moved-from estimator: std::logic_error.
   const RidgeTrack& Estimate(const Eigen::Ref<const Eigen::VectorXd>& signal, double step_s);
 
   /// The scalogram of the last Estimate() (decimated in band-limited mode):

@@ -41,6 +41,7 @@ double ReconstructionConstant(const MorletWavelet& wavelet);
 
 /// The in-band part of x at the scalogram's output times (dim n_times), signal units.
 /// Needs complex coefficients and at least 2 frequencies; std::invalid_argument otherwise.
+/// std::overflow_error where the result exceeds the largest double (a signal near 1.8e308).
 Eigen::VectorXd InverseCwt(const Scalogram& scalogram);
 
 struct SynchrosqueezeOptions {
@@ -99,6 +100,7 @@ void SynchrosqueezeInPlace(const CwtTransform& transform,
 /// Screened (no IF, outside the cone) as TrackRidge screens: where |T(l)| is
 /// at most options.min_relative_magnitude of the path's peak, or no
 /// coefficient there had a reassigned frequency (|W| below the threshold).
+/// An amplitude beyond the largest double: std::overflow_error (so for SynchrosqueezedRidges).
 RidgeTrack SynchrosqueezedRidge(const SynchrosqueezedTransform& sst,
                                 const RidgeOptions& options = {});
 
