@@ -17,11 +17,13 @@
 
 #include "bindings.hpp"
 #include "podid/core/case_file.hpp"
+#include "podid/core/error.hpp"
 #include "podid/core/io.hpp"
 #include "podid/ident/identify.hpp"
 #include "podid/ident/landscape.hpp"
 #include "podid/ident/measured_record.hpp"
 #include "podid/ident/objective.hpp"
+#include "podid/ident/progress.hpp"
 
 namespace py = pybind11;
 
@@ -83,13 +85,13 @@ ident::NamedObjective ParseWeighting(const std::string& text) {
 std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case_,
                                                          const Measured& measured,
                                                          const std::vector<std::string>& weightings,
-                                                         int modes,
+                                                         long long modes,
                                                          double fmin,
                                                          double fmax,
                                                          bool raw_sigma,
-                                                         bool keep_mean,
+                                                         const BoolObject& keep_mean,
                                                          const std::vector<std::string>& set,
-                                                         int ridge_threads,
+                                                         long long ridge_threads,
                                                          const WaveletArguments& w) {
   ident::ObjectiveOptions options;
   options.weightings.clear();
@@ -101,17 +103,27 @@ std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case
     }
     options.weightings.push_back(ParseWeighting(w));
   }
-  options.modes = modes;
+  options.modes = IntArgument(modes, "modes", ">= 1");
   options.relative_sigma = !raw_sigma;
-  options.remove_mean = !keep_mean;
+  options.remove_mean = !BoolArgument(keep_mean, "keep_mean");
   options.ridge.cwt.frequencies.min_frequency_Hz = fmin;
   options.ridge.cwt.frequencies.max_frequency_Hz = fmax;
-  options.ridge.cwt.threads = ridge_threads;  // checked by the objective (1..256)
+  options.ridge.cwt.threads =  // the objective checks the rest
+      IntArgument(ridge_threads, "ridge_threads", "1.." + ToText(wavelet::kMaxCwtThreads));
   options.ridge.cwt.wavelet = MakeWavelet(w);
   CaseDocument document = LoadCase(case_, set);
   const TimeSeries data = PrepareMeasured(document, measured);
   py::gil_scoped_release release;
-  return std::make_shared<ident::ObjectiveFunction>(document, data, options);
+  try {
+    return std::make_shared<ident::ObjectiveFunction>(document, data, options);
+  } catch (const std::invalid_argument& e) {
+    // The options' and the IF term's messages name the library's fields and
+    // the CLI's options; these are the keywords.
+    std::string what = ReplaceAll(e.what(), "objective options: ridge: ", "");
+    what = ReplaceAll(std::move(what), "objective options: ", "");
+    what = ReplaceAll(std::move(what), "CwtOptions.threads", "ridge_threads");
+    throw std::invalid_argument(PythonNames(ReplaceAll(std::move(what), "--fmin", "fmin")));
+  }
 }
 
 // Parameter values from a {name: value} dict over the objective's starts.
@@ -151,13 +163,13 @@ void BindIdent(py::module_& m) {
       "The objective(s) of a case against a measured record: one simulation per evaluation\n"
       "gives the value of every weighting (docs/method.md).")
       .def(py::init([](const std::string& case_, const Measured& measured,
-                       const std::vector<std::string>& weightings, int modes, double fmin,
-                       double fmax, bool raw_sigma, bool keep_mean,
-                       const std::vector<std::string>& set, int ridge_threads,
+                       const std::vector<std::string>& weightings, long long modes, double fmin,
+                       double fmax, const BoolObject& raw_sigma, const BoolObject& keep_mean,
+                       const std::vector<std::string>& set, long long ridge_threads,
                        PODID_OBJECTIVE_WAVELET_PARAMETERS) {
-             return BuildObjective(case_, measured, weightings, modes, fmin, fmax, raw_sigma,
-                                   keep_mean, set, ridge_threads,
-                                   PODID_OBJECTIVE_WAVELET_ARGUMENTS);
+             return BuildObjective(case_, measured, weightings, modes, fmin, fmax,
+                                   BoolArgument(raw_sigma, "raw_sigma"), keep_mean, set,
+                                   ridge_threads, PODID_OBJECTIVE_WAVELET_ARGUMENTS);
            }),
            py::arg("case"), py::arg("measured"),
            py::arg("weightings") = std::vector<std::string>{"full"}, py::arg("modes") = 1,
@@ -171,7 +183,8 @@ void BindIdent(py::module_& m) {
       .def_property_readonly("parameter_names",
                              [](const ident::ObjectiveFunction& f) {
                                std::vector<std::string> names;
-                               for (const ParameterSpec& p : f.parameters()) names.push_back(p.name);
+                               for (const ParameterSpec& p : f.parameters())
+                                 names.push_back(p.name);
                                return names;
                              })
       .def_property_readonly("weighting_names",
@@ -204,27 +217,30 @@ void BindIdent(py::module_& m) {
           },
           py::arg("values") = std::map<std::string, double>{},
           "Evaluate at {name: value} (others at their start): {'values': {weighting: F}, 'terms':\n"
-          "{U, S, V, IF}, 'failed': bool, 'failure': reason}. A failed point is NaN, not an error.");
+          "{U, S, V, IF}, 'failed': bool, 'failure': reason}. A failed point is NaN, not an "
+          "error.");
 
   m.def(
       "identify",
       [](const std::string& case_, const Measured& measured, const std::string& objective,
-         const std::map<std::string, double>& start, int multistart, const std::string& algorithm,
-         int max_evaluations, double xtol, std::uint64_t seed, int modes, double fmin, double fmax,
-         int threads, const py::object& progress, bool keep_mean,
-         const std::vector<std::string>& set, int ridge_threads,
+         const std::map<std::string, double>& start, long long multistart,
+         const std::string& algorithm, long long max_evaluations, double xtol, std::uint64_t seed,
+         long long modes, double fmin, double fmax, long long threads, const py::object& progress,
+         const BoolObject& keep_mean, const std::vector<std::string>& set, long long ridge_threads,
          PODID_OBJECTIVE_WAVELET_PARAMETERS) {
+        ident::IdentifyOptions options;  // the ints first: before the objective's work
+        options.multistart =
+            IntArgument(multistart, "multistart", "1 to " + ToText(ident::kMaxMultistart));
+        options.max_evaluations = IntArgument(max_evaluations, "max_evaluations",
+                                              "1 to " + ToText(ident::kMaxEvaluations));
+        options.threads = IntArgument(threads, "threads", "0 to " + ToText(ident::kMaxThreads));
         const auto f =
             BuildObjective(case_, measured, {objective}, modes, fmin, fmax, false, keep_mean, set,
                            ridge_threads, PODID_OBJECTIVE_WAVELET_ARGUMENTS);
-        ident::IdentifyOptions options;
         options.algorithm = ident::ParseAlgorithm(algorithm);
         options.start = ValuesFrom(*f, start);
-        options.multistart = multistart;
-        options.max_evaluations = max_evaluations;
         options.xtol_rel = xtol;
         options.seed = seed;
-        options.threads = threads;
         options.progress = WrapProgress(progress);  // Ctrl-C stops it also without a callback
         ident::IdentifySummary summary;
         {
@@ -280,19 +296,20 @@ void BindIdent(py::module_& m) {
   m.def(
       "landscape",
       [](const std::string& case_, const Measured& measured, const std::string& param, double lower,
-         double upper, int points, const std::vector<std::string>& objectives,
-         const std::map<std::string, double>& base, int threads, const py::object& progress,
-         int modes, double fmin, double fmax, bool keep_mean, const std::vector<std::string>& set,
-         PODID_OBJECTIVE_WAVELET_PARAMETERS) {
+         double upper, long long points, const std::vector<std::string>& objectives,
+         const std::map<std::string, double>& base, long long threads, const py::object& progress,
+         long long modes, double fmin, double fmax, const BoolObject& keep_mean,
+         const std::vector<std::string>& set, PODID_OBJECTIVE_WAVELET_PARAMETERS) {
+        ident::LandscapeOptions options;  // the ints first: before the objective's work
+        options.x.points =
+            IntArgument(points, "points", "2 to " + ToText(ident::kMaxLandscapePoints));
+        options.threads = IntArgument(threads, "threads", "0 to " + ToText(ident::kMaxThreads));
         const auto f = BuildObjective(case_, measured, objectives, modes, fmin, fmax, false,
                                       keep_mean, set, 1, PODID_OBJECTIVE_WAVELET_ARGUMENTS);
-        ident::LandscapeOptions options;
         options.x.parameter = f->ParameterIndex(param, "param");
         options.x.lower = lower;
         options.x.upper = upper;
-        options.x.points = points;
         options.base = ValuesFrom(*f, base);
-        options.threads = threads;
         options.progress = WrapProgress(progress);  // Ctrl-C stops it also without a callback
         ident::LandscapeResult result;
         {

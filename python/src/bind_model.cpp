@@ -78,15 +78,16 @@ void BindModel(py::module_& m) {
 
   m.def(
       "simulate",
-      [](const std::string& case_, const std::vector<std::string>& set, bool noise) {
+      [](const std::string& case_, const std::vector<std::string>& set, const BoolObject& noise) {
         const CaseSpec spec = LoadCase(case_, set).ToSpec();
         SimulateOptions options;
-        options.add_noise = noise;
+        options.add_noise = BoolArgument(noise, "noise");
         py::gil_scoped_release release;
         return Simulate(spec, options);
       },
       py::arg("case"), py::arg("set") = std::vector<std::string>{}, py::arg("noise") = true,
-      "Simulates a case (a path, or TOML text) with `set` overrides like [\"nonlinearity.0.k3=2e9\"].\n"
+      "Simulates a case (a path, or TOML text) with `set` overrides like "
+      "[\"nonlinearity.0.k3=2e9\"].\n"
       "A diverging simulation is not an error: see .completed and .message.");
 }
 

@@ -2,9 +2,11 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <stdexcept>
 #include <string>
 
 #include "bindings.hpp"
+#include "podid/core/error.hpp"
 #include "podid/pod/pod.hpp"
 
 namespace py = pybind11;
@@ -32,11 +34,10 @@ void BindPod(py::module_& m) {
 
   m.def(
       "pod",
-      [](const py::object& object, const std::string& method, int modes, bool remove_mean,
-         bool time_modes) {
+      [](const ArrayObject& object, const std::string& method, long long modes,
+         const BoolObject& remove_mean, const BoolObject& time_modes) {
         // Any array-like (a nested list too), as the Eigen caster took it.
-        const py::array array = py::array::ensure(object);
-        if (!array) throw py::type_error("X: expected a 2-D array of real numbers");
+        const py::array array = RealArray(object, "X", 2);
         // A 1-D array would become one column: N sensors of 1 sample each.
         if (array.ndim() != 2) {
           throw py::value_error("X: expected a 2-D array (sensors x samples), got a " +
@@ -53,12 +54,17 @@ void BindPod(py::module_& m) {
             py::detail::cast_op<Eigen::Ref<const Eigen::MatrixXd>>(caster);
         PodOptions options;
         options.method = ParsePodMethod(method);
-        options.max_modes = modes;
-        options.remove_mean = remove_mean;
-        options.compute_time_modes = time_modes;
+        options.max_modes = IntArgument(modes, "modes", "0..min(sensors, samples)");
+        options.remove_mean = BoolArgument(remove_mean, "remove_mean");
+        options.compute_time_modes = BoolArgument(time_modes, "time_modes");
         py::gil_scoped_release release;
-        PodSolver solver(options);
-        return PodResult(solver.Compute(x));
+        try {
+          PodSolver solver(options);
+          return PodResult(solver.Compute(x));
+        } catch (const std::invalid_argument& e) {
+          // PodOptions.max_modes, "POD data" (an empty X) in the keywords' names.
+          throw std::invalid_argument(PythonNames(ReplaceAll(e.what(), "POD data", "X")));
+        }
       },
       py::arg("X"), py::arg("method") = "auto", py::arg("modes") = 0, py::arg("remove_mean") = true,
       py::arg("time_modes") = true,

@@ -37,6 +37,8 @@ std::string PythonNames(std::string message) {
       {"MorletWavelet.gamma", "gamma"},
       {"MorletWavelet.beta", "beta"},
       {"RidgeOptions.penalty_s", "penalty_s"},
+      {"SynchrosqueezeOptions.relative_threshold", "threshold"},
+      {"PodOptions.max_modes", "modes"},
       {"RidgeOptions.ridges", "count"},
       {"ridge method", "method"},
       {"frequency estimator", "estimator"},
@@ -55,13 +57,15 @@ std::string PythonNames(std::string message) {
 
 namespace {
 
-// Runs `compute`, its std::invalid_argument (a ValueError) in Python's names.
+// Runs `compute`, its std::invalid_argument (a ValueError) in Python's names;
+// the transform's checks of its input ("Cwt: signal") name `signal`.
 template <typename F>
-auto WithPythonNames(F&& compute) {
+auto WithPythonNames(F&& compute, const char* signal = "x") {
   try {
     return compute();
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(PythonNames(e.what()));
+    std::string what = ReplaceAll(e.what(), "Cwt: signal", signal);
+    throw std::invalid_argument(PythonNames(ReplaceAll(std::move(what), "Cwt: step_s", "step_s")));
   }
 }
 
@@ -87,23 +91,29 @@ namespace {
 
 wavelet::CwtOptions MakeCwtOptions(double fmin_Hz,
                                    double fmax_Hz,
-                                   int voices,
-                                   std::optional<int> bins,
+                                   long long voices,
+                                   std::optional<long long> bins,
                                    const WaveletArguments& w,
                                    const std::string& padding,
                                    double coi_factor,
-                                   int threads) {
+                                   long long threads) {
   wavelet::CwtOptions options;
   // bins: the CLI's --bins, a linear grid instead of the log one.
-  options.frequencies = bins ? wavelet::FrequencyGrid::Linear(fmin_Hz, fmax_Hz, *bins)
-                             : wavelet::FrequencyGrid::Log(fmin_Hz, fmax_Hz, voices);
+  options.frequencies =
+      bins ? wavelet::FrequencyGrid::Linear(fmin_Hz, fmax_Hz,
+                                            IntArgument(*bins, "bins",
+                                                        ToText(wavelet::kMinLinearBins) + ".." +
+                                                            ToText(wavelet::kMaxFrequencies)))
+           : wavelet::FrequencyGrid::Log(
+                 fmin_Hz, fmax_Hz,
+                 IntArgument(voices, "voices", "1.." + ToText(wavelet::kMaxVoicesPerOctave)));
   options.wavelet = MakeWavelet(w);
   WithPythonNames([&] {
     options.padding = wavelet::ParsePadding(padding);
     return 0;
   });
   options.coi_factor = coi_factor;
-  options.threads = threads;
+  options.threads = IntArgument(threads, "threads", "1.." + ToText(wavelet::kMaxCwtThreads));
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(PythonNames(why));
   return options;
@@ -134,14 +144,14 @@ void ApplyOutputLimits(bool band_limited,
   py::arg("bins") = py::none()
 #define PODID_WAVELET_PARAMETERS                                                          \
   const std::string &family, double gamma, double beta, const std::string &normalisation, \
-      const std::string &convention, std::optional<int> bins
+      const std::string &convention, std::optional<long long> bins
 #define PODID_WAVELET_ARGUMENTS \
   WaveletArguments { family, omega0, gamma, beta, normalisation, convention }
 // The lambdas' parameters for PODID_CWT_KWARGS (or PODID_OBJECTIVE_KWARGS), and
 // the options they give.
-#define PODID_CWT_PARAMETERS                                                       \
-  double fmin, double fmax, int voices, double omega0, const std::string &padding, \
-      double coi_factor, int threads, PODID_WAVELET_PARAMETERS
+#define PODID_CWT_PARAMETERS                                                             \
+  double fmin, double fmax, long long voices, double omega0, const std::string &padding, \
+      double coi_factor, long long threads, PODID_WAVELET_PARAMETERS
 #define PODID_CWT_OPTIONS \
   MakeCwtOptions(fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads)
 // The CLI's defaults (podid cwt): zero padding, cone factor 2 (docs/wavelet.md).
@@ -192,15 +202,17 @@ void BindWavelet(py::module_& m) {
 
   m.def(
       "cwt",
-      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, PODID_CWT_PARAMETERS,
-         bool band_limited, double max_memory_MB, const std::string& output) {
+      [](const ArrayObject& signal, double step_s, PODID_CWT_PARAMETERS,
+         const BoolObject& band_limited, double max_memory_MB, const std::string& output) {
+        const RealVector x(signal, "x");
         wavelet::CwtOptions options = PODID_CWT_OPTIONS;
         // The whole budget for the transform: the library counts 16, 8 or 4 bytes a
         // coefficient by the output asked for.
-        ApplyOutputLimits(band_limited, max_memory_MB, 16.0, &options);
+        ApplyOutputLimits(BoolArgument(band_limited, "band_limited"), max_memory_MB, 16.0,
+                          &options);
         options.output = wavelet::ParseCwtOutput(output);
         py::gil_scoped_release release;
-        return WithPythonNames([&] { return wavelet::Cwt(x, step_s, options); });
+        return WithPythonNames([&] { return wavelet::Cwt(x.values, step_s, options); });
       },
       py::arg("x"), py::arg("step_s"), PODID_CWT_KWARGS, PODID_OUTPUT_KWARGS,
       py::arg("output") = "complex",
@@ -216,13 +228,15 @@ void BindWavelet(py::module_& m) {
 
   m.def(
       "ridges",
-      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, int count, PODID_CWT_PARAMETERS,
+      [](const ArrayObject& signal, double step_s, long long count, PODID_CWT_PARAMETERS,
          const std::string& method, double penalty_s, const std::string& estimator,
-         bool band_limited, double max_memory_MB) {
+         const BoolObject& band_limited, double max_memory_MB) {
+        const RealVector x(signal, "x");
         wavelet::CwtOptions options = PODID_CWT_OPTIONS;
-        ApplyOutputLimits(band_limited, max_memory_MB, 16.0, &options);
+        ApplyOutputLimits(BoolArgument(band_limited, "band_limited"), max_memory_MB, 16.0,
+                          &options);
         wavelet::RidgeOptions ridge;
-        ridge.ridges = count;
+        ridge.ridges = IntArgument(count, "count", "1.." + ToText(wavelet::kMaxRidges));
         ridge.penalty_s = penalty_s;
         WithPythonNames([&] {
           ridge.method = wavelet::ParseRidgeMethod(method);
@@ -232,17 +246,17 @@ void BindWavelet(py::module_& m) {
         std::string why;
         if (!ridge.IsValid(&why)) throw std::invalid_argument(PythonNames(why));
         py::gil_scoped_release release;
-        wavelet::CwtTransform transform(options);
-        wavelet::Scalogram scalogram;
-        WithPythonNames([&] {
-          transform.Compute(x, step_s, &scalogram);
-          return 0;
+        // The ridges' checks too (penalty_s against the grid and step).
+        return WithPythonNames([&] {
+          wavelet::CwtTransform transform(options);
+          wavelet::Scalogram scalogram;
+          transform.Compute(x.values, step_s, &scalogram);
+          std::vector<wavelet::RidgeTrack> tracks;
+          for (const Eigen::VectorXi& path : wavelet::FindRidges(scalogram, ridge)) {
+            tracks.push_back(wavelet::TrackRidge(scalogram, path, ridge, &transform));
+          }
+          return tracks;
         });
-        std::vector<wavelet::RidgeTrack> tracks;
-        for (const Eigen::VectorXi& path : wavelet::FindRidges(scalogram, ridge)) {
-          tracks.push_back(wavelet::TrackRidge(scalogram, path, ridge, &transform));
-        }
-        return tracks;
       },
       py::arg("x"), py::arg("step_s"), py::arg("count") = 1, PODID_CWT_KWARGS,
       py::arg("method") = "penalised", py::arg("penalty_s") = 0.05, py::arg("estimator") = "phase",
@@ -264,13 +278,13 @@ void BindWavelet(py::module_& m) {
           "bin outside the grid is not moved")
       .def(
           "ridges",
-          [](const wavelet::SynchrosqueezedTransform& sst, int count) {
+          [](const wavelet::SynchrosqueezedTransform& sst, long long count) {
             wavelet::RidgeOptions ridge;
-            ridge.ridges = count;
+            ridge.ridges = IntArgument(count, "count", "1.." + ToText(wavelet::kMaxRidges));
             std::string why;
             if (!ridge.IsValid(&why)) throw std::invalid_argument(PythonNames(why));
             py::gil_scoped_release release;
-            return wavelet::SynchrosqueezedRidges(sst, ridge);
+            return WithPythonNames([&] { return wavelet::SynchrosqueezedRidges(sst, ridge); });
           },
           py::arg("count") = 1,
           "The `count` strongest penalised ridges of |T|, strongest first, each IF at the "
@@ -278,21 +292,23 @@ void BindWavelet(py::module_& m) {
 
   m.def(
       "synchrosqueeze",
-      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, double threshold,
-         PODID_CWT_PARAMETERS, bool band_limited, double max_memory_MB) {
+      [](const ArrayObject& signal, double step_s, double threshold, PODID_CWT_PARAMETERS,
+         const BoolObject& band_limited, double max_memory_MB) {
+        const RealVector x(signal, "x");
         wavelet::CwtOptions options = PODID_CWT_OPTIONS;
         // T replaces W in place; the reassigned frequencies take 8 bytes more a coefficient.
-        ApplyOutputLimits(band_limited, max_memory_MB, 24.0, &options);
+        ApplyOutputLimits(BoolArgument(band_limited, "band_limited"), max_memory_MB, 24.0,
+                          &options);
         wavelet::SynchrosqueezeOptions squeeze;
         squeeze.relative_threshold = threshold;
         std::string why;
-        if (!squeeze.IsValid(&why)) throw std::invalid_argument("threshold: " + why);
+        if (!squeeze.IsValid(&why)) throw std::invalid_argument(PythonNames(why));
         py::gil_scoped_release release;
         wavelet::CwtTransform transform(options);
         wavelet::SynchrosqueezedTransform out;
         try {
           WithPythonNames([&] {
-            transform.Compute(x, step_s, &out.sst);
+            transform.Compute(x.values, step_s, &out.sst);
             return 0;
           });
         } catch (const std::invalid_argument& e) {
@@ -302,7 +318,10 @@ void BindWavelet(py::module_& m) {
                                       " x 16 / 24: W's share of the 24 bytes a coefficient "
                                       "takes with its reassigned frequency]");
         }
-        wavelet::SynchrosqueezeInPlace(transform, squeeze, &out);  // T over W: no second matrix
+        WithPythonNames([&] {
+          wavelet::SynchrosqueezeInPlace(transform, squeeze, &out);  // T over W: no second matrix
+          return 0;
+        });
         return out;
       },
       py::arg("x"), py::arg("step_s"), py::arg("threshold") = 1e-6, PODID_CWT_KWARGS,
@@ -334,13 +353,16 @@ void BindWavelet(py::module_& m) {
         // (cwt, ridges, synchrosqueeze) and the band-limited one
         // (instantaneous_frequency, the wavelet objective).
         wavelet::FftLengths lengths;
-        WithPythonNames([&] {
-          for (bool band_limited : {false, true}) {
-            options.band_limited = band_limited;
-            wavelet::MergeFftLengths(wavelet::CwtFftLengths(options, samples, step_s), &lengths);
-          }
-          return 0;
-        });
+        WithPythonNames(
+            [&] {
+              for (bool band_limited : {false, true}) {
+                options.band_limited = band_limited;
+                wavelet::MergeFftLengths(wavelet::CwtFftLengths(options, samples, step_s),
+                                         &lengths);
+              }
+              return 0;
+            },
+            "samples");
         wavelet::PlanSummary summary;
         {
           py::gil_scoped_release release;
@@ -374,14 +396,21 @@ void BindWavelet(py::module_& m) {
 
   m.def(
       "instantaneous_frequency",
-      [](const Eigen::Ref<const Eigen::VectorXd>& x, double step_s, PODID_CWT_PARAMETERS,
-         double max_memory_MB) {
+      [](const ArrayObject& signal, double step_s, PODID_CWT_PARAMETERS, double max_memory_MB) {
+        const RealVector x(signal, "x");
         wavelet::RidgeFrequencyOptions options;
         const bool band_limited = options.cwt.band_limited;
         options.cwt = PODID_CWT_OPTIONS;
         ApplyOutputLimits(band_limited, max_memory_MB, 16.0, &options.cwt);
         py::gil_scoped_release release;
-        return WithPythonNames([&] { return wavelet::RidgeFrequency(x, step_s, options); });
+        try {
+          return WithPythonNames(
+              [&] { return wavelet::RidgeFrequency(x.values, step_s, options); });
+        } catch (const std::invalid_argument& e) {
+          // Always band-limited: the library's advice names a keyword this function lacks.
+          throw std::invalid_argument(ReplaceAll(e.what(), "fewer frequencies or band_limited",
+                                                 "fewer frequencies or a larger max_memory_MB"));
+        }
       },
       py::arg("x"), py::arg("step_s"), PODID_OBJECTIVE_KWARGS, py::arg("max_memory_MB") = 2048.0,
       "The IF of x along its main ridge, as the wavelet objective computes it (band-limited, "

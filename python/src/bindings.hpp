@@ -1,7 +1,9 @@
 #pragma once
 // The pieces of the `podid._podid` extension, one file per podid module.
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
 
@@ -34,8 +36,50 @@ struct WaveletArguments {
 /// refuses (bind_wavelet.cpp).
 wavelet::MorletWavelet MakeWavelet(const WaveletArguments& w);
 
+/// Any object, for an argument the function checks itself (RealArray,
+/// BoolArgument) to name it in its errors; typed for help()'s signatures.
+inline bool AnyObject(PyObject*) { return true; }
+struct ArrayObject : pybind11::object {
+  PYBIND11_OBJECT_DEFAULT(ArrayObject, pybind11::object, AnyObject)
+};
+struct BoolObject : pybind11::object {
+  PYBIND11_OBJECT_DEFAULT(BoolObject, pybind11::object, AnyObject)
+};
+
+/// A real array argument (float, integer or bool, any array-like) as an
+/// array; py::type_error naming `name` and `ndim`, the dimension the caller
+/// checks, otherwise (None, complex, object): pybind11's converting Eigen
+/// caster kept a complex array's real part.
+pybind11::array RealArray(const pybind11::handle& value, const char* name, int ndim);
+
+/// A real 1-D array argument as float64: a view of a contiguous float64
+/// array, else a copy it keeps. py::value_error for another dimension.
+struct RealVector {
+  RealVector(const pybind11::handle& value, const char* name);
+  pybind11::array_t<double, pybind11::array::c_style | pybind11::array::forcecast> array;
+  Eigen::Map<const Eigen::VectorXd> values;
+};
+
+/// An int keyword taken as a Python int: pybind11's int refused 2**31 without
+/// naming it. py::value_error "name: expected `expected`, got value" outside
+/// int; the library checks the rest.
+int IntArgument(long long value, const char* name, const std::string& expected);
+
+/// A bool keyword: True, False or numpy.bool_ only, py::type_error naming
+/// `name` otherwise (pybind11's conversion took None as False, nan as True).
+bool BoolArgument(const pybind11::handle& value, const char* name);
+
 /// A case-file path, or TOML text when `case_` holds a newline, with
 /// `--set`-style "key=value" overrides (module.cpp).
 CaseDocument LoadCase(const std::string& case_, const std::vector<std::string>& set);
 
 }  // namespace podid::python
+
+template <>
+struct pybind11::detail::handle_type_name<podid::python::ArrayObject> {
+  static constexpr auto name = const_name("numpy.ndarray");
+};
+template <>
+struct pybind11::detail::handle_type_name<podid::python::BoolObject> {
+  static constexpr auto name = const_name("bool");
+};
