@@ -132,7 +132,9 @@ void CheckOutputFolder(const NamedFile& folder) {
   }
 }
 
-CLI::Validator NonEmptyPath(const std::string& what) {
+CLI::Validator NonEmptyPath(const std::string& what) { return NonEmpty(what); }
+
+CLI::Validator NonEmpty(const std::string& what) {
   return CLI::Validator(
       [what](std::string& text) -> std::string {
         return text.empty() ? "expected " + what + ", got an empty one" : std::string();

@@ -63,6 +63,8 @@ void CheckOutputFolder(const NamedFile& folder);
 /// so `-o ''` wrote nothing and exited 0. `what` is e.g. "a file path"; the
 /// message reads "--plot: expected a file path, got an empty one".
 CLI::Validator NonEmptyPath(const std::string& what = "a file path");
+/// The same for any text option ("--terms: expected a list of terms ..., got an empty one").
+CLI::Validator NonEmpty(const std::string& what);
 
 /// A CLI11 check for an integer option in [lower, upper]; its message reads
 /// "expected an integer in [lower, upper], got <text>".

@@ -294,9 +294,14 @@ void AddIdentifyCommand(CLI::App& app) {
       "difference between measured and simulated POD (Lenaerts et al., eq. 19 and sec. 4.3).\n"
       "Exit status 2 if no usable point was found.");
   args->objective.AddTo(*command);
-  command->add_option("--objective", args->preset, "Preset: full (U+S+V), time-free (U+S), wavelet (U+S+IF)")
-      ->capture_default_str();
-  command->add_option("--terms", args->terms, "Custom terms instead of a preset, e.g. U,S,IF");
+  auto* preset = command
+                     ->add_option("--objective", args->preset,
+                                  "Preset: full (U+S+V), time-free (U+S), wavelet (U+S+IF)")
+                     ->capture_default_str();
+  // A preset beside --terms was silently dropped, and an empty --terms meant "full".
+  command->add_option("--terms", args->terms, "Custom terms instead of a preset, e.g. U,S,IF")
+      ->check(NonEmpty("a list of terms U, S, V, IF (e.g. U,S,IF)"))
+      ->excludes(preset);
   command->add_option("--weights", args->weights, "Weights of --terms, e.g. 1,1,0.5 (default all 1)");
   command->add_option("--algorithm", args->algorithm,
                       "NLopt algorithm: LN_BOBYQA, LN_NELDERMEAD, LN_SBPLX, LN_COBYLA, GN_DIRECT_L, "

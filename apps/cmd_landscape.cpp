@@ -1,13 +1,15 @@
 // podid landscape: objectives over a grid of one or two parameters, with metrics.
+#include <unistd.h>
+
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <csignal>
-#include <limits>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <unistd.h>
 
 #include "commands.hpp"
 #include "ident_common.hpp"
@@ -64,12 +66,25 @@ void SetParameter(const ident::ObjectiveFunction& f, const std::string& option, 
   axis->parameter = f.ParameterIndex(name, option);
 }
 
+// Errors name --objective (Preset's say "objective"); a repeated preset would
+// be computed twice and give a CSV column and a JSON key of the same name.
 std::vector<ident::NamedObjective> ParseObjectives(const std::string& list) {
+  const std::string expected = "a list of full, time-free, wavelet";
+  if (list.empty()) ThrowInvalid("--objective", expected, "\"\"");
   std::vector<ident::NamedObjective> out;
-  std::stringstream ss(list);
-  std::string name;
-  while (std::getline(ss, name, ',')) out.push_back({name, ident::ObjectiveWeights::Preset(name)});
-  if (out.empty()) ThrowInvalid("--objective", "a list of full, time-free, wavelet", "\"" + list + "\"");
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    const std::string name = list.substr(start, comma - start);
+    start = comma + 1;
+    if (name != "full" && name != "time-free" && name != "wavelet") {
+      ThrowInvalid("--objective", expected, Excerpt(name));
+    }
+    for (const ident::NamedObjective& o : out) {
+      if (o.name == name) ThrowInvalid("--objective", "each objective once", name + " twice");
+    }
+    out.push_back({name, ident::ObjectiveWeights::Preset(name)});
+  }
   return out;
 }
 
@@ -147,6 +162,9 @@ void AddLandscapeCommand(CLI::App& app) {
     const std::vector<ident::NamedObjective> objectives = ParseObjectives(args->objectives);
     if (args->param2.empty() != args->range2.empty()) {
       ThrowInvalid("--param2/--range2", "both or neither", args->param2.empty() ? "--range2 alone" : "--param2 alone");
+    }
+    if (!args->param2.empty() && args->param2 == args->param) {  // before reading the data
+      ThrowInvalid("--param2", "a parameter other than --param's", Excerpt(args->param2));
     }
     ident::LandscapeOptions options;
     options.x = ParseRange("--range", args->range);

@@ -1,5 +1,6 @@
 #include "data_arguments.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -50,11 +51,13 @@ void DataArguments::AddTo(CLI::App& command, const std::string& prefix) {
   command.add_option(p + "variable", variable,
                      "The .mat variable or struct to read (default: the first matrix, vectors or "
                      "struct of channels)");
-  command
-      .add_option(p + "channels", channels,
-                  "Channels to keep, in this order, by name, e.g. --channels 1+X,3+Z (identify, "
-                  "landscape: the file's channels for the case's sensors, in order)")
-      ->type_name("A,B,...");
+  channels_option_ =
+      command
+          .add_option(
+              p + "channels", channels,
+              "Channels to keep, in this order, by name, e.g. --channels 1+X,3+Z (identify, "
+              "landscape: the file's channels for the case's sensors, in order)")
+          ->type_name("A,B,...");
   rate_option_ = command.add_option(p + "rate", rate_Hz,
                                     "Sampling rate (Hz) of a file without time, e.g. 610.3515625");
   step_option_ = command.add_option(p + "step", step_s, "Sampling step (s) of a file without time");
@@ -111,6 +114,18 @@ DataReadOptions DataArguments::Options() const {
   options.rate_Hz = rate_Hz;
   options.step_s = step_s;
   options.channels = ChannelList();
+  // Checked here to name the option: an empty list was taken for none given.
+  if (channels_option_ != nullptr && channels_option_->count() > 0) {
+    const std::string& option = channels_option_->get_name();
+    if (channels.empty()) ThrowInvalid(option, "a list of channel names", "\"\"");
+    for (std::size_t i = 0; i < options.channels.size(); ++i) {
+      const std::string& name = options.channels[i];
+      if (name.empty()) ThrowInvalid(option, "non-empty channel names", "an empty name");
+      const auto earlier = options.channels.begin() + static_cast<std::ptrdiff_t>(i);
+      if (std::find(options.channels.begin(), earlier, name) != earlier)
+        ThrowInvalid(option, "distinct channel names", Excerpt(name) + " twice");
+    }
+  }
   // A subnormal value (1e-320) has an infinite reciprocal (IsSamplingStep).
   if (rate_option_ != nullptr && rate_option_->count() > 0 && !IsSamplingRate(rate_Hz)) {
     ThrowInvalid(rate_option_->get_name(),
@@ -176,6 +191,13 @@ TimeSeries DataArguments::ReadConditioned(const std::string& path) const {
 std::vector<std::string> DataArguments::CaseSets(const std::string& path) const {
   (void)Options();  // the reading options' checks
   const ConditioningOptions c = Conditioning();
+  // Named here: the case's own check would blame the case file for it.
+  if (decimate != 1) {
+    ThrowInvalid("--" + prefix_ + "decimate",
+                 "1 for identify and landscape (the simulation runs on the measured grid; "
+                 "decimate the file beforehand, or use podid pod)",
+                 ToText(decimate));
+  }
   std::vector<std::string> sets;
   if (!path.empty()) {
     sets.push_back("data.file=" + TomlString(std::filesystem::absolute(path).string()));
@@ -206,7 +228,6 @@ std::vector<std::string> DataArguments::CaseSets(const std::string& path) const 
                                                  : c.filter.low_Hz));
     }
   }
-  if (decimate != 1) sets.push_back("data.decimate=" + std::to_string(decimate));
   return sets;
 }
 

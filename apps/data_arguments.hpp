@@ -40,7 +40,8 @@ struct DataArguments {
   /// The same choices as case-file keys for `--set` (data.file = `path` made
   /// absolute, data.variable, data.channels, data.rate, data.window, ...):
   /// identify and landscape pass the command line to the case this way, so
-  /// the measured and the simulated signals are conditioned alike.
+  /// the measured and the simulated signals are conditioned alike. Refuses
+  /// --decimate (the simulation runs on the measured grid).
   std::vector<std::string> CaseSets(const std::string& path) const;
   /// The first of these options given on the command line ("--decimate"), or
   /// "" for none: plan refuses them without a DATA file to apply them to.
@@ -48,6 +49,7 @@ struct DataArguments {
 
  private:
   std::vector<std::string> ChannelList() const;
+  CLI::Option* channels_option_ = nullptr;
   CLI::Option* rate_option_ = nullptr;
   CLI::Option* step_option_ = nullptr;
   CLI::Option* lowpass_option_ = nullptr;

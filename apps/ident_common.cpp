@@ -60,6 +60,10 @@ void ObjectiveArguments::AddTo(CLI::App& command) {
       ->capture_default_str()
       ->check(NumberIn({0.0}));
   wavelet.AddTo(command, " of the wavelet term");
+  ridge_options = wavelet.options;
+  for (const char* name : {"--fmin", "--fmax", "--penalty", "--mode-band", "--ridge-snr"}) {
+    ridge_options.push_back(command.get_option(name));
+  }
   command.add_option("--start", starts, "Start value of a parameter, e.g. --start knl=40 (repeatable)")
       ->type_name("NAME=VALUE");
 }
@@ -70,6 +74,7 @@ void ObjectiveArguments::PrepareData() {
 
 std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
     std::vector<ident::NamedObjective> weightings) const {
+  (void)StartPairs();  // their syntax, before the data are read and simulated
   CaseDocument document = input.Load();
   if (document.ToSpec().data.file.empty()) {
     ThrowInvalid("-m", "a measured file (-m FILE, or [data] file in " + input.path + ")", "none");
@@ -115,6 +120,23 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
   const bool ridges =
       std::any_of(options.weightings.begin(), options.weightings.end(),
                   [](const ident::NamedObjective& o) { return o.weights.NeedsRidges(); });
+  for (const CLI::Option* option : ridge_options) {
+    if (!ridges && option->count() > 0) {  // it was silently ignored
+      ThrowInvalid(option->get_name(),
+                   "an objective with the wavelet (IF) term, which alone reads it (--objective "
+                   "wavelet, or IF in --terms)",
+                   "none with it");
+    }
+  }
+  if (ridges) {
+    const int voices = options.ridge.cwt.frequencies.voices_per_octave;
+    CheckTwoFrequencies("--fmin/--fmax", fmin_Hz, fmax_Hz, voices);
+    for (std::size_t k = 0; k < options.mode_bands.size(); ++k) {
+      const ident::FrequencyBand& b = options.mode_bands[k];
+      if (!b.follow())
+        CheckTwoFrequencies("--mode-band " + ToText(k + 1), b.min_Hz, b.max_Hz, voices);
+    }
+  }
   if (ridges && fmax_Hz > nyquist_Hz) {
     ThrowInvalid("--fmax",
                  "at most the measured data's Nyquist frequency, " + ToText(nyquist_Hz) +
@@ -135,7 +157,20 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
   options.ridge.ridge.penalty_s = penalty_s;
   wavelet.ApplyTo(&options.ridge.cwt.wavelet);
   options.ridge.cwt.threads = ridge_threads;
-  auto objective = std::make_unique<ident::ObjectiveFunction>(document, data, options);
+  std::unique_ptr<ident::ObjectiveFunction> objective;
+  try {
+    objective = std::make_unique<ident::ObjectiveFunction>(document, data, options);
+  } catch (const std::invalid_argument& e) {
+    // The library names its fields; these options set them.
+    std::string what = e.what();
+    for (const auto& [field, option] :
+         {std::pair<const char*, const char*>{"RidgeOptions.penalty_s", "--penalty"},
+          {"modes: expected at most the number of sensors",
+           "--modes: expected at most the number of sensors"}}) {
+      what = ReplaceAll(std::move(what), field, option);
+    }
+    throw std::invalid_argument(what);
+  }
   // Under MPI every rank builds the objective; rank 0 speaks for them.
   if (mpi::Rank() == 0) {
     for (const std::string& note : objective->notes()) std::fprintf(stderr, "podid: note: %s\n", note.c_str());
@@ -143,9 +178,27 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
   return objective;
 }
 
+std::vector<std::pair<std::string, std::string>> ObjectiveArguments::StartPairs() const {
+  std::vector<std::pair<std::string, std::string>> pairs;
+  try {
+    pairs = ParseSetArguments(starts);
+  } catch (const std::invalid_argument& e) {  // its message names --set
+    const std::string what = e.what();
+    throw std::invalid_argument(what.rfind("--set ", 0) == 0 ? "--start " + what.substr(6) : what);
+  }
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (pairs[j].first == pairs[i].first) {  // the last one silently won
+        ThrowInvalid("--start", "each parameter at most once", pairs[i].first + " twice");
+      }
+    }
+  }
+  return pairs;
+}
+
 Eigen::VectorXd ObjectiveArguments::Start(const ident::ObjectiveFunction& objective) const {
   Eigen::VectorXd start = objective.StartValues();
-  for (const auto& [name, value_text] : ParseSetArguments(starts)) {
+  for (const auto& [name, value_text] : StartPairs()) {
     const int index = objective.ParameterIndex(name, "--start " + name);
     const double value = ParseNumber(value_text, "--start " + name);
     const ParameterSpec& p = objective.parameters()[index];

@@ -6,6 +6,7 @@
 #include <memory>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_common.hpp"
@@ -31,6 +32,9 @@ struct ObjectiveArguments {
   double fmax_Hz = 120.0;
   double penalty_s = 0.05;
   WaveletArguments wavelet;         ///< the wavelet term's wavelet: cwt's wavelet options
+  /// The options only the IF term reads (--fmin, --fmax, --penalty,
+  /// --mode-band, --ridge-snr and the wavelet's): refused without it.
+  std::vector<const CLI::Option*> ridge_options;
   std::vector<std::string> starts;  ///< name=value
   /// The ridge's CwtOptions::threads (not an option: identify gives a single
   /// start two threads, see cmd_identify.cpp).
@@ -45,6 +49,9 @@ struct ObjectiveArguments {
   std::unique_ptr<ident::ObjectiveFunction> Build(std::vector<ident::NamedObjective> weightings) const;
   /// The start vector after --start overrides (throws for unknown names).
   Eigen::VectorXd Start(const ident::ObjectiveFunction& objective) const;
+  /// --start's name=value pairs; throws std::invalid_argument naming --start
+  /// for a missing '=' or a name given twice.
+  std::vector<std::pair<std::string, std::string>> StartPairs() const;
 };
 
 /// The wavelet term's settings per compared mode, as the objective resolved

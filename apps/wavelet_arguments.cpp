@@ -10,6 +10,7 @@
 
 namespace podid::cli {
 void WaveletArguments::AddTo(CLI::App& command, const std::string& what) {
+  options.clear();
   command
       .add_option("--wavelet", family,
                   "Wavelet" + what + ": morlet or morse (generalised Morse, MATLAB's default)")
@@ -31,6 +32,10 @@ void WaveletArguments::AddTo(CLI::App& command, const std::string& what) {
                   "peak (MATLAB, PyWavelets: the wavelet's centre frequency); they differ\n"
                   "only with --normalisation energy (1.35 % for Morlet omega0 6)")
       ->capture_default_str();
+  for (const char* name :
+       {"--wavelet", "--omega0", "--gamma", "--beta", "--normalisation", "--scale-convention"}) {
+    options.push_back(command.get_option(name));
+  }
 }
 
 void WaveletArguments::ApplyTo(wavelet::MorletWavelet* wavelet) const {
@@ -42,6 +47,18 @@ void WaveletArguments::ApplyTo(wavelet::MorletWavelet* wavelet) const {
       ParseOption("--normalisation", normalisation, wavelet::ParseNormalisation);
   wavelet->convention =
       ParseOption("--scale-convention", convention, wavelet::ParseScaleConvention);
+  // A parameter of the other family changed nothing: say so.
+  const bool morse = wavelet->family == wavelet::WaveletFamily::kMorse;
+  for (const CLI::Option* option : options) {
+    const std::string name = option->get_name();
+    const bool morlet_only = name == "--omega0", morse_only = name == "--gamma" || name == "--beta";
+    if (option->count() > 0 && ((morse && morlet_only) || (!morse && morse_only))) {
+      ThrowInvalid(name,
+                   std::string("--wavelet ") + (morse ? "morlet" : "morse") + " with it (" +
+                       (morse ? "the Morlet wavelet's" : "a Morse wavelet's") + " parameter)",
+                   std::string("--wavelet ") + (morse ? "morse" : "morlet"));
+    }
+  }
   if (wavelet->family == wavelet::WaveletFamily::kMorse &&
       beta / gamma > wavelet::kMaxMorseBetaOverGamma) {
     // Each is within its own range (CLI11 checked): name the ratio, not the
@@ -67,6 +84,17 @@ void CheckBand(double fmin_Hz, double fmax_Hz, const std::string& cap) {
   }
   ThrowInvalid("--fmin", "a frequency below " + cap + " (" + ToText(fmax_Hz) + " Hz)",
                ToText(fmin_Hz) + " Hz");
+}
+
+void CheckTwoFrequencies(const std::string& where, double fmin_Hz, double fmax_Hz, int voices) {
+  const wavelet::FrequencyGrid grid = wavelet::FrequencyGrid::Log(fmin_Hz, fmax_Hz, voices);
+  if (std::string why; grid.IsValid(&why) && grid.Frequencies_Hz().size() < 2) {
+    ThrowInvalid(where,
+                 "a band of at least 2 frequencies, one step of the grid (1/" + ToText(voices) +
+                     " octave: an upper frequency of at least " +
+                     ToText(fmin_Hz * std::exp2(1.0 / voices)) + " Hz)",
+                 ToText(std::log2(fmax_Hz / fmin_Hz)) + " octaves, 1 frequency");
+  }
 }
 
 void GridArguments::AddTo(CLI::App& command, const std::string& fmax_help) {
@@ -97,18 +125,9 @@ wavelet::FrequencyGrid GridArguments::Grid(double cap_Hz, const std::string& cap
         "at most " + ToText(wavelet::kMaxFrequencies) + " frequencies (--voices x octaves)",
         ToText(voices) + " x " + ToText(std::log2(top_Hz / fmin_Hz)) + " octaves");
   }
-  // One frequency is no grid: the transform runs, but the inverse, the
-  // synchrosqueezing and the ridge's refinement need neighbours, and their
-  // errors would name the library's scalogram instead of these options.
-  const wavelet::FrequencyGrid grid = wavelet::FrequencyGrid::Log(fmin_Hz, top_Hz, voices);
-  if (std::string why; grid.IsValid(&why) && grid.Frequencies_Hz().size() < 2) {
-    ThrowInvalid("--fmin/--fmax/--voices",
-                 "a band of at least 2 frequencies, one step of the grid (1/" + ToText(voices) +
-                     " octave: an upper frequency of at least " +
-                     ToText(fmin_Hz * std::exp2(1.0 / voices)) + " Hz)",
-                 ToText(std::log2(top_Hz / fmin_Hz)) + " octaves, 1 frequency");
-  }
-  return grid;
+  // The library's errors would name its scalogram instead of these options.
+  CheckTwoFrequencies("--fmin/--fmax/--voices", fmin_Hz, top_Hz, voices);
+  return wavelet::FrequencyGrid::Log(fmin_Hz, top_Hz, voices);
 }
 
 }  // namespace podid::cli

@@ -9,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "podid/wavelet/cwt.hpp"
 
@@ -35,14 +36,23 @@ struct WaveletArguments {
   double beta = 20.0;
   std::string normalisation = "amplitude";
   std::string convention = "ridge";
+  /// The options, once added: what was given (count() > 0).
+  std::vector<const CLI::Option*> options;
 
   /// Adds the options; `what` follows "Wavelet" in --wavelet's help ("" or " of the wavelet term").
   void AddTo(CLI::App& command, const std::string& what = "");
   /// Sets *wavelet from them. Throws std::invalid_argument naming the
-  /// option: an unknown name, or a wavelet MorletWavelet::IsValid refuses
+  /// option: an unknown name, --omega0 given with Morse or --gamma/--beta with
+  /// Morlet (it had no effect), or a wavelet MorletWavelet::IsValid refuses
   /// (Morse beta / gamma > 100; the bounds of each number CLI11 checks).
   void ApplyTo(wavelet::MorletWavelet* wavelet) const;
 };
+
+/// Throws std::invalid_argument naming `where` unless fmin_Hz .. fmax_Hz holds
+/// at least two frequencies of a log grid of `voices` per octave: one
+/// frequency is no grid (the ridge's refinement, the inverse and the
+/// synchrosqueezing need neighbours; podid cwt refused it, identify did not).
+void CheckTwoFrequencies(const std::string& where, double fmin_Hz, double fmax_Hz, int voices);
 
 /// --fmin and --fmax as a band: throws std::invalid_argument naming --fmin
 /// when fmax_Hz is not above fmin_Hz (the library's check would name

@@ -69,18 +69,28 @@ ObjectiveWeights ObjectiveWeights::Parse(std::string_view terms,
     for (std::size_t i = 0; i < w.size(); ++i) {
       const double value = ParseNumber(w[i], weights_name, "non-negative numbers");
       if (!(value >= 0)) ThrowInvalid(weights_name, "non-negative numbers", "\"" + w[i] + "\"");
+      if (value > kMaxObjectiveWeight) {
+        ThrowInvalid(weights_name, "weights of at most " + ToText(kMaxObjectiveWeight),
+                     "\"" + w[i] + "\"");
+      }
       values[i] = value;
     }
   }
   ObjectiveWeights result{0.0, 0.0, 0.0, 0.0};
   for (std::size_t i = 0; i < names.size(); ++i) {
     const std::string& n = names[i];
+    if (n != "U" && n != "S" && n != "V" && n != "IF")
+      ThrowInvalid(terms_name, "a list of U, S, V, IF", "\"" + n + "\"");
+    // A repeated term's later weight silently replaced the earlier one.
+    const auto earlier = names.begin() + static_cast<std::ptrdiff_t>(i);
+    if (std::find(names.begin(), earlier, n) != earlier)
+      ThrowInvalid(terms_name, "each term once", n + " twice");
     if (n == "U") result.u = values[i];
     else if (n == "S") result.s = values[i];
-    else if (n == "V") result.v = values[i];
-    else if (n == "IF") result.f = values[i];
+    else if (n == "V")
+      result.v = values[i];
     else
-      ThrowInvalid(terms_name, "a list of U, S, V, IF", "\"" + n + "\"");
+      result.f = values[i];
   }
   if (result.u == 0 && result.s == 0 && result.v == 0 && result.f == 0) {
     ThrowInvalid(std::string(terms_name) + "/" + std::string(weights_name),

@@ -117,9 +117,10 @@ expect 1 "--mode-band: expected HIGH at most the measured data's Nyquist frequen
 expect 1 '--mode-band: expected each mode K at most once, got mode 2 twice ("2=20:100")' -- \
   identify "$case_file" -m "$measured" --objective wavelet --modes 2 --mode-band 2=10:100 \
   --mode-band 2=20:100
-# Without a wavelet term --fmax is not read: no Nyquist check.
-"$podid" identify "$case_file" -m "$measured" --objective full --fmax 3000 --max-evaluations 1 \
-  >/dev/null 2>&1 || fail "identify --objective full with --fmax 3000 exited $?"
+# Without a wavelet term --fmax is not read: refused as such (it was
+# silently ignored; tests/cli/wavelet_term_options.sh has the others).
+expect 1 "--fmax: expected an objective with the wavelet (IF) term" -- \
+  identify "$case_file" -m "$measured" --objective full --fmax 3000 --max-evaluations 1
 expect 1 '--padding: expected one of reflect, zero, periodic, got "foo"' -- \
   cwt "$measured" --channel w1 --padding foo
 expect 1 '--ridge: expected one of max, penalised, got "foo"' -- cwt "$measured" --channel w1 --ridge foo

@@ -227,6 +227,16 @@ TEST(ObjectiveErrorsTest, ClearErrors) {
   PODID_EXPECT_THROW_WITH(ObjectiveWeights::Parse("U", "0", "--terms", "--weights"),
                           std::invalid_argument,
                           "--terms/--weights: expected at least one term with a positive weight");
+  // A repeated term was overwritten by its later weight ("U,U" + "1,5" ran 5 dU).
+  PODID_EXPECT_THROW_WITH(ObjectiveWeights::Parse("U,U", "1,5", "--terms", "--weights"),
+                          std::invalid_argument, "--terms: expected each term once, got U twice");
+  PODID_EXPECT_THROW_WITH(ObjectiveWeights::Parse("S,IF,S"), std::invalid_argument,
+                          "terms: expected each term once, got S twice");
+  // Weights above kMaxObjectiveWeight made F overflow (1e308: F inf, start nan).
+  PODID_EXPECT_THROW_WITH(ObjectiveWeights::Parse("U,S", "1,1e308", "--terms", "--weights"),
+                          std::invalid_argument,
+                          "--weights: expected weights of at most 1e+12, got \"1e308\"");
+  EXPECT_EQ(ObjectiveWeights::Parse("U", "1e12").u, kMaxObjectiveWeight);
 }
 
 TEST(ObjectiveTest, FailedSimulationIsAPenaltyNotAnError) {

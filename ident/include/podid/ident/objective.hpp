@@ -35,6 +35,12 @@
 
 namespace podid::ident {
 
+/// Largest weight ObjectiveWeights::Parse accepts. The terms are relative
+/// differences of order 1 (up to ~1e4 with many modes), so a weighted sum of
+/// four stays near 1e16, far from overflow: 1e308 weights made F infinite
+/// and the start nan. (A sum that still is not finite is a failed evaluation.)
+inline constexpr double kMaxObjectiveWeight = 1e12;
+
 /// Weights of the four terms; a zero weight skips the term's computation.
 struct ObjectiveWeights {
   double u = 1.0;
@@ -45,7 +51,8 @@ struct ObjectiveWeights {
   bool NeedsRidges() const { return f != 0.0; }
   /// "full", "time-free", "wavelet"; throws std::invalid_argument naming the choices.
   static ObjectiveWeights Preset(std::string_view name);
-  /// `terms` like "U,S,IF" and optional `weights` like "1,1,0.5" (default all 1).
+  /// `terms` like "U,S,IF" (each at most once) and optional `weights` like
+  /// "1,1,0.5" (default all 1, each at most kMaxObjectiveWeight).
   /// Throws std::invalid_argument naming them `terms_name` and `weights_name`
   /// (the caller's names: the CLI's --terms and --weights).
   static ObjectiveWeights Parse(std::string_view terms,
