@@ -257,7 +257,6 @@ std::string MorletWavelet::Describe() const {
 }
 
 double MorletWavelet::RidgeAngularFrequency() const {
-  ThrowIfInvalid(*this);
   const bool energy = normalisation == Normalisation::kEnergy;
   if (family == WaveletFamily::kMorse) {
     // d/du [(beta + n) ln u - u^gamma] = 0, n = 0 (L1) or 1/2 (L2).
@@ -266,6 +265,10 @@ double MorletWavelet::RidgeAngularFrequency() const {
   if (!admissibility_correction) {
     return energy ? 0.5 * (omega0 + std::sqrt(omega0 * omega0 + 2.0)) : omega0;
   }
+  // Checked here only, before the bisection (NaN would fail its bracket
+  // check): the closed forms above run per ridge sample (UnitCosineMagnitude)
+  // on wavelets their callers have checked.
+  ThrowIfInvalid(*this);
   // d/du log(n(u) psi^(u)) = 0, n(u) = 1 or sqrt(u); the root is bracketed
   // near omega0 and the derivative decreases through it: bisect to rounding.
   // With psi^ = g (1 - e^(-u w0)), g = exp(-(u - w0)^2 / 2), the log's slope

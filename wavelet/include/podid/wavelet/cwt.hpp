@@ -186,7 +186,8 @@ struct MorletWavelet {
   ScaleConvention convention = ScaleConvention::kRidge;
 
   /// Every field in range and every enum one of its values. Band, TimeSpread and
-  /// RidgeAngularFrequency throw std::invalid_argument with its reason otherwise.
+  /// RidgeAngularFrequency with the admissibility correction (a bisection)
+  /// throw std::invalid_argument with its reason otherwise.
   bool IsValid(std::string* why) const;
   /// The peak of psi^ alone (no n(s)): omega0 (Morlet without correction), u_p (Morse).
   double PeakAngularFrequency() const;
