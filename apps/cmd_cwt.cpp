@@ -194,25 +194,18 @@ void PrintRidge(const wavelet::RidgeTrack& track, double coi_factor, const std::
 // A result beyond double precision (an input near 1.8e308) is a computation
 // that failed, not a value to print or write: exit 2 naming the reason,
 // before any file is staged. The library throws std::overflow_error for the
-// in-band signal and the ridges' amplitudes (caught in Run); W and T are
-// stored in units of coefficient_scale, so only |W| or |T| written out in
-// signal units is checked here. A NaN IF is no failure: it marks a screened
-// sample (docs/wavelet.md).
-void CheckFinite(const CwtArguments& a,
-                 const std::string& label,
-                 const Eigen::VectorXd& signal,
-                 const wavelet::Scalogram* kept) {
-  if (kept == nullptr || (a.scalogram.empty() && a.plot.empty()) ||
-      kept->coefficients.size() == 0 ||
-      std::isfinite(kept->coefficients.cwiseAbs().maxCoeff() * kept->coefficient_scale)) {
+// in-band signal and the ridges' amplitudes; W and T are stored in units of
+// coefficient_scale, so only |W| or |T| written out in signal units is
+// checked here, thrown the same way for Run's one message. A NaN IF is no
+// failure: it marks a screened sample (docs/wavelet.md).
+void CheckFinite(const CwtArguments& a, const wavelet::Scalogram& kept) {
+  if ((a.scalogram.empty() && a.plot.empty()) || kept.coefficients.size() == 0 ||
+      std::isfinite(kept.coefficients.cwiseAbs().maxCoeff() * kept.coefficient_scale)) {
     return;
   }
-  throw CommandFailed("cwt: " + Escaped(label) + " of " + Escaped(a.data) + ": " +
-                      (a.synchrosqueeze ? "|T|" : "|W|") +
-                      " (--scalogram, --plot) overflowed double precision (the input's peak "
-                      "magnitude is " +
-                      ToText(signal.cwiseAbs().maxCoeff()) +
-                      "; scale the data down); no file written");
+  throw std::overflow_error(std::string(a.synchrosqueeze ? "|T|" : "|W|") +
+                            " (--scalogram, --plot) overflowed double precision (above "
+                            "1.8e308); scale the data down");
 }
 
 void Run(const CwtArguments& a) {
@@ -304,8 +297,9 @@ void Run(const CwtArguments& a) {
             tracks.back().push_back(wavelet::TrackRidge(w, path, options.ridge, transform.get()));
           }
         }
+        CheckFinite(a, w);
       }
-    } catch (const std::overflow_error& e) {  // the library's: a value beyond 1.8e308
+    } catch (const std::overflow_error& e) {  // a value beyond 1.8e308 (or CheckFinite's)
       throw CommandFailed("cwt: " + Escaped(label) + " of " + Escaped(a.data) + ": " + e.what() +
                           " (the input's peak magnitude is " +
                           ToText(signal.cwiseAbs().maxCoeff()) + "); no file written");
@@ -323,7 +317,6 @@ void Run(const CwtArguments& a) {
       }
       throw std::invalid_argument(Escaped(label + " of " + a.data + ": ") + what);
     }
-    CheckFinite(a, label, signal, streamed ? nullptr : a.synchrosqueeze ? &squeezed.sst : &whole);
     // The grid (times, frequencies, decimation, cone) of either path.
     const wavelet::Scalogram& sg = streamed           ? estimator->scalogram()
                                    : a.synchrosqueeze ? squeezed.sst
