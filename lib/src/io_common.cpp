@@ -300,6 +300,50 @@ void internal::RequireRegularFile(const std::string& path, const std::string& ex
   ThrowInvalid(path, expected, kind);
 }
 
+namespace {
+
+// The chosen channels, in the order asked.
+TimeSeries SelectChannels(const std::string& path,
+                          TimeSeries series,
+                          const std::vector<std::string>& channels) {
+  TimeSeries selected;
+  selected.time_s = std::move(series.time_s);
+  selected.values.resize(series.values.rows(), static_cast<Eigen::Index>(channels.size()));
+  for (std::size_t k = 0; k < channels.size(); ++k) {
+    const int index = series.ChannelIndex(channels[k]);
+    if (index < 0) {
+      ThrowInvalid(
+          path, "a channel \"" + channels[k] + "\" (channels: " + Names(series.channel_names) + ")",
+          "none");
+    }
+    selected.values.col(static_cast<Eigen::Index>(k)) = series.values.col(index);
+    selected.channel_names.push_back(series.channel_names[index]);
+    selected.units.push_back(series.units[index]);
+  }
+  return selected;
+}
+
+// A channel without a single change (all zero, or one value throughout) is
+// usually a dead or unplugged sensor: it adds nothing to a POD but a zero
+// entry in every POM, and its own wavelet transform is empty. Said, not
+// refused: a clamped dof recorded on purpose is legitimate.
+void NoteConstantChannels(const std::string& path,
+                          const TimeSeries& series,
+                          std::vector<std::string>* notes) {
+  if (notes == nullptr || series.samples() < 2) return;
+  for (Eigen::Index c = 0; c < series.values.cols(); ++c) {
+    const auto column = series.values.col(c);
+    const double first = column[0];
+    if (!(column.array() == first).all()) continue;
+    notes->push_back(
+        path + ": channel " + series.channel_names[static_cast<std::size_t>(c)] + " is " +
+        (first == 0 ? std::string("zero") : "constant (" + ToText(first) + ")") + " in all " +
+        std::to_string(series.samples()) + " samples: a dead or disconnected sensor?");
+  }
+}
+
+}  // namespace
+
 TimeSeries ReadTimeSeries(const std::string& path,
                           const DataReadOptions& options,
                           std::vector<std::string>* notes) {
@@ -331,24 +375,9 @@ TimeSeries ReadTimeSeries(const std::string& path,
   }
   if (series.units.size() != series.channel_names.size())
     series.units.assign(series.channel_names.size(), "");
-  if (options.channels.empty()) return series;
-
-  TimeSeries selected;
-  selected.time_s = std::move(series.time_s);
-  selected.values.resize(series.values.rows(), static_cast<Eigen::Index>(options.channels.size()));
-  for (std::size_t k = 0; k < options.channels.size(); ++k) {
-    const int index = series.ChannelIndex(options.channels[k]);
-    if (index < 0) {
-      ThrowInvalid(path,
-                   "a channel \"" + options.channels[k] +
-                       "\" (channels: " + Names(series.channel_names) + ")",
-                   "none");
-    }
-    selected.values.col(static_cast<Eigen::Index>(k)) = series.values.col(index);
-    selected.channel_names.push_back(series.channel_names[index]);
-    selected.units.push_back(series.units[index]);
-  }
-  return selected;
+  if (!options.channels.empty()) series = SelectChannels(path, std::move(series), options.channels);
+  NoteConstantChannels(path, series, notes);
+  return series;
 }
 
 TimeSeries ReadTimeSeries(const std::string& path) {

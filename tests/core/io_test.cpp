@@ -419,6 +419,36 @@ TEST(ReadMat, SamplingStepInsteadOfTimeAndExplicitNames) {
                           "sampling rate: expected a finite rate > 0 Hz");
 }
 
+TEST(ReadTimeSeries, NotesAChannelWithoutASingleChange) {
+  // A dead sensor (all zero) and a stuck one (one value) are named; a channel
+  // that moves once, or a file without such channels, gives no note.
+  const TempDir dir;
+  const std::string path = dir.Write("dead.csv",
+                                     "t,a,b,c,d\n"
+                                     "0,0,2.5,1,0\n"
+                                     "0.1,0,2.5,2,0\n"
+                                     "0.2,0,2.5,3,1e-300\n");
+  std::vector<std::string> notes;
+  const TimeSeries series = ReadTimeSeries(path, DataReadOptions{}, &notes);
+  ASSERT_EQ(series.channels(), 4);
+  ASSERT_EQ(notes.size(), 2u);
+  EXPECT_EQ(notes[0],
+            path + ": channel a is zero in all 3 samples: a dead or disconnected sensor?");
+  EXPECT_EQ(
+      notes[1],
+      path + ": channel b is constant (2.5) in all 3 samples: a dead or disconnected sensor?");
+  // The note follows the channels kept, in their order.
+  DataReadOptions only_c;
+  only_c.channels = {"d", "c"};
+  notes.clear();
+  EXPECT_EQ(ReadTimeSeries(path, only_c, &notes).channels(), 2);
+  EXPECT_TRUE(notes.empty()) << notes.front();
+  only_c.channels = {"c", "b"};
+  ReadTimeSeries(path, only_c, &notes);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("channel b is constant"), std::string::npos) << notes[0];
+}
+
 TEST(IsSamplingStep, RequiresAFiniteRate) {
   EXPECT_TRUE(IsSamplingStep(1e-3));
   EXPECT_TRUE(
