@@ -101,6 +101,9 @@ void WriteJson(const std::string& path,
       u["parameters"][s.parameter_names[k]] = {{"standard_error", s.uncertainty.standard_error[k]},
                                                {"lower", s.uncertainty.lower[k]},
                                                {"upper", s.uncertainty.upper[k]}};
+      if (k < s.uncertainty.bound_notes.size() && !s.uncertainty.bound_notes[k].empty()) {
+        u["parameters"][s.parameter_names[k]]["bound_note"] = s.uncertainty.bound_notes[k];
+      }
     }
     nlohmann::json rows = nlohmann::json::array();
     for (Eigen::Index r = 0; r < s.uncertainty.correlation.rows(); ++r) {

@@ -343,7 +343,11 @@ std::string IdentifySummary::BriefReport() const {
     os << parameter_names[i] << " = " << parameters[i];
     if (uncertainty.usable && static_cast<Eigen::Index>(i) < uncertainty.lower.size()) {
       os << " (" << 100 * uncertainty.confidence << " % interval " << uncertainty.lower[i] << ".."
-         << uncertainty.upper[i] << ")";
+         << uncertainty.upper[i];
+      if (i < uncertainty.bound_notes.size() && !uncertainty.bound_notes[i].empty()) {
+        os << ", " << uncertainty.bound_notes[i];
+      }
+      os << ")";
     }
     os << ", ";
   }
@@ -383,9 +387,13 @@ std::string IdentifySummary::FullReport() const {
   if (uncertainty.usable) {
     os << "  uncertainty:          " << uncertainty.message << "\n";
     for (std::size_t i = 0; i < parameter_names.size(); ++i) {
-      os << "    " << parameter_names[i] << ": standard error " << uncertainty.standard_error[i] << ", "
-         << 100 * uncertainty.confidence << " % interval [" << uncertainty.lower[i] << ", "
-         << uncertainty.upper[i] << "]\n";
+      os << "    " << parameter_names[i] << ": standard error " << uncertainty.standard_error[i]
+         << ", " << 100 * uncertainty.confidence << " % interval [" << uncertainty.lower[i] << ", "
+         << uncertainty.upper[i] << "]";
+      if (i < uncertainty.bound_notes.size() && !uncertainty.bound_notes[i].empty()) {
+        os << ", " << uncertainty.bound_notes[i];
+      }
+      os << "\n";
     }
     if (parameter_names.size() > 1) {
       os << "    correlation:\n";

@@ -85,6 +85,15 @@ ParameterUncertainty SandwichUncertainty(const FeatureFunction& features, const 
   const double t = gsl_cdf_tdist_Pinv(0.5 * (1.0 + options.confidence), options.noise_draws - 1);
   result.lower = theta - t * result.standard_error;
   result.upper = theta + t * result.standard_error;
+  result.bound_notes.assign(static_cast<std::size_t>(p), "");
+  for (Eigen::Index i = 0; i < p; ++i) {
+    std::string& note = result.bound_notes[static_cast<std::size_t>(i)];
+    if (result.lower[i] < lower[i]) note = "below the lower bound " + ToText(lower[i]);
+    if (result.upper[i] > upper[i]) {
+      note +=
+          (note.empty() ? "" : " and ") + std::string("above the upper bound ") + ToText(upper[i]);
+    }
+  }
   result.correlation = Eigen::MatrixXd::Identity(p, p);
   for (Eigen::Index i = 0; i < p; ++i) {
     for (Eigen::Index j = 0; j < p; ++j) {

@@ -264,12 +264,18 @@ void BindIdent(py::module_& m) {
         out["failed_evaluations"] = summary.failed_evaluations;
         out["wall_time_s"] = summary.wall_time_s;
         // The 95 % intervals (objective_uncertainty.hpp), by parameter name.
-        py::dict intervals, standard_errors;
+        // interval_notes: the bound an interval crosses (uncertainty.hpp), if any.
+        py::dict intervals, standard_errors, interval_notes;
         if (summary.uncertainty.usable) {
           for (int i = 0; i < f->parameter_count(); ++i) {
             const py::str name(f->parameters()[i].name);
             intervals[name] = py::make_tuple(summary.uncertainty.lower[i], summary.uncertainty.upper[i]);
             standard_errors[name] = summary.uncertainty.standard_error[i];
+            const auto k = static_cast<std::size_t>(i);
+            if (k < summary.uncertainty.bound_notes.size() &&
+                !summary.uncertainty.bound_notes[k].empty()) {
+              interval_notes[name] = summary.uncertainty.bound_notes[k];
+            }
           }
           out["correlation"] = summary.uncertainty.correlation;
         } else {
@@ -277,6 +283,7 @@ void BindIdent(py::module_& m) {
         }
         out["intervals"] = intervals;
         out["standard_errors"] = standard_errors;
+        out["interval_notes"] = interval_notes;
         out["uncertainty"] = summary.uncertainty.message;
         out["summary"] = summary.FullReport();
         out["brief"] = summary.BriefReport();

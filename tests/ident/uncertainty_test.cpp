@@ -131,5 +131,33 @@ TEST(SandwichUncertaintyTest, UnidentifiableParameterAndBadOptions) {
   EXPECT_THROW(SandwichUncertainty(f, noise, theta, Eigen::VectorXd(1), hi, {}), std::invalid_argument);
 }
 
+TEST(SandwichUncertaintyTest, IntervalsThatCrossABoundSaySo) {
+  // f = theta (dim 1 per parameter) with noise of std 0.1 on each feature:
+  // se = 0.1, intervals theta +- t se with t = t_{0.975, 1999} = 1.961, i.e.
+  // +- 0.196. Bounds placed 0.1 from theta on one side, both sides, or 1
+  // away on both: the notes name exactly the bounds crossed.
+  std::mt19937_64 rng(3);
+  const FeatureFunction f = [](const Eigen::VectorXd& th, Eigen::VectorXd* out, std::string*) {
+    *out = th;
+    return true;
+  };
+  const FeatureNoiseDraw noise = [&rng](int, Eigen::VectorXd* d, std::string*) {
+    *d = Gaussian(3, 0.1, &rng);
+    return true;
+  };
+  UncertaintyOptions options;
+  options.noise_draws = 2000;
+  const Eigen::Vector3d theta(1, 1, 1), lo(0.9, 0.9, 0), hi(2, 1.1, 2);
+  const ParameterUncertainty u = SandwichUncertainty(f, noise, theta, lo, hi, options);
+  ASSERT_TRUE(u.usable) << u.message;
+  ASSERT_EQ(u.bound_notes.size(), 3u);
+  EXPECT_LT(u.lower[0], 0.9);
+  EXPECT_EQ(u.bound_notes[0], "below the lower bound 0.9");
+  EXPECT_EQ(u.bound_notes[1], "below the lower bound 0.9 and above the upper bound 1.1");
+  EXPECT_EQ(u.bound_notes[2], "");
+  // The interval itself is the linearised one, not clipped to the bounds.
+  EXPECT_NEAR(1.0 - u.lower[0], 1.961 * u.standard_error[0], 1e-3);
+}
+
 }  // namespace
 }  // namespace podid::ident

@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace podid::ident {
 
@@ -43,6 +44,11 @@ struct ParameterUncertainty {
   int noise_draws = 0;
   Eigen::VectorXd standard_error;  ///< (dim p), parameter units
   Eigen::VectorXd lower, upper;    ///< (dim p) the confidence interval
+  /// (dim p) "" or the bound(s) parameter i's interval crosses, e.g. "below
+  /// the lower bound 0": the parameter cannot go there, so the linearised
+  /// interval is not its distribution's (a fit against a bound, or a
+  /// parameter the data hardly determine). Reports show it beside the interval.
+  std::vector<std::string> bound_notes;
   Eigen::MatrixXd covariance;      ///< (p x p)
   Eigen::MatrixXd correlation;     ///< (p x p), unit diagonal
 };
