@@ -36,6 +36,26 @@ struct IdentifyArguments {
   bool report = false;
 };
 
+constexpr const char* kPlotFiles[] = {"signals.csv", "fig2a_start.png", "fig2b_optimum.png",
+                                      "convergence.png", "ridge.png"};
+
+// True when `json` names a file directly in `plot_dir`, a folder that does not
+// exist yet; refuses a name that is one of the plot files.
+bool JsonInNewPlotDir(const std::string& json, const std::string& plot_dir) {
+  namespace fs = std::filesystem;
+  if (json.empty() || plot_dir.empty() || fs::exists(plot_dir)) return false;
+  const fs::path file = fs::absolute(json).lexically_normal();
+  const fs::path folder = (fs::absolute(plot_dir) / "").lexically_normal();
+  if (file.parent_path() / "" != folder) return false;
+  for (const char* name : kPlotFiles) {
+    if (file.filename() == name) {
+      ThrowInvalid("--json", "a file other than --plot-dir's " + std::string(name),
+                   "\"" + json + "\", the same file");
+    }
+  }
+  return true;
+}
+
 nlohmann::json ParametersJson(const std::vector<std::string>& names, const Eigen::VectorXd& values) {
   nlohmann::json j = nlohmann::json::object();
   for (std::size_t i = 0; i < names.size(); ++i) j[names[i]] = values[static_cast<Eigen::Index>(i)];
@@ -295,7 +315,7 @@ void AddIdentifyCommand(CLI::App& app) {
       "identify",
       "Identify the case's [[identify.parameter]]s from measured data by minimising the\n"
       "difference between measured and simulated POD (Lenaerts et al., eq. 19 and sec. 4.3).\n"
-      "Exit status 2 if no usable point was found.");
+      "Exit status 2 if no usable point was found; no file is then written.");
   args->objective.AddTo(*command);
   auto* preset = command
                      ->add_option("--objective", args->preset,
@@ -343,17 +363,19 @@ void AddIdentifyCommand(CLI::App& app) {
   command->callback([args] {
     args->objective.PrepareData();  // -m and the data options become [data] keys
     std::vector<NamedFile> inputs = CaseInputFiles(args->objective.input);
-    std::vector<NamedFile> outputs = {{"--json", args->json}};
+    std::vector<NamedFile> outputs;
     if (!args->plot_dir.empty()) {
       CheckOutputFolder({"--plot-dir", args->plot_dir});
       // An existing folder's files must not be inputs (a new one has none).
       if (std::filesystem::is_directory(args->plot_dir)) {
-        for (const char* name : {"signals.csv", "fig2a_start.png", "fig2b_optimum.png",
-                                 "convergence.png", "ridge.png"}) {
+        for (const char* name : kPlotFiles)
           outputs.push_back({"--plot-dir", args->plot_dir + "/" + name});
-        }
       }
     }
+    // --json may go into the --plot-dir this run creates: the folder's check
+    // above stands for it, and the plots are written first (they create it).
+    if (!JsonInNewPlotDir(args->json, args->plot_dir))
+      outputs.insert(outputs.begin(), {"--json", args->json});
     CheckOutputs(inputs, outputs);
     const ident::ObjectiveWeights weights = WeightsFrom(args->preset, args->terms, args->weights);
     const int threads = args->threads > 0 ? args->threads : mpi::DefaultThreads();
@@ -421,17 +443,24 @@ void AddIdentifyCommand(CLI::App& app) {
       }
     }
     if (args->report) std::printf("%s", summary.FullReport().c_str());
+    // No usable point: the plots would show NaN and the JSON no result. As
+    // landscape and pod on failure, nothing is written (the message quotes
+    // the first failure; --report prints the run's summary).
+    if (!summary.IsSolutionUsable()) {
+      const bool outputs_asked = !args->json.empty() || !args->plot_dir.empty();
+      throw CommandFailed("identify: " + summary.message +
+                          (outputs_asked ? "; no file written" : ""));
+    }
     // --json and the plots published together: a failing plot leaves none.
     OutputBatch batch;
-    if (!args->json.empty()) WriteJson(args->json, summary, *objective, &batch);
     if (!args->plot_dir.empty()) {
       WritePlots(args->plot_dir, *objective, summary, weights.NeedsRidges(), &reports, &batch);
     }
+    if (!args->json.empty()) WriteJson(args->json, summary, *objective, &batch);
     batch.Commit();
     if (!args->plot_dir.empty()) {
       std::printf("plots and signals.csv written to %s/\n", args->plot_dir.c_str());
     }
-    if (!summary.IsSolutionUsable()) throw CommandFailed("identify: " + summary.message);
   });
 }
 

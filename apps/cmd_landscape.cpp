@@ -64,6 +64,17 @@ ident::LandscapeAxis ParseRange(const std::string& option, const std::string& ra
 void SetParameter(const ident::ObjectiveFunction& f, const std::string& option, const std::string& name,
                   ident::LandscapeAxis* axis) {
   axis->parameter = f.ParameterIndex(name, option);
+  // Evaluated as asked (the valley's shape beyond them is worth seeing), but
+  // said: identify searches only within the bounds.
+  const ParameterSpec& p = f.parameters()[static_cast<std::size_t>(axis->parameter)];
+  if ((axis->lower < p.lower || axis->upper > p.upper) && mpi::Rank() == 0) {
+    std::fprintf(stderr,
+                 "podid: note: %s %s..%s goes beyond %s's bounds %s..%s ([[identify.parameter]]): "
+                 "identify does not search there\n",
+                 option == "--param" ? "--range" : "--range2", ToText(axis->lower).c_str(),
+                 ToText(axis->upper).c_str(), name.c_str(), ToText(p.lower).c_str(),
+                 ToText(p.upper).c_str());
+  }
 }
 
 // Errors name --objective (Preset's say "objective"); a repeated preset would
