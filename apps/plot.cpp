@@ -16,6 +16,7 @@
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 
 #include "podid/core/error.hpp"
@@ -146,28 +147,155 @@ class PrivateFolder {
   std::vector<TemporaryPath> registrations_;
 };
 
-// Runs `gnuplot script` in `folder` without a shell; true when it exits 0.
-bool RunGnuplot(const std::string& gnuplot, const std::string& folder, const std::string& script) {
+// What a gnuplot run said. Its stdout and stderr go to a file in the private
+// folder, never to the user's terminal: podid relays them in its own form.
+struct GnuplotRun {
+  bool ok = false;
+  std::string failure;             // how it failed when it printed nothing
+  std::vector<std::string> lines;  // its informative lines, sanitised
+};
+
+// At most this much of gnuplot's output is read, and a relayed line keeps at
+// most kGnuplotLineBytes (it may echo labels from case and data files).
+constexpr std::size_t kGnuplotLogBytes = 64 * 1024;
+constexpr std::size_t kGnuplotLineBytes = 200;
+
+std::string_view Trimmed(std::string_view s) {
+  const std::size_t first = s.find_first_not_of(" \t\r\f\v");
+  if (first == std::string_view::npos) return {};
+  return s.substr(first, s.find_last_not_of(" \t\r\f\v") - first + 1);
+}
+
+bool IsCaretLine(std::string_view s) {
+  const std::string_view t = Trimmed(s);
+  return !t.empty() && t.find_first_not_of(" \t^") == std::string_view::npos;
+}
+
+// Drops a leading `"plot.gp" line N: ` or `line N: `: where in our temporary
+// script means nothing to the user.
+std::string_view WithoutScriptLine(std::string_view s, const std::string& script) {
+  const std::string quoted = "\"" + script + "\" ";
+  if (s.substr(0, quoted.size()) == quoted) s.remove_prefix(quoted.size());
+  if (s.substr(0, 5) != "line ") return s;
+  std::size_t i = 5;
+  while (i < s.size() && s[i] >= '0' && s[i] <= '9') ++i;
+  if (i == 5 || s.substr(i, 2) != ": ") return s;
+  return Trimmed(s.substr(i + 2));
+}
+
+// The lines of gnuplot's output worth showing: without blank lines, the
+// echoed script line and the caret under it, and the script's name; control
+// bytes escaped, each bounded.
+std::vector<std::string> InformativeLines(const std::string& log, const std::string& script) {
+  std::vector<std::string_view> raw;
+  std::string_view rest(log);
+  while (!rest.empty()) {
+    const std::size_t end = rest.find('\n');
+    raw.push_back(rest.substr(0, end));
+    rest = end == std::string_view::npos ? std::string_view() : rest.substr(end + 1);
+  }
+  std::vector<std::string> lines;
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    if (IsCaretLine(raw[i]) || (i + 1 < raw.size() && IsCaretLine(raw[i + 1]))) continue;
+    const std::string_view text = WithoutScriptLine(Trimmed(raw[i]), script);
+    if (text.empty()) continue;
+    std::string line = Escaped(text);
+    if (line.size() > kGnuplotLineBytes) {
+      std::size_t cut = kGnuplotLineBytes;  // not inside a UTF-8 sequence
+      while (cut > 0 && (static_cast<unsigned char>(line[cut]) & 0xC0) == 0x80) --cut;
+      line = line.substr(0, cut) + "...";
+    }
+    lines.push_back(std::move(line));
+  }
+  return lines;
+}
+
+// Runs `gnuplot script` in `folder` without a shell, its stdout and stderr
+// into the new file `log`.
+GnuplotRun RunGnuplot(const std::string& gnuplot,
+                      const std::string& folder,
+                      const std::string& script,
+                      const std::string& log) {
+  GnuplotRun run;
   // Absolute: a relative program path (PODID_GNUPLOT, a relative PATH entry)
   // would otherwise be looked up in the private folder after the chdir.
   std::error_code error;
   const std::string program = std::filesystem::absolute(gnuplot, error).string();
-  if (error) return false;
+  if (error) {
+    run.failure = error.message();
+    return run;
+  }
   posix_spawn_file_actions_t actions;
-  if (posix_spawn_file_actions_init(&actions) != 0) return false;
-  bool ok = posix_spawn_file_actions_addchdir_np(&actions, folder.c_str()) == 0;
+  if (posix_spawn_file_actions_init(&actions) != 0) {
+    run.failure = "cannot prepare its start";
+    return run;
+  }
+  // O_EXCL | O_NOFOLLOW like every file in the folder; no O_CLOEXEC, since
+  // it is opened as gnuplot's own stdout.
+  int code = posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
+                                              O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW, 0600);
+  if (code == 0) code = posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  if (code == 0) code = posix_spawn_file_actions_addchdir_np(&actions, folder.c_str());
   pid_t pid = 0;
   std::vector<char*> argv = {const_cast<char*>(program.c_str()), const_cast<char*>(script.c_str()),
                              nullptr};
-  ok = ok && posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ) == 0;
+  if (code == 0) code = posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
-  if (!ok) return false;
+  if (code != 0) {
+    run.failure = std::string("cannot start it: ") + std::strerror(code);
+    return run;
+  }
   int status = 0;
   pid_t waited = 0;
   do {
     waited = waitpid(pid, &status, 0);
   } while (waited < 0 && errno == EINTR);
-  return waited == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  run.ok = waited == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  if (waited != pid) {
+    run.failure = std::string("cannot wait for it: ") + std::strerror(errno);
+  } else if (WIFSIGNALED(status)) {
+    run.failure = "killed by signal " + std::to_string(WTERMSIG(status));
+  } else if (!run.ok) {
+    run.failure = "exit status " + std::to_string(WEXITSTATUS(status));
+  }
+  std::ifstream in(log, std::ios::binary);
+  std::string text(kGnuplotLogBytes, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  run.lines = InformativeLines(text, script);
+  return run;
+}
+
+// Why gnuplot failed, for the error: its first error lines (gnuplot stops at
+// the first error; warnings before it are only a fallback), else its status.
+std::string FailureReason(const GnuplotRun& run) {
+  const auto is_warning = [](const std::string& line) {
+    return line.rfind("warning:", 0) == 0 || line.rfind("Warning:", 0) == 0;
+  };
+  std::vector<std::string> chosen;
+  for (const bool warnings : {false, true}) {
+    for (const std::string& line : run.lines) {
+      if (is_warning(line) == warnings && chosen.size() < 2) chosen.push_back(line);
+    }
+  }
+  if (chosen.empty()) return run.failure.empty() ? "no reason given" : run.failure;
+  std::string reason = chosen.front();
+  if (chosen.size() > 1) reason += "; " + chosen[1];
+  return reason;
+}
+
+// Relays a successful run's lines (warnings such as an empty range) as notes
+// naming the PNG, at most kShown of them.
+void RelayGnuplotLines(const GnuplotRun& run, const std::string& png) {
+  constexpr std::size_t kShown = 5;
+  const std::string name = Escaped(png);
+  for (std::size_t i = 0; i < run.lines.size() && i < kShown; ++i) {
+    std::fprintf(stderr, "podid: note: gnuplot, %s: %s\n", name.c_str(), run.lines[i].c_str());
+  }
+  if (run.lines.size() > kShown) {
+    std::fprintf(stderr, "podid: note: gnuplot, %s: (%zu more)\n", name.c_str(),
+                 run.lines.size() - kShown);
+  }
 }
 
 }  // namespace
@@ -236,14 +364,19 @@ PlotOutcome RenderPlot(const PlotRequest& request) {
   folder.Write("plot.gp", [&](std::ostream& os) {
     os << Header(request, "plot.png") << Substitute(request.script, names) << "\nunset output\n";
   });
-  if (!RunGnuplot(gnuplot, folder.path(), "plot.gp")) {
-    throw std::runtime_error("plot: gnuplot (" + gnuplot + ") failed drawing " + png);
+  const GnuplotRun run =
+      RunGnuplot(gnuplot, folder.path(), "plot.gp", folder.Expect("gnuplot.log"));
+  if (!run.ok) {
+    throw std::runtime_error("plot: gnuplot (" + gnuplot + ") failed drawing " + png + ": " +
+                             FailureReason(run));
   }
   std::error_code error;
   if (!std::filesystem::is_regular_file(image, error) ||
       std::filesystem::file_size(image, error) == 0) {
-    throw std::runtime_error("plot: gnuplot wrote no image for " + png);
+    throw std::runtime_error("plot: gnuplot wrote no image for " + png +
+                             (run.lines.empty() ? "" : ": " + FailureReason(run)));
   }
+  RelayGnuplotLines(run, png);
   // The user's path is written by the same safe writer as every other output.
   WriteFileAtomically(
       png,

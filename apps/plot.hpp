@@ -56,8 +56,10 @@ struct PlotRequest {
   OutputBatch* batch = nullptr;
 };
 
-/// Draws the plot. Throws std::runtime_error if gnuplot runs and fails (its
-/// stderr is passed through) and std::invalid_argument for an empty path.
+/// Draws the plot. Throws std::runtime_error if gnuplot runs and fails (the
+/// message gives gnuplot's reason; its output never reaches the terminal
+/// raw, its warnings on success become "podid: note: gnuplot, ..." lines) and
+/// std::invalid_argument for an empty path.
 PlotOutcome RenderPlot(const PlotRequest& request);
 
 /// One curve: y (dim n) against x (dim n).

@@ -124,7 +124,8 @@ expect_no_outputs() {  # $1: what, then the files that must not exist
 PODID_GNUPLOT=bin/failing "$podid" cwt "$data" --channel w6 -o old.csv --scalogram sg.csv \
   --plot fail.png >stdout 2>stderr
 [ $? -eq 1 ] || fail "cwt with a failing gnuplot: expected exit 1"
-grep -q "gnuplot (.*) failed drawing fail.png" stderr || fail "cwt, failing gnuplot: $(cat stderr)"
+grep -q "gnuplot (.*) failed drawing fail.png: exit status 1$" stderr \
+  || fail "cwt, failing gnuplot: $(cat stderr)"
 expect_no_outputs "cwt, failing gnuplot" sg.csv fail.png
 PODID_GNUPLOT=bin/failing "$podid" landscape evil.toml -m "$data" --param "$name" \
   --range 0:100:3 --objective time-free -o old.csv --json old.json --plot fail.png >stdout 2>stderr
@@ -134,4 +135,51 @@ PODID_GNUPLOT=bin/failing "$podid" identify evil.toml -m "$data" --objective tim
   --max-evaluations 3 --json old.json --plot-dir new/figs >stdout 2>stderr
 [ $? -eq 1 ] || fail "identify with a failing gnuplot: expected exit 1"
 expect_no_outputs "identify, failing gnuplot" new
+
+# gnuplot's own messages never reach the terminal raw: its stdout and stderr
+# go to a file in the private folder. After a success its informative lines
+# are relayed as notes naming the PNG (no blank lines, no echoed script line
+# or caret, no "plot.gp" line N:, control bytes escaped, at most 5 and a
+# count); after a failure the error says why.
+esc=$(printf '\033')
+cat >bin/chatty <<EOF
+#!/bin/sh
+printf '\n  plot "data0" title "ECHOED"\n                        ^\n'
+printf '"plot.gp" line 3: warning: odd label \033[31mred\n' >&2
+for i in 1 2 3 4 5 6; do echo "warning: more \$i"; done
+printf 'Warning: empty y range [0:0], adjusting to [-1:1]\n' >&2
+exec "$gnuplot_program" "\$@"
+EOF
+chmod +x bin/chatty
+PODID_GNUPLOT=bin/chatty "$podid" cwt "$data" --channel w6 --plot warn.png >stdout 2>stderr \
+  || fail "chatty gnuplot: $(cat stderr)"
+is_png warn.png || fail "chatty gnuplot: no PNG"
+grep -qx 'podid: note: gnuplot, warn.png: warning: odd label \\x1b\[31mred' stderr \
+  || fail "chatty gnuplot: no escaped warning: $(cat stderr)"
+grep -qx 'podid: note: gnuplot, warn.png: warning: more 4' stderr \
+  || fail "chatty gnuplot: no relayed line: $(cat stderr)"
+grep -qx 'podid: note: gnuplot, warn.png: ([0-9]* more)' stderr \
+  || fail "chatty gnuplot: no count of the lines left: $(cat stderr)"
+[ "$(grep -c '^podid: note: gnuplot, warn.png: ' stderr)" -eq 6 ] \
+  || fail "chatty gnuplot: not 5 lines and a count: $(cat stderr)"
+grep -v '^podid: ' stderr && fail "chatty gnuplot: a raw line on stderr"
+grep -q 'ECHOED\|\^\|plot\.gp\|more 6\|adjusting' stderr stdout \
+  && fail "chatty gnuplot: a line that should not show: $(cat stderr stdout)"
+grep -q "$esc" stderr stdout && fail "chatty gnuplot: a raw escape byte"
+check_nothing_ran "chatty gnuplot"
+
+cat >bin/broken <<'EOF'
+#!/bin/sh
+echo
+printf '"plot.gp" line 9: cannot open font sans (fake)\n' >&2
+exit 1
+EOF
+chmod +x bin/broken
+PODID_GNUPLOT=bin/broken "$podid" cwt "$data" --channel w6 --plot broken.png >stdout 2>stderr
+[ $? -eq 1 ] || fail "broken gnuplot: expected exit 1"
+grep -qx 'podid: error: plot: gnuplot (bin/broken) failed drawing broken.png: cannot open font sans (fake)' \
+  stderr || fail "broken gnuplot: $(cat stderr)"
+grep -v '^podid: ' stderr && fail "broken gnuplot: a raw line on stderr"
+[ ! -e broken.png ] || fail "broken gnuplot: a PNG was written"
+check_nothing_ran "broken gnuplot"
 echo "hostile plot: ok"
