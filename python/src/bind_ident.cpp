@@ -85,13 +85,13 @@ ident::NamedObjective ParseWeighting(const std::string& text) {
 std::shared_ptr<ident::ObjectiveFunction> BuildObjective(const std::string& case_,
                                                          const Measured& measured,
                                                          const std::vector<std::string>& weightings,
-                                                         long long modes,
+                                                         const py::handle& modes,
                                                          double fmin,
                                                          double fmax,
                                                          bool raw_sigma,
                                                          const BoolObject& keep_mean,
                                                          const std::vector<std::string>& set,
-                                                         long long ridge_threads,
+                                                         const py::handle& ridge_threads,
                                                          const WaveletArguments& w) {
   ident::ObjectiveOptions options;
   options.weightings.clear();
@@ -163,10 +163,10 @@ void BindIdent(py::module_& m) {
       "The objective(s) of a case against a measured record: one simulation per evaluation\n"
       "gives the value of every weighting (docs/method.md).")
       .def(py::init([](const std::string& case_, const Measured& measured,
-                       const std::vector<std::string>& weightings, long long modes, double fmin,
-                       double fmax, const BoolObject& raw_sigma, const BoolObject& keep_mean,
-                       const std::vector<std::string>& set, long long ridge_threads,
-                       PODID_OBJECTIVE_WAVELET_PARAMETERS) {
+                       const std::vector<std::string>& weightings, const IntObject& modes,
+                       double fmin, double fmax, const BoolObject& raw_sigma,
+                       const BoolObject& keep_mean, const std::vector<std::string>& set,
+                       const IntObject& ridge_threads, PODID_OBJECTIVE_WAVELET_PARAMETERS) {
              return BuildObjective(case_, measured, weightings, modes, fmin, fmax,
                                    BoolArgument(raw_sigma, "raw_sigma"), keep_mean, set,
                                    ridge_threads, PODID_OBJECTIVE_WAVELET_ARGUMENTS);
@@ -223,10 +223,11 @@ void BindIdent(py::module_& m) {
   m.def(
       "identify",
       [](const std::string& case_, const Measured& measured, const std::string& objective,
-         const std::map<std::string, double>& start, long long multistart,
-         const std::string& algorithm, long long max_evaluations, double xtol, std::uint64_t seed,
-         long long modes, double fmin, double fmax, long long threads, const py::object& progress,
-         const BoolObject& keep_mean, const std::vector<std::string>& set, long long ridge_threads,
+         const std::map<std::string, double>& start, const IntObject& multistart,
+         const std::string& algorithm, const IntObject& max_evaluations, double xtol,
+         const IntObject& seed, const IntObject& modes, double fmin, double fmax,
+         const IntObject& threads, const py::object& progress, const BoolObject& keep_mean,
+         const std::vector<std::string>& set, const IntObject& ridge_threads,
          PODID_OBJECTIVE_WAVELET_PARAMETERS) {
         ident::IdentifyOptions options;  // the ints first: before the objective's work
         options.multistart =
@@ -234,13 +235,13 @@ void BindIdent(py::module_& m) {
         options.max_evaluations = IntArgument(max_evaluations, "max_evaluations",
                                               "1 to " + ToText(ident::kMaxEvaluations));
         options.threads = IntArgument(threads, "threads", "0 to " + ToText(ident::kMaxThreads));
+        options.seed = UInt64Argument(seed, "seed", "0 to 2^64 - 1");
         const auto f =
             BuildObjective(case_, measured, {objective}, modes, fmin, fmax, false, keep_mean, set,
                            ridge_threads, PODID_OBJECTIVE_WAVELET_ARGUMENTS);
         options.algorithm = ident::ParseAlgorithm(algorithm);
         options.start = ValuesFrom(*f, start);
         options.xtol_rel = xtol;
-        options.seed = seed;
         options.progress = WrapProgress(progress);  // Ctrl-C stops it also without a callback
         ident::IdentifySummary summary;
         {
@@ -303,16 +304,18 @@ void BindIdent(py::module_& m) {
   m.def(
       "landscape",
       [](const std::string& case_, const Measured& measured, const std::string& param, double lower,
-         double upper, long long points, const std::vector<std::string>& objectives,
-         const std::map<std::string, double>& base, long long threads, const py::object& progress,
-         long long modes, double fmin, double fmax, const BoolObject& keep_mean,
-         const std::vector<std::string>& set, PODID_OBJECTIVE_WAVELET_PARAMETERS) {
+         double upper, const IntObject& points, const std::vector<std::string>& objectives,
+         const std::map<std::string, double>& base, const IntObject& threads,
+         const py::object& progress, const IntObject& modes, double fmin, double fmax,
+         const BoolObject& keep_mean, const std::vector<std::string>& set,
+         PODID_OBJECTIVE_WAVELET_PARAMETERS) {
         ident::LandscapeOptions options;  // the ints first: before the objective's work
         options.x.points =
             IntArgument(points, "points", "2 to " + ToText(ident::kMaxLandscapePoints));
         options.threads = IntArgument(threads, "threads", "0 to " + ToText(ident::kMaxThreads));
-        const auto f = BuildObjective(case_, measured, objectives, modes, fmin, fmax, false,
-                                      keep_mean, set, 1, PODID_OBJECTIVE_WAVELET_ARGUMENTS);
+        const auto f =
+            BuildObjective(case_, measured, objectives, modes, fmin, fmax, false, keep_mean, set,
+                           py::int_(1), PODID_OBJECTIVE_WAVELET_ARGUMENTS);
         options.x.parameter = f->ParameterIndex(param, "param");
         options.x.lower = lower;
         options.x.upper = upper;

@@ -34,7 +34,7 @@ void BindPod(py::module_& m) {
 
   m.def(
       "pod",
-      [](const ArrayObject& object, const std::string& method, long long modes,
+      [](const ArrayObject& object, const std::string& method, const IntObject& modes,
          const BoolObject& remove_mean, const BoolObject& time_modes) {
         // Any array-like (a nested list too), as the Eigen caster took it.
         const py::array array = RealArray(object, "X", 2);

@@ -5,7 +5,6 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -91,22 +90,23 @@ namespace {
 
 wavelet::CwtOptions MakeCwtOptions(double fmin_Hz,
                                    double fmax_Hz,
-                                   long long voices,
-                                   std::optional<long long> bins,
+                                   const IntObject& voices,
+                                   const OptionalIntObject& bins,
                                    const WaveletArguments& w,
                                    const std::string& padding,
                                    double coi_factor,
-                                   long long threads) {
+                                   const IntObject& threads) {
   wavelet::CwtOptions options;
   // bins: the CLI's --bins, a linear grid instead of the log one.
   options.frequencies =
-      bins ? wavelet::FrequencyGrid::Linear(fmin_Hz, fmax_Hz,
-                                            IntArgument(*bins, "bins",
-                                                        ToText(wavelet::kMinLinearBins) + ".." +
-                                                            ToText(wavelet::kMaxFrequencies)))
-           : wavelet::FrequencyGrid::Log(
-                 fmin_Hz, fmax_Hz,
-                 IntArgument(voices, "voices", "1.." + ToText(wavelet::kMaxVoicesPerOctave)));
+      !bins.is_none()
+          ? wavelet::FrequencyGrid::Linear(fmin_Hz, fmax_Hz,
+                                           IntArgument(bins, "bins",
+                                                       ToText(wavelet::kMinLinearBins) + ".." +
+                                                           ToText(wavelet::kMaxFrequencies)))
+          : wavelet::FrequencyGrid::Log(
+                fmin_Hz, fmax_Hz,
+                IntArgument(voices, "voices", "1.." + ToText(wavelet::kMaxVoicesPerOctave)));
   options.wavelet = MakeWavelet(w);
   WithPythonNames([&] {
     options.padding = wavelet::ParsePadding(padding);
@@ -144,14 +144,14 @@ void ApplyOutputLimits(bool band_limited,
   py::arg("bins") = py::none()
 #define PODID_WAVELET_PARAMETERS                                                          \
   const std::string &family, double gamma, double beta, const std::string &normalisation, \
-      const std::string &convention, std::optional<long long> bins
+      const std::string &convention, const OptionalIntObject &bins
 #define PODID_WAVELET_ARGUMENTS \
   WaveletArguments { family, omega0, gamma, beta, normalisation, convention }
 // The lambdas' parameters for PODID_CWT_KWARGS (or PODID_OBJECTIVE_KWARGS), and
 // the options they give.
-#define PODID_CWT_PARAMETERS                                                             \
-  double fmin, double fmax, long long voices, double omega0, const std::string &padding, \
-      double coi_factor, long long threads, PODID_WAVELET_PARAMETERS
+#define PODID_CWT_PARAMETERS                                                                    \
+  double fmin, double fmax, const IntObject &voices, double omega0, const std::string &padding, \
+      double coi_factor, const IntObject &threads, PODID_WAVELET_PARAMETERS
 #define PODID_CWT_OPTIONS \
   MakeCwtOptions(fmin, fmax, voices, bins, PODID_WAVELET_ARGUMENTS, padding, coi_factor, threads)
 // The CLI's defaults (podid cwt): zero padding, cone factor 2 (docs/wavelet.md).
@@ -228,7 +228,7 @@ void BindWavelet(py::module_& m) {
 
   m.def(
       "ridges",
-      [](const ArrayObject& signal, double step_s, long long count, PODID_CWT_PARAMETERS,
+      [](const ArrayObject& signal, double step_s, const IntObject& count, PODID_CWT_PARAMETERS,
          const std::string& method, double penalty_s, const std::string& estimator,
          const BoolObject& band_limited, double max_memory_MB) {
         const RealVector x(signal, "x");
@@ -278,7 +278,7 @@ void BindWavelet(py::module_& m) {
           "bin outside the grid is not moved")
       .def(
           "ridges",
-          [](const wavelet::SynchrosqueezedTransform& sst, long long count) {
+          [](const wavelet::SynchrosqueezedTransform& sst, const IntObject& count) {
             wavelet::RidgeOptions ridge;
             ridge.ridges = IntArgument(count, "count", "1.." + ToText(wavelet::kMaxRidges));
             std::string why;
@@ -343,7 +343,11 @@ void BindWavelet(py::module_& m) {
 
   m.def(
       "plan",
-      [](Eigen::Index samples, double step_s, PODID_CWT_PARAMETERS, const std::string& effort) {
+      [](const IntObject& samples_, double step_s, PODID_CWT_PARAMETERS,
+         const std::string& effort) {
+        // The library checks the range (at least 4, at most 2^27).
+        const Eigen::Index samples =
+            Int64Argument(samples_, "samples", "4 to 2^27 = 134217728 samples");
         wavelet::CwtOptions options = PODID_CWT_OPTIONS;
         if (effort != "measure" && effort != "patient") {
           throw std::invalid_argument("effort: expected one of measure, patient, got \"" + effort +

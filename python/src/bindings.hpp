@@ -4,6 +4,7 @@
 #include <pybind11/pybind11.h>
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -37,13 +38,21 @@ struct WaveletArguments {
 wavelet::MorletWavelet MakeWavelet(const WaveletArguments& w);
 
 /// Any object, for an argument the function checks itself (RealArray,
-/// BoolArgument) to name it in its errors; typed for help()'s signatures.
+/// BoolArgument, IntArgument) to name it in its errors; typed for help()'s
+/// signatures.
 inline bool AnyObject(PyObject*) { return true; }
 struct ArrayObject : pybind11::object {
   PYBIND11_OBJECT_DEFAULT(ArrayObject, pybind11::object, AnyObject)
 };
 struct BoolObject : pybind11::object {
   PYBIND11_OBJECT_DEFAULT(BoolObject, pybind11::object, AnyObject)
+};
+struct IntObject : pybind11::object {
+  PYBIND11_OBJECT_DEFAULT(IntObject, pybind11::object, AnyObject)
+};
+/// An int keyword whose None means "not given" (cwt's bins).
+struct OptionalIntObject : pybind11::object {
+  PYBIND11_OBJECT_DEFAULT(OptionalIntObject, pybind11::object, AnyObject)
 };
 
 /// A real array argument (float, integer or bool, any array-like) as an
@@ -60,10 +69,19 @@ struct RealVector {
   Eigen::Map<const Eigen::VectorXd> values;
 };
 
-/// An int keyword taken as a Python int: pybind11's int refused 2**31 without
-/// naming it. py::value_error "name: expected `expected`, got value" outside
-/// int; the library checks the rest.
-int IntArgument(long long value, const char* name, const std::string& expected);
+/// An int keyword (an IntObject: pybind11's int refused 2**31, 2**63, 1.5 and
+/// None without naming it). Ints are what operator.index takes: int, bool,
+/// NumPy's integers; not numpy.bool_ nor a float, even an integral one
+/// (2.0), nor None: py::type_error "name: expected an int, got float".
+/// Outside the C++ type, py::value_error "name: expected `expected`, got
+/// value"; the library checks the rest of the range.
+int IntArgument(const pybind11::handle& value, const char* name, const std::string& expected);
+long long Int64Argument(const pybind11::handle& value,
+                        const char* name,
+                        const std::string& expected);
+std::uint64_t UInt64Argument(const pybind11::handle& value,
+                             const char* name,
+                             const std::string& expected);
 
 /// A bool keyword: True, False or numpy.bool_ only, py::type_error naming
 /// `name` otherwise (pybind11's conversion took None as False, nan as True).
@@ -82,4 +100,12 @@ struct pybind11::detail::handle_type_name<podid::python::ArrayObject> {
 template <>
 struct pybind11::detail::handle_type_name<podid::python::BoolObject> {
   static constexpr auto name = const_name("bool");
+};
+template <>
+struct pybind11::detail::handle_type_name<podid::python::IntObject> {
+  static constexpr auto name = const_name("int");
+};
+template <>
+struct pybind11::detail::handle_type_name<podid::python::OptionalIntObject> {
+  static constexpr auto name = const_name("Optional[int]");
 };

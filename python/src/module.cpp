@@ -2,7 +2,11 @@
 // re-exports it). Errors: podid's std::invalid_argument becomes ValueError
 // with podid's message (pybind11's standard translation).
 #include <climits>
+#include <cstdint>
+#include <limits>
 #include <stdexcept>
+#include <string>
+#include <string_view>
 
 #include "bindings.hpp"
 
@@ -35,12 +39,57 @@ RealVector::RealVector(const py::handle& value, const char* name)
       }()),
       values(array.data(), array.size()) {}
 
-int IntArgument(long long value, const char* name, const std::string& expected) {
-  if (value < INT_MIN || value > INT_MAX) {
-    throw py::value_error(std::string(name) + ": expected " + expected + ", got " +
-                          std::to_string(value));
+namespace {
+
+// The int an int keyword holds, as operator.index gives it; py::type_error
+// naming `name` for anything else (a float, None, a string).
+py::int_ IntOf(const py::handle& value, const char* name) {
+  // numpy.bool_ has an __index__ that NumPy 1.x deprecates and NumPy 2
+  // refuses: not an integer type (np.issubdtype(np.bool_, np.integer) is False).
+  const std::string_view type = Py_TYPE(value.ptr())->tp_name;
+  if (PyIndex_Check(value.ptr()) == 0 || type == "numpy.bool_" || type == "numpy.bool") {
+    throw py::type_error(std::string(name) + ": expected an int, got " + std::string(type));
   }
-  return static_cast<int>(value);
+  PyObject* const index = PyNumber_Index(value.ptr());
+  if (index == nullptr) throw py::error_already_set();
+  return py::reinterpret_steal<py::int_>(index);
+}
+
+[[noreturn]] void ThrowOutOfRange(const char* name,
+                                  const std::string& expected,
+                                  const std::string& got) {
+  throw py::value_error(std::string(name) + ": expected " + expected + ", got " + got);
+}
+
+}  // namespace
+
+long long Int64Argument(const py::handle& value, const char* name, const std::string& expected) {
+  const py::int_ index = IntOf(value, name);
+  int overflow = 0;
+  const long long result = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
+  if (result == -1 && PyErr_Occurred() != nullptr) throw py::error_already_set();
+  if (overflow != 0) ThrowOutOfRange(name, expected, std::string(py::repr(index)));
+  return result;
+}
+
+int IntArgument(const py::handle& value, const char* name, const std::string& expected) {
+  const long long result = Int64Argument(value, name, expected);
+  if (result < INT_MIN || result > INT_MAX) ThrowOutOfRange(name, expected, std::to_string(result));
+  return static_cast<int>(result);
+}
+
+std::uint64_t UInt64Argument(const py::handle& value,
+                             const char* name,
+                             const std::string& expected) {
+  const py::int_ index = IntOf(value, name);
+  const unsigned long long result = PyLong_AsUnsignedLongLong(index.ptr());
+  if (result == std::numeric_limits<unsigned long long>::max() && PyErr_Occurred() != nullptr) {
+    // OverflowError: negative or beyond 2^64 - 1.
+    if (PyErr_ExceptionMatches(PyExc_OverflowError) == 0) throw py::error_already_set();
+    PyErr_Clear();
+    ThrowOutOfRange(name, expected, std::string(py::repr(index)));
+  }
+  return result;
 }
 
 bool BoolArgument(const py::handle& value, const char* name) {

@@ -1,7 +1,8 @@
 """How the bindings take their arguments: real arrays only (a complex one lost
 its imaginary part), errors naming the Python argument (not pybind11's
 "incompatible function arguments", nor the library's field names), ints past
-2**31 and strict bools. Run by ctest (python.pytest) with PYTHONPATH=<build>/python."""
+2**31 and 2**63, int keywords that refuse floats and None, and strict bools.
+Run by ctest (python.pytest) with PYTHONPATH=<build>/python."""
 import os
 import pathlib
 import re
@@ -95,6 +96,102 @@ def test_ints_beyond_a_c_int_are_value_errors_naming_the_keyword(call, keyword):
     for n in (2**31, -2**31 - 1, 2**62):
         with pytest.raises(ValueError, match=rf"^{keyword}: expected .*, got {n}$"):
             call(n)
+
+
+# Every int keyword of every function (each macro-shared keyword once per
+# function): each is checked by the bindings before any work.
+SST = None
+
+
+def _sst_ridges(n):
+    global SST
+    if SST is None:
+        SST = podid.synchrosqueeze(X, STEP, fmin=20, fmax=80)
+    return SST.ridges(n)
+
+
+INT_KEYWORDS = [
+    (lambda n: podid.pod(np.ones((2, 10)), modes=n), "modes"),
+    (lambda n: podid.cwt(X, STEP, voices=n), "voices"),
+    (lambda n: podid.cwt(X, STEP, threads=n), "threads"),
+    (lambda n: podid.cwt(X, STEP, bins=n), "bins"),
+    (lambda n: podid.ridges(X, STEP, count=n), "count"),
+    (lambda n: podid.ridges(X, STEP, voices=n), "voices"),
+    (lambda n: podid.ridges(X, STEP, threads=n), "threads"),
+    (lambda n: podid.ridges(X, STEP, bins=n), "bins"),
+    (lambda n: podid.synchrosqueeze(X, STEP, voices=n), "voices"),
+    (lambda n: podid.synchrosqueeze(X, STEP, threads=n), "threads"),
+    (lambda n: podid.synchrosqueeze(X, STEP, bins=n), "bins"),
+    (_sst_ridges, "count"),
+    (lambda n: podid.instantaneous_frequency(X, STEP, voices=n), "voices"),
+    (lambda n: podid.instantaneous_frequency(X, STEP, threads=n), "threads"),
+    (lambda n: podid.instantaneous_frequency(X, STEP, bins=n), "bins"),
+    (lambda n: podid.plan(n, STEP), "samples"),
+    (lambda n: podid.plan(4000, STEP, voices=n), "voices"),
+    (lambda n: podid.plan(4000, STEP, threads=n), "threads"),
+    (lambda n: podid.plan(4000, STEP, bins=n), "bins"),
+    (lambda n: podid.Objective(CASE, MEASURED_01S, modes=n), "modes"),
+    (lambda n: podid.Objective(CASE, MEASURED_01S, ridge_threads=n), "ridge_threads"),
+    (lambda n: podid.identify(CASE, MEASURED_01S, multistart=n), "multistart"),
+    (lambda n: podid.identify(CASE, MEASURED_01S, max_evaluations=n), "max_evaluations"),
+    (lambda n: podid.identify(CASE, MEASURED_01S, seed=n), "seed"),
+    (lambda n: podid.identify(CASE, MEASURED_01S, modes=n), "modes"),
+    (lambda n: podid.identify(CASE, MEASURED_01S, threads=n), "threads"),
+    (lambda n: podid.identify(CASE, MEASURED_01S, ridge_threads=n), "ridge_threads"),
+    (lambda n: podid.landscape(CASE, MEASURED_01S, "knl", 40, 60, points=n), "points"),
+    (lambda n: podid.landscape(CASE, MEASURED_01S, "knl", 40, 60, threads=n), "threads"),
+    (lambda n: podid.landscape(CASE, MEASURED_01S, "knl", 40, 60, modes=n), "modes"),
+]
+INT_IDS = [f"{i}-{keyword}" for i, (_, keyword) in enumerate(INT_KEYWORDS)]
+
+
+@pytest.mark.parametrize("call, keyword", INT_KEYWORDS, ids=INT_IDS)
+def test_ints_beyond_64_bits_are_value_errors_naming_the_keyword(call, keyword):
+    # pybind11's int64 caster refused these as "incompatible function arguments".
+    # seed, a uint64, takes 2**63 .. 2**64 - 1 but not -1.
+    values = (2**64, 10**30, -2**63 - 1, -2**70) + ((-1,) if keyword == "seed" else (2**63,))
+    for n in values:
+        with pytest.raises(ValueError, match=rf"^{keyword}: expected .*, got {n}$"):
+            call(n)
+    for n in (np.uint64(2**64 - 1),) if keyword != "seed" else ():
+        with pytest.raises(ValueError, match=rf"^{keyword}: expected .*, got {int(n)}$"):
+            call(n)
+
+
+def test_the_seed_takes_any_uint64():
+    with pytest.raises(ValueError, match=r"^seed: expected 0 to 2\^64 - 1, got 18446744073709551616$"):
+        podid.identify(CASE, MEASURED_01S, seed=2**64)
+    with pytest.raises(ValueError, match=r"^seed: expected 0 to 2\^64 - 1, got -1$"):
+        podid.identify(CASE, MEASURED_01S, seed=-1)
+    # In range, the seed passes and the next check (the record's length) speaks.
+    for seed in (0, 2**64 - 1, np.uint64(2**64 - 1)):
+        with pytest.raises(ValueError, match=r"^measured data: "):
+            podid.identify(CASE, MEASURED_01S, seed=seed)
+
+
+@pytest.mark.parametrize("call, keyword", INT_KEYWORDS, ids=INT_IDS)
+def test_int_keywords_refuse_floats_and_none_naming_the_keyword(call, keyword):
+    # A float is refused even when integral (2.0), as numpy and range() refuse it.
+    for bad, got in ((1.5, "float"), (2.0, "float"), (None, "NoneType"), ("3", "str"),
+                     (np.float64(2.0), "numpy.float64"), (np.bool_(True), r"numpy\.bool_?"),
+                     (1 + 0j, "complex")):
+        if keyword == "bins" and bad is None:
+            continue  # bins=None: the log grid of `voices`
+        with pytest.raises(TypeError, match=rf"^{keyword}: expected an int, got {got}$"):
+            call(bad)
+
+
+def test_int_keywords_take_python_and_numpy_integers():
+    reference = podid.cwt(X, STEP, fmin=20, fmax=80, voices=8, threads=1).coefficients
+    for voices, threads in ((np.int64(8), np.uint8(1)), (np.int32(8), True)):
+        np.testing.assert_array_equal(
+            podid.cwt(X, STEP, fmin=20, fmax=80, voices=voices, threads=threads).coefficients,
+            reference)
+    linear = podid.cwt(X, STEP, fmin=20, fmax=80, bins=16).frequencies_Hz
+    np.testing.assert_array_equal(podid.cwt(X, STEP, fmin=20, fmax=80, bins=np.int16(16)).frequencies_Hz,
+                                  linear)
+    assert len(podid.ridges(X, STEP, fmin=20, fmax=80, count=np.int64(2))) == 2
+    assert podid.pod(np.ones((2, 10)) + np.eye(2, 10), modes=np.int64(1)).poms.shape == (2, 1)
 
 
 def test_plan_takes_a_large_sample_count_and_names_it():
