@@ -13,6 +13,51 @@
 #include "podid/wavelet/ridge.hpp"
 
 namespace podid::cli {
+namespace {
+
+// A ridge band given on the command line (--fmin/--fmax, --mode-band K) that
+// lies wholly outside the passband of the filter both records go through
+// compares nothing but the filter's skirt: refused here, naming the options,
+// before the data are decomposed (the library refuses it too, naming its
+// fields, and notes a band partly outside: ident/src/mode_ridges.cpp).
+// `filter_name` is the option or case key that set the filter.
+void CheckBandInPassband(const std::string& where,
+                         double low_Hz,
+                         double high_Hz,
+                         const FilterOptions& filter,
+                         const std::string& filter_name) {
+  const bool below = high_Hz <= filter.PassbandLow_Hz(), above = low_Hz >= filter.PassbandHigh_Hz();
+  if (!below && !above) return;
+  ThrowInvalid(where,
+               "a ridge band reaching into the passband of " + filter_name + " (" +
+                   filter.DescribePassband() +
+                   ": the filter conditions the measured and the simulated records alike, and "
+                   "beyond its cutoff both hold only its skirt)",
+               ToText(low_Hz) + ".." + ToText(high_Hz) + " Hz, entirely " +
+                   (above ? "above" : "below") + " it");
+}
+
+// "--lowpass 50", or the case's keys when the filter came from its [data].
+std::string FilterName(const FilterOptions& filter,
+                       const DataArguments& reading,
+                       const std::string& case_path) {
+  const bool from_options = reading.Conditioning().filter.type != FilterType::kNone;
+  const std::string kind = ToString(filter.type);
+  if (from_options) {
+    return "--" + kind + " " +
+           (filter.type == FilterType::kBandpass
+                ? ToText(filter.low_Hz) + ":" + ToText(filter.high_Hz)
+                : ToText(filter.type == FilterType::kLowpass ? filter.high_Hz : filter.low_Hz));
+  }
+  return "[data] filter = \"" + kind + "\", " +
+         (filter.type == FilterType::kBandpass
+              ? "band = [" + ToText(filter.low_Hz) + ", " + ToText(filter.high_Hz) + "]"
+              : "cutoff = " +
+                    ToText(filter.type == FilterType::kLowpass ? filter.high_Hz : filter.low_Hz)) +
+         " of " + case_path;
+}
+
+}  // namespace
 
 void ObjectiveArguments::AddTo(CLI::App& command) {
   input.AddTo(command);
@@ -135,6 +180,16 @@ std::unique_ptr<ident::ObjectiveFunction> ObjectiveArguments::Build(
       const ident::FrequencyBand& b = options.mode_bands[k];
       if (!b.follow())
         CheckTwoFrequencies("--mode-band " + ToText(k + 1), b.min_Hz, b.max_Hz, voices);
+    }
+    const FilterOptions filter = document.ToSpec().data.conditioning.filter;
+    if (filter.type != FilterType::kNone) {
+      const std::string name = FilterName(filter, measured_reading, input.path);
+      CheckBandInPassband("--fmin/--fmax", fmin_Hz, fmax_Hz, filter, name);
+      for (std::size_t k = 0; k < options.mode_bands.size(); ++k) {
+        const ident::FrequencyBand& b = options.mode_bands[k];
+        if (!b.follow())
+          CheckBandInPassband("--mode-band " + ToText(k + 1), b.min_Hz, b.max_Hz, filter, name);
+      }
     }
   }
   if (ridges && fmax_Hz > nyquist_Hz) {

@@ -8,12 +8,16 @@
 //     10-120 Hz band cannot hold a beam's second mode at 207 Hz;
 //   - the measured ridge, with the samples where the mode has decayed into the
 //     measurement noise marked unusable (inside_coi false): there the ridge
-//     follows noise, and its IF would dominate the term (issue 13 item 4).
+//     follows noise, and its IF would dominate the term (issue 13 item 4);
+//   - the checks of both against the data's conditioning and the record:
+//     a band outside the filter's passband is refused, one partly outside it
+//     and a ridge compared over less than a few wavelet durations get a note.
 
 #include <Eigen/Core>
 #include <string>
 #include <vector>
 
+#include "podid/core/conditioning.hpp"
 #include "podid/ident/objective.hpp"
 #include "podid/pod/pod.hpp"
 #include "podid/wavelet/ridge.hpp"
@@ -26,12 +30,22 @@ struct ModeRidges {
   std::vector<std::string> notes;                       ///< bands chosen, samples screened
 };
 
-/// The first `modes` modes. `pod`: the measured POD with its raw (not noise-corrected) singular values
-/// and time modes; `noise_variance`: white-noise variance per sensor (dim
-/// sensors; DifferenceNoiseVariance), or empty for no noise screening.
-/// Throws std::invalid_argument naming the mode when a record is too short
-/// for a band's cone of influence or no usable ridge sample is left.
-ModeRidges PrepareModeRidges(const PodResult& pod, const Eigen::VectorXd& noise_variance, double step_s,
-                             int modes, const ObjectiveOptions& options);
+/// A ridge compared over fewer than this many wavelet durations (the
+/// e-folding time 2 sigma_t s at the ridge's frequency, over which its IFs are
+/// correlated) gets a note: see mode_ridges.cpp.
+inline constexpr double kMinRidgeWaveletDurations = 4.0;
+
+/// The first `modes` modes. `pod`: the measured POD with its raw (not noise-corrected) singular
+/// values and time modes; `noise_variance`: white-noise variance per sensor (dim sensors;
+/// DifferenceNoiseVariance), or empty for no noise screening; `filter`: the conditioning's filter,
+/// applied to the measured and the simulated records alike. Throws std::invalid_argument naming the
+/// mode when a band lies outside the filter's passband, a record is too short for a band's cone of
+/// influence or no usable ridge sample is left.
+ModeRidges PrepareModeRidges(const PodResult& pod,
+                             const Eigen::VectorXd& noise_variance,
+                             double step_s,
+                             int modes,
+                             const ObjectiveOptions& options,
+                             const FilterOptions& filter = {});
 
 }  // namespace podid::ident::internal

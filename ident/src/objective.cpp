@@ -303,11 +303,13 @@ ObjectiveFunction::ObjectiveFunction(const CaseDocument& case_document, const Ti
     }
   }
 
-  // Each mode's ridge band and measured ridge (one estimator per mode in the workspace).
+  // Each mode's ridge band and measured ridge (one estimator per mode in the
+  // workspace), checked against the filter both records go through.
   mode_ridge_options_.assign(compared_modes_, options_.ridge);
   if (needed_.f != 0) {
     internal::ModeRidges ridges =
-        internal::PrepareModeRidges(raw_measured_pod, noise_variance, step, compared_modes_, options_);
+        internal::PrepareModeRidges(raw_measured_pod, noise_variance, step, compared_modes_,
+                                    options_, base_spec_.data.conditioning.filter);
     mode_ridge_options_ = std::move(ridges.options);
     measured_ridges_ = std::move(ridges.measured);
     for (std::string& note : ridges.notes) notes_.push_back(std::move(note));

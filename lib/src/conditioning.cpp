@@ -205,6 +205,30 @@ bool ConditioningOptions::IsValid(std::string* why) const {
   return true;
 }
 
+double FilterOptions::PassbandLow_Hz() const {
+  return type == FilterType::kHighpass || type == FilterType::kBandpass ? low_Hz : 0.0;
+}
+
+double FilterOptions::PassbandHigh_Hz() const {
+  return type == FilterType::kLowpass || type == FilterType::kBandpass
+             ? high_Hz
+             : std::numeric_limits<double>::infinity();
+}
+
+std::string FilterOptions::DescribePassband() const {
+  switch (type) {
+    case FilterType::kNone:
+      return "all frequencies";
+    case FilterType::kLowpass:
+      return "below " + ToText(high_Hz) + " Hz";
+    case FilterType::kHighpass:
+      return "above " + ToText(low_Hz) + " Hz";
+    case FilterType::kBandpass:
+      break;
+  }
+  return ToText(low_Hz) + ".." + ToText(high_Hz) + " Hz";
+}
+
 std::string ConditioningOptions::Describe() const {
   std::string out;
   auto add = [&out](const std::string& s) { out += (out.empty() ? "" : ", ") + s; };

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <limits>
 #include <numbers>
 
 #include "podid/core/io.hpp"
@@ -109,6 +110,26 @@ TEST(ConditioningTest, ZeroPhaseGainAtCutoff) {
   const Eigen::VectorXd middle = y.values.col(0).segment(1000, 2000);
   EXPECT_TRUE(ExpectMatricesNear(middle, (0.5 * s.values.col(0).segment(1000, 2000)).eval(),
                                  kSteadyTolerance));
+}
+
+// The passband the ridge checks read: between the cutoffs, an open side where
+// the filter has no edge; and its wording in their messages.
+TEST(ConditioningTest, PassbandOfEachFilterType) {
+  const double inf = std::numeric_limits<double>::infinity();
+  struct Case {
+    FilterType type;
+    double low_Hz, high_Hz, pass_low_Hz, pass_high_Hz;
+    const char* text;
+  };
+  for (const Case& c : {Case{FilterType::kNone, 0, 0, 0, inf, "all frequencies"},
+                        Case{FilterType::kLowpass, 0, 50, 0, 50, "below 50 Hz"},
+                        Case{FilterType::kHighpass, 5, 0, 5, inf, "above 5 Hz"},
+                        Case{FilterType::kBandpass, 5, 80, 5, 80, "5..80 Hz"}}) {
+    const FilterOptions f = Filter(c.type, 4, c.low_Hz, c.high_Hz).filter;
+    EXPECT_EQ(f.PassbandLow_Hz(), c.pass_low_Hz) << c.text;
+    EXPECT_EQ(f.PassbandHigh_Hz(), c.pass_high_Hz) << c.text;
+    EXPECT_EQ(f.DescribePassband(), c.text);
+  }
 }
 
 TEST(ConditioningTest, IdentityKeepsTheRecord) {

@@ -63,6 +63,14 @@ struct FilterOptions {
   int order = 4;         ///< in 1..kMaxFilterOrder
   double low_Hz = 0.0;   ///< highpass and bandpass: lower cutoff, in (0, Nyquist)
   double high_Hz = 0.0;  ///< lowpass and bandpass: upper cutoff, in (0, Nyquist)
+
+  /// The passband as checks read it: between the cutoffs (-3 dB; gain 1/2
+  /// through the zero-phase filter), whatever the order. 0 and infinity where
+  /// the filter has no edge (kNone: everything).
+  double PassbandLow_Hz() const;
+  double PassbandHigh_Hz() const;
+  /// "below 50 Hz", "above 5 Hz", "5..80 Hz" (kNone: "all frequencies").
+  std::string DescribePassband() const;
 };
 
 struct ConditioningOptions {
