@@ -66,11 +66,12 @@ grep -q "expected --samples N" "$out/stderr" || fail "--fs without --samples: $(
 "$podid" plan "$data" --decimate 2 --padding zero >"$out/plan7" || fail "plan --decimate exited $?"
 grep -q "FFT lengths 4608 real" "$out/plan7" || fail "plan --decimate: $(cat "$out/plan7")"
 # plan takes cwt's wavelet and grid options: Morse gamma 3 beta 20 lasts
-# longer than Morlet omega0 6 (its cone is 1.30x Morlet's at a frequency), so
-# cwt --wavelet morse pads 5001 samples to 10240 points, not 9216; planned
-# once, its plans are found.
+# longer than Morlet omega0 6 (its cone is 1.30x Morlet's at a frequency; at
+# 10 Hz its support is longer than the 1 s record), so cwt --wavelet morse
+# pads 5001 samples to 12288 points, not 9216; planned once, its plans are
+# found.
 "$podid" plan "$data" --padding zero --wavelet morse >"$out/morse1" || fail "plan --wavelet morse exited $?"
-grep -q "FFT lengths 10240 real, 10240 complex forward, 512 complex, 10240 complex, 64 x 160 complex" \
+grep -q "FFT lengths 12288 real, 12288 complex forward, 512 complex, 12288 complex, 64 x 192 complex" \
   "$out/morse1" || fail "plan --wavelet morse: $(cat "$out/morse1")"
 "$podid" plan "$data" --padding zero --wavelet morse >"$out/morse2" || fail "second plan --wavelet morse exited $?"
 grep -q "measured 0 plan(s)" "$out/morse2" || fail "Morse plans measured again: $(cat "$out/morse2")"

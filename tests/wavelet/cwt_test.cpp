@@ -373,6 +373,67 @@ TEST(Cwt, ReflectPaddingOfARecordShorterThanTheSupport) {
   }
 }
 
+TEST(Cwt, ZeroPaddingOfARecordShorterThanTheSupport) {
+  // The transform of the record followed by zeros for ever: the direct sum
+  // over the record alone (DirectCwt on the record and 2 supports of zeros,
+  // whose periodic images are then beyond every envelope) is the reference.
+  // 5 kHz down to 10 Hz: support 3548 samples on each side, more than the
+  // 1001-sample record. P = N + min(N, support), rounded to 2048, let the
+  // wavelets of the lowest scales reach the record's periodic copy (1.4e-2 of
+  // max |W| at the borders, 8.2e-9 inside the cone of coi_factor 1). Now:
+  //   coi_factor 0 (no cone, every coefficient counts): P >= N + support,
+  //     rounding plus the 1e-12 band truncation everywhere (1e-10 of max |W|
+  //     as FftPathEqualsDirectConvolution);
+  //   coi_factor 2: the zeros stop at the support of the largest scale with
+  //     a sample inside the cone (2 sqrt(2) s <= 0.1 s: 1314 samples), the
+  //     same 1e-10 inside the cone;
+  //   6001 samples: the support is shorter than the record, exact everywhere.
+  constexpr double kRelativeTolerance = 1e-10;
+  constexpr Eigen::Index kSupport = 3548;
+  const double step = 2e-4;
+  struct Run {
+    Eigen::Index n;
+    double coi_factor;
+    Eigen::Index min_padded;
+    bool everywhere;
+  };
+  for (const Run run : {Run{1001, 0.0, 1001 + kSupport, true}, Run{1001, 2.0, 1001 + 1314, false},
+                        Run{6001, 2.0, 6001 + kSupport, true}}) {
+    const Eigen::VectorXd x = MixedSignal(run.n, step);
+    CwtOptions o;
+    o.padding = Padding::kZero;
+    o.remove_mean = false;
+    o.coi_factor = run.coi_factor;
+    o.frequencies.min_frequency_Hz = 10.0;
+    o.frequencies.max_frequency_Hz = 120.0;
+    o.frequencies.voices_per_octave = 1;
+    CwtTransform transform(o);
+    Scalogram sg;
+    transform.Compute(x, step, &sg);
+    EXPECT_GE(transform.padded_length(), run.min_padded) << run.n;
+    const Eigen::MatrixXcd linear = DirectCwt(Pad(x, Padding::kZero, run.n + 2 * kSupport + 2),
+                                              run.n, step, sg.scales_s, o.wavelet);
+    const double scale = linear.cwiseAbs().maxCoeff();
+    double inside = 0.0, all = 0.0;
+    for (Eigen::Index k = 0; k < linear.cols(); ++k) {
+      for (Eigen::Index i = 0; i < run.n; ++i) {
+        const double e = std::abs(sg.coefficients(i, k) - linear(i, k)) / scale;
+        all = std::max(all, e);
+        if (sg.frequencies_Hz(k) >= sg.coi_frequency_Hz(i)) inside = std::max(inside, e);
+      }
+    }
+    EXPECT_LE(inside, kRelativeTolerance) << run.n << " coi " << run.coi_factor;
+    if (run.everywhere) {
+      EXPECT_LE(all, kRelativeTolerance) << run.n << " coi " << run.coi_factor;
+    }
+    std::printf(
+        "%d samples, coi_factor %g, P = %d: max |W - W_linear| / max |W| %.2g, inside the "
+        "cone %.2g\n",
+        static_cast<int>(run.n), run.coi_factor, static_cast<int>(transform.padded_length()), all,
+        inside);
+  }
+}
+
 TEST(Cwt, CoiFactorZeroMarksEverySampleInside) {
   // "0 means no cone": the end samples too, where the distance to the end is
   // 0 (they were marked outside, their cone frequency inf), in the whole

@@ -62,9 +62,11 @@
 //             where every envelope is below 1e-6 of its peak. Or P = 2N - 2 exactly
 //             (no jump at all, any factors) where that minimum, rounded up,
 //             would exceed 2 (2N - 2);
-//   kZero     (default) x_0 .. x_{N-1} followed by zeros, minimum P = N + min(N, support)
-//             (a wavelet longer than the record also reaches the record's
-//             periodic copy, P samples on);
+//   kZero     (default) x_0 .. x_{N-1} followed by zeros, minimum P = N + support
+//             (the transform of the record followed by zeros for ever, with
+//             no wrap-around, even for a wavelet longer than the record); the
+//             zeros stop at the support of the largest scale with a sample
+//             inside the cone of influence, if longer than N (coi_factor > 0);
 //   kPeriodic x_0 .. x_{N-1}, P = N (no choice of length).
 // Full rate (the default): scale k's band of K_k bins is inverted by a pruned
 // inverse FFT (wavelet/src/pruned_inverse.hpp): with D_k the largest power of
