@@ -53,20 +53,20 @@ void NoteStartState(const CaseSpec& spec,
           spec.data.conditioning.detrend != Detrend::kNone) {
         return;
       }
-      const Eigen::VectorXd noise_variance = data.samples() >= 8
-                                                 ? DifferenceNoiseVariance(data.values.transpose())
-                                                 : Eigen::VectorXd::Zero(data.values.cols());
       Eigen::Index worst = -1;
-      double worst_share = 0.0;
+      double worst_share = kMovingShare;
       for (Eigen::Index c = 0; c < data.values.cols(); ++c) {
         const double first = std::abs(data.values(0, c));
         const double peak = data.values.col(c).cwiseAbs().maxCoeff();
-        const double share = peak > 0 ? first / peak : 0.0;
-        if (first > kMovingNoiseSigmas * std::sqrt(noise_variance[c]) && share > worst_share) {
-          worst = c, worst_share = share;
-        }
+        if (!(first > worst_share * peak)) continue;
+        // The noise of this channel only (no copy of a long record's matrix).
+        const double noise_std =
+            data.samples() >= 8
+                ? std::sqrt(DifferenceNoiseVariance(data.values.col(c).transpose())[0])
+                : 0.0;
+        if (first > kMovingNoiseSigmas * noise_std) worst = c, worst_share = first / peak;
       }
-      if (worst < 0 || !(worst_share > kMovingShare)) return;
+      if (worst < 0) return;
       const std::string& name = data.channel_names[static_cast<std::size_t>(worst)];
       notes->push_back(where +
                        ": the simulation starts at rest ([initial] gives no state) at t = " +

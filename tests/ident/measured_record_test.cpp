@@ -107,7 +107,7 @@ TEST(MeasuredRecord, ARecordThatStartsMovingIsNotedForACaseAtRest) {
   // starts at its peak (100 %); a tone sin(2 pi 5 t) from t = 0 starts at 0,
   // a record at rest (no note), but windowed from 0.05 s (a quarter period,
   // its peak) it does not. Accelerometers and detrended records are not
-  // judged (their value at rest is not 0).
+  // judged (their value at rest is not 0), nor a start within 5 noise std.
   const std::string text =
       "[model]\ntype = \"matrices\"\nmass = \"m.mtx\"\nstiffness = \"k.mtx\"\n"
       "damping = \"c.mtx\"\nlabels = [\"x\"]\n[time]\nduration = 2.0\nstep = 1.0e-4\n";
@@ -132,6 +132,19 @@ TEST(MeasuredRecord, ARecordThatStartsMovingIsNotedForACaseAtRest) {
   notes.clear();
   PrepareMeasured(rest, tone, "tone.csv", &notes);
   EXPECT_EQ(Count(notes, "is there 100 % of its peak"), 1u);
+  // A sensor that records only noise (uniform in +-0.5, std 0.29) starts
+  // at 0.45, 90 % of its peak but within 5 noise std: no note.
+  TimeSeries noise = f.raw;
+  unsigned state = 12345u;
+  for (Eigen::Index i = 0; i < noise.samples(); ++i) {
+    state = state * 1664525u + 1013904223u;
+    noise.values(i, 0) = static_cast<double>(state >> 8) / static_cast<double>(1u << 24) - 0.5;
+  }
+  noise.values(0, 0) = 0.45;
+  notes.clear();
+  CaseDocument quiet = CaseDocument::Parse(text, "rest.toml", folder);
+  PrepareMeasured(quiet, noise, "noise.csv", &notes);
+  EXPECT_TRUE(notes.empty()) << notes[0];
   rest.Set("data.detrend", "\"constant\"");
   notes.clear();
   PrepareMeasured(rest, tone, "tone.csv", &notes);
