@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "podid/core/error.hpp"
 #include "podid/wavelet/spectrum.hpp"
@@ -64,14 +63,6 @@ wavelet::RidgeFrequencyOptions BandOf(int mode, int modes, const PodResult& pod,
   return ridge;
 }
 
-// A derived figure in a note (octaves, a share, a duration): 3 significant
-// digits; the values the user gave keep ToText's.
-std::string Figure(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", value);
-  return text;
-}
-
 // How messages name mode `mode`'s band: the field and option that set it.
 std::string BandSource(int mode, const ObjectiveOptions& options) {
   if (mode == 0) return "ridge.cwt.frequencies, --fmin/--fmax";
@@ -121,10 +112,11 @@ void CheckBandInPassband(int mode,
         : below_octaves > 0 ? "below the data's " + kind + " cutoff " + ToText(pass_low) + " Hz"
                             : "above the data's " + kind + " cutoff " + ToText(pass_high) + " Hz";
     notes->push_back(
-        "mode " + ToText(mode + 1) + ": " + Figure(below_octaves + above_octaves) +
-        " of the ridge band's " + Figure(octaves) + " octaves (" + band + "; " +
+        "mode " + ToText(mode + 1) + ": " + ToShortText(below_octaves + above_octaves) +
+        " of the ridge band's " + ToShortText(octaves) + " octaves (" + band + "; " +
         BandSource(mode, options) + "), " +
-        Figure(100 * (below_octaves + above_octaves) / octaves) + " %, lie " + side + " (" + names +
+        ToShortText(100 * (below_octaves + above_octaves) / octaves) + " %, lie " + side + " (" +
+        names +
         "), where the filter leaves both records only its skirt: keep the band inside the "
         "passband, e.g. " +
         ToText(std::max(low, pass_low)) + ".." + ToText(std::min(high, pass_high)) + " Hz");
@@ -178,8 +170,9 @@ void NoteFewRidgeSamples(int mode,
       ToText(track.size()) +
       " samples are compared (samples_compared: inside the cone of influence and above the "
       "noise), " +
-      Figure(compared_s) + " s of the " + Figure(record_s) + " s record: " + Figure(durations) +
-      " wavelet durations at the ridge's " + Figure(ridge_Hz) + " Hz (" + Figure(wavelet_s) +
+      ToShortText(compared_s) + " s of the " + ToShortText(record_s) +
+      " s record: " + ToShortText(durations) + " wavelet durations at the ridge's " +
+      ToShortText(ridge_Hz) + " Hz (" + ToShortText(wavelet_s) +
       " s each, over which its IFs are correlated), fewer than " +
       ToText(kMinRidgeWaveletDurations) +
       ", so the IF term rests on a handful of independent values; for a sounder fit give " +

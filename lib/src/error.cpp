@@ -7,6 +7,13 @@
 #include <string>
 
 namespace podid {
+
+std::string ToShortText(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
+
 namespace internal {
 
 void CheckFailed(const char* condition, const char* file, int line, std::string_view detail) {

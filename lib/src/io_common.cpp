@@ -7,7 +7,6 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <set>
 #include <string>
@@ -21,15 +20,6 @@
 
 namespace podid {
 namespace internal {
-
-namespace {
-/// A tolerance for a message: 3 significant digits.
-std::string Short(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", value);
-  return text;
-}
-}  // namespace
 
 UniformGrid FitUniformGrid(const double* t,
                            std::size_t n,
@@ -73,7 +63,7 @@ UniformGrid FitUniformGrid(const double* t,
       if (std::abs(d - median) > allowed) {
         ThrowInvalid(where(i),
                      "a uniform time step " + ToText(median) +
-                         " s exactly (the stamps' resolution, " + Short(2.0 * rounding_max) +
+                         " s exactly (the stamps' resolution, " + ToShortText(2.0 * rounding_max) +
                          " s, is half a step or more: rounding would hide a missing sample)",
                      "a step of " + ToText(d) + " s");
       }
@@ -82,7 +72,7 @@ UniformGrid FitUniformGrid(const double* t,
     const double allowed = tolerance(i, median) + tolerance(i - 1, median) + 2.0 * rounding_max;
     if (std::abs(d - median) > allowed) {
       ThrowInvalid(where(i),
-                   "a uniform time step " + ToText(median) + " s (within " + Short(allowed) +
+                   "a uniform time step " + ToText(median) + " s (within " + ToShortText(allowed) +
                        " s: the stamps' rounding and " + ToText(kTimeStepRelativeTolerance) +
                        " of a step)",
                    "a step of " + ToText(d) + " s");
@@ -125,7 +115,7 @@ UniformGrid FitUniformGrid(const double* t,
     if (std::abs(d - grid.step_s) > allowed) {
       ThrowInvalid(where(i),
                    "a uniform time step " + ToText(grid.step_s) + " s (least squares; within " +
-                       Short(allowed) + " s: the two stamps' rounding and the fit's error)",
+                       ToShortText(allowed) + " s: the two stamps' rounding and the fit's error)",
                    "a step of " + ToText(d) + " s");
     }
   }
@@ -141,7 +131,8 @@ UniformGrid FitUniformGrid(const double* t,
     if (std::abs(off) > allowed) {
       ThrowInvalid(where(i),
                    "a time on the uniform grid " + ToText(grid.start_s) + " + i * " +
-                       ToText(grid.step_s) + " s (least squares) within " + Short(allowed) + " s",
+                       ToText(grid.step_s) + " s (least squares) within " + ToShortText(allowed) +
+                       " s",
                    ToText(t[i]) + " s (" + ToText(off) + " s off the grid)");
     }
   }
@@ -164,7 +155,7 @@ Eigen::VectorXd UniformTimes(double start_s,
   if (!std::isfinite(start_s) || !(step_s > 0.0) || !std::isfinite(end_s) ||
       !(step_s >= kResolved * largest)) {
     ThrowInvalid(where,
-                 "a finite time grid whose step > 0 s is at least " + Short(kResolved) +
+                 "a finite time grid whose step > 0 s is at least " + ToShortText(kResolved) +
                      " of its largest time (double precision resolves it)",
                  "a start of " + ToText(start_s) + " s, a step of " + ToText(step_s) + " s and " +
                      std::to_string(n) + " samples (up to " + ToText(end_s) + " s)");

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
-#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -34,12 +33,6 @@ Eigen::VectorXd Power(const TimeSeries& s, Eigen::Index n) {
     }
   }
   return power;
-}
-
-std::string Short(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.3g", x);
-  return buffer;
 }
 
 int Order(SensorQuantity q) {
@@ -133,13 +126,13 @@ QuantityCheck CheckMeasuredQuantity(const TimeSeries& measured,
   check.likely = order == 0   ? SensorQuantity::kDisplacement
                  : order == 1 ? SensorQuantity::kVelocity
                               : SensorQuantity::kAcceleration;
-  check.message = "the measured/simulated amplitude ratio grows as f^" + Short(check.exponent) +
-                  " (" + Short(20 * check.exponent) + " dB/decade over " + Short(check.low_Hz) +
-                  ".." + Short(check.high_Hz) +
-                  " Hz; f^0 when the quantities agree): the record "
-                  "looks like " +
-                  ToString(check.likely) + " while [sensors] quantity = \"" + ToString(declared) +
-                  "\"";
+  check.message =
+      "the measured/simulated amplitude ratio grows as f^" + ToShortText(check.exponent) + " (" +
+      ToShortText(20 * check.exponent) + " dB/decade over " + ToShortText(check.low_Hz) + ".." +
+      ToShortText(check.high_Hz) +
+      " Hz; f^0 when the quantities agree): the record "
+      "looks like " +
+      ToString(check.likely) + " while [sensors] quantity = \"" + ToString(declared) + "\"";
   return check;
 }
 

@@ -29,6 +29,10 @@ std::string ToText(const T& value) {
   return os.str();
 }
 
+/// A derived figure for a message (a tolerance, a share, a duration): 3
+/// significant digits ("%.3g"); the values a user gave keep ToText's 10.
+std::string ToShortText(double value);
+
 /// Bytes of input text a message shows at most (Excerpt's default): enough to
 /// recognise a token, too few to print a file's lines.
 inline constexpr std::size_t kExcerptBytes = 40;
