@@ -121,6 +121,10 @@ struct CwtTransform::Impl {
   // Scale k's band at padded length p: bins [*a, *b] (signed; empty if *b < *a).
   void Band(Eigen::Index k, Eigen::Index p, double step, Eigen::Index* a, Eigen::Index* b) const;
   void Layout(Eigen::Index samples, double step);
+  // The full-rate path's overlap-save groups at padded length p (blocked_scales.hpp).
+  internal::BlockedScales::Grouping BlockGroups(Eigen::Index p,
+                                                double step,
+                                                Eigen::Index times) const;
   // Every scale's band and gains n(s) psi^(s w_b) / P at padded length p.
   void SetFilters(Eigen::Index p, double step, internal::ScaleFilters* out) const;
   // W (derivative: dW/dt) of scale k at the M decimated times into w.
@@ -236,12 +240,24 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   const double per_coefficient = options.output == CwtOutput::kComplex        ? 16.0
                                  : options.output == CwtOutput::kComplexFloat ? 8.0
                                                                               : 4.0;
+  // Filters at each overlap-save block length (stored ones only: a band
+  // holds at most L + 1 bins of length L).
+  const auto BlockFilterBytes = [&](Eigen::Index p) {
+    if (p < internal::BlockedScales::kMinPaddedLength) return 0.0;
+    Eigen::Index bins = 0;
+    for (Eigen::Index length : internal::BlockedScales::kLengths) bins += length + 1;
+    return internal::ScaleFilters::Bytes(options.wavelet,
+                                         bins * static_cast<Eigen::Index>(scales_s.size()));
+  };
   const double bytes =
       per_coefficient * static_cast<double>(z.times) * static_cast<double>(scales_s.size()) +
       internal::ScaleFilters::Bytes(options.wavelet, z.filter_bins) +
       8.0 * static_cast<double>(z.p) + 16.0 * static_cast<double>(z.p) +
       16.0 * static_cast<double>(z.m) * options.threads +
-      (options.band_limited ? 0.0 : internal::FullRateCwt::Bytes(z.p, options.threads));
+      (options.band_limited
+           ? 0.0
+           : internal::FullRateCwt::Bytes(z.p, options.threads, BlockGroups(z.p, step, z.times))) +
+      (options.band_limited ? 0.0 : BlockFilterBytes(z.p));
   if (bytes > options.memory_budget_bytes) {
     ThrowInvalid("Cwt: memory",
                  "at most " + ToText(options.memory_budget_bytes) +
@@ -270,7 +286,14 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   for (int t = 0; t < options.threads; ++t) {
     work.push_back(internal::AllocateComplex(static_cast<std::size_t>(m)));
   }
-  if (!options.band_limited) full_rate.Layout(p, filters, options.threads, measure);
+  if (!options.band_limited) {
+    full_rate.Layout(
+        p, filters, BlockGroups(p, step_s, times),
+        [this](Eigen::Index length, internal::ScaleFilters* out) {
+          SetFilters(length, step_s, out);
+        },
+        options.threads, measure);
+  }
   coi_frequency_Hz.resize(times);
   for (Eigen::Index j = 0; j < times; ++j) {
     const Eigen::Index sample = j * d;
@@ -278,6 +301,38 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
     coi_frequency_Hz(j) =
         internal::ConeFrequency_Hz(options.coi_factor, kappa, time_spread, edge_s);
   }
+}
+
+internal::BlockedScales::Grouping CwtTransform::Impl::BlockGroups(Eigen::Index p,
+                                                                  double step,
+                                                                  Eigen::Index times) const {
+  const bool morse = options.wavelet.family == WaveletFamily::kMorse;
+  const double radius = internal::SupportRadius(time_spread, morse, options.band_tolerance);
+  const double bin = 2.0 * kPi / (static_cast<double>(p) * step);
+  std::vector<internal::BlockedScales::Scale> scales(static_cast<std::size_t>(scales_s.size()));
+  for (Eigen::Index k = 0; k < scales_s.size(); ++k) {
+    Eigen::Index a = 0, b = 0;
+    Band(k, p, step, &a, &b);
+    // Band() clips at -(P - 1) / 2 and P / 2: a band that reaches either is
+    // cut there, and its kernel is not compact in time.
+    const double to_bin = 1.0 / (scales_s(k) * bin);
+    auto& scale = scales[static_cast<std::size_t>(k)];
+    scale.decimation = internal::PrunedInverse::Decimation(p, std::max<Eigen::Index>(b - a + 1, 1));
+    scale.inside = b >= a && band_low * to_bin > static_cast<double>(-((p - 1) / 2)) &&
+                   band_high * to_bin < static_cast<double>(p / 2);
+    scale.support = radius * scales_s(k) / step;
+  }
+  internal::BlockedScales::Grouping grouping = internal::BlockedScales::Plan(p, times, scales);
+  // Each group keeps the bins its bands reach at its block length.
+  for (Eigen::Index k = 0; k < scales_s.size(); ++k) {
+    const int g = grouping.group[static_cast<std::size_t>(k)];
+    if (g < 0) continue;
+    auto& group = grouping.groups[static_cast<std::size_t>(g)];
+    Eigen::Index a = 0, b = 0;
+    Band(k, group.length, step, &a, &b);
+    group.bins = std::max({group.bins, b + 1, 1 - a});
+  }
+  return grouping;
 }
 
 void CwtTransform::Impl::SetFilters(Eigen::Index p, double step, internal::ScaleFilters* out) const {
@@ -424,7 +479,7 @@ void CwtTransform::Compute(const Eigen::Ref<const Eigen::VectorXd>& signal,
   internal::AdviseHugePages(out->magnitude.data(),
                             static_cast<std::size_t>(out->magnitude.size()) * sizeof(float));
   if (!s.options.band_limited) {
-    s.full_rate.Compute(s.spectrum.get(), s.times, s.output_scale,
+    s.full_rate.Compute(s.spectrum.get(), s.padded.get(), s.times, s.output_scale,
                         {.complex = out->coefficients.data(),
                          .complex_float = out->coefficients_float.data(),
                          .magnitude = out->magnitude.data()});
@@ -511,7 +566,9 @@ FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
   if (!s.options.band_limited) {
     // The full-rate path's pruned inverses, one plan per distinct D: batches
     // of G inverses of length M = P / D.
+    const internal::BlockedScales::Grouping grouping = s.BlockGroups(z.p, step_s, z.times);
     for (Eigen::Index k = 0; k < s.scales_s.size(); ++k) {
+      if (grouping.group[static_cast<std::size_t>(k)] >= 0) continue;  // blocked: below
       Eigen::Index a = 0, b = 0;
       s.Band(k, z.p, step_s, &a, &b);
       const Eigen::Index d =
@@ -520,6 +577,19 @@ FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
                                      static_cast<int>(internal::PrunedInverse::Batch(z.p, d)));
       auto& list = lengths.interleaved_backward;
       if (std::find(list.begin(), list.end(), pair) == list.end()) list.push_back(pair);
+    }
+    // The overlap-save blocks: a forward and an inverse FFT per block length.
+    for (const auto& group : grouping.groups) {
+      const auto length = static_cast<int>(group.length);
+      auto& forward = lengths.complex_forward;
+      if (std::find(forward.begin(), forward.end(), length) == forward.end()) {
+        forward.push_back(length);
+      }
+      const std::pair<int, int> inverse(length, 1);
+      auto& backward = lengths.interleaved_backward;
+      if (std::find(backward.begin(), backward.end(), inverse) == backward.end()) {
+        backward.push_back(inverse);
+      }
     }
   }
   return lengths;

@@ -10,14 +10,21 @@
 
 namespace podid::wavelet::internal {
 
-double FullRateCwt::Bytes(Eigen::Index p, int threads) {
+double FullRateCwt::Bytes(Eigen::Index p, int threads, const BlockedScales::Grouping& blocked) {
   const auto work = static_cast<double>(PrunedInverse::WorkSize(p));
-  return 16.0 * (static_cast<double>(p) + (work + static_cast<double>(p)) * threads);
+  return 16.0 * (static_cast<double>(p) + (work + static_cast<double>(p)) * threads) +
+         BlockedScales::Bytes(blocked);
 }
 
-void FullRateCwt::Layout(Eigen::Index p, const ScaleFilters& filters, int threads, bool measure) {
+void FullRateCwt::Layout(Eigen::Index p,
+                         const ScaleFilters& filters,
+                         BlockedScales::Grouping blocked,
+                         const std::function<void(Eigen::Index, ScaleFilters*)>& make_filters,
+                         int threads,
+                         bool measure) {
   PODID_CHECK(threads >= 1);
   inverse_.Reset(p, measure);
+  blocked_.Layout(p, std::move(blocked), make_filters, measure);
   filters_ = &filters;
   const auto scales = static_cast<std::size_t>(filters.scales());
   decimation_.resize(scales);
@@ -29,10 +36,14 @@ void FullRateCwt::Layout(Eigen::Index p, const ScaleFilters& filters, int thread
     const Eigen::Index d = PrunedInverse::Decimation(p, std::max<Eigen::Index>(bins, 1));
     decimation_[k] = d;
     batch_[k] = PrunedInverse::Batch(p, d);
-    plans_[k] = inverse_.Plan(d, batch_[k]);
+    // A blocked scale needs no pruned plan (nor its measuring).
+    plans_[k] =
+        blocked_.Blocked(static_cast<Eigen::Index>(k)) ? nullptr : inverse_.Plan(d, batch_[k]);
     // FFT flops plus the twiddle pass, in units of complex products.
-    cost[k] = static_cast<double>(p) * std::log2(static_cast<double>(p / d) + 1.0) +
-              static_cast<double>(d * bins);
+    cost[k] = blocked_.Blocked(static_cast<Eigen::Index>(k))
+                  ? blocked_.Cost(static_cast<Eigen::Index>(k))
+                  : static_cast<double>(p) * std::log2(static_cast<double>(p / d) + 1.0) +
+                        static_cast<double>(d * bins);
   }
   // Contiguous chunks of about equal cost (a thread writes a chunk's columns
   // in order, so a column may spill into the next ones of the same chunk).
@@ -65,6 +76,7 @@ void FullRateCwt::Layout(Eigen::Index p, const ScaleFilters& filters, int thread
 }
 
 void FullRateCwt::Compute(const Complex* spectrum,
+                          const double* padded,
                           Eigen::Index times,
                           double output_scale,
                           const FullRateOutput& output) const {
@@ -72,6 +84,7 @@ void FullRateCwt::Compute(const Complex* spectrum,
   PODID_CHECK((output.complex != nullptr) + (output.complex_float != nullptr) +
                   (output.magnitude != nullptr) ==
               1);
+  if (!blocked_.empty()) blocked_.LoadSignal(padded);
   const auto chunks = static_cast<int>(chunk_begin_.size()) - 1;
   std::atomic<int> next_chunk{0};
   const auto work = [&](int thread) {
@@ -116,6 +129,10 @@ void FullRateCwt::RunScales(int thread,
       } else {
         std::fill_n(column, times, Complex(0.0, 0.0));
       }
+      continue;
+    }
+    if (blocked_.Blocked(k)) {  // input_ holds 1.5 P >= 2 BlockedScales::kMaxLength entries
+      blocked_.Run(k, times, output_scale, input, output);
       continue;
     }
     // At D = 1 the column itself takes all P outputs when P values from its

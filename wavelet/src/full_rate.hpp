@@ -6,21 +6,16 @@
 
 #include <Eigen/Core>
 #include <complex>
+#include <functional>
 #include <vector>
 
+#include "blocked_scales.hpp"
 #include "fftw_plans.hpp"
+#include "full_rate_output.hpp"
 #include "pruned_inverse.hpp"
 #include "scale_filters.hpp"
 
 namespace podid::wavelet::internal {
-
-/// Where FullRateCwt::Compute writes: exactly one of the three, each
-/// times x scales, column-major.
-struct FullRateOutput {
-  std::complex<double>* complex = nullptr;       ///< W (CwtOutput::kComplex)
-  std::complex<float>* complex_float = nullptr;  ///< W rounded to float (kComplexFloat)
-  float* magnitude = nullptr;                    ///< |W| rounded to float (kMagnitudeFloat)
-};
 
 class FullRateCwt {
  public:
@@ -38,20 +33,31 @@ class FullRateCwt {
   /// stays in cache).
   static constexpr Eigen::Index kInPlaceLength = 65536;
 
-  /// Bytes Layout() allocates: the twiddle table and, per thread, the pruned
-  /// inverse's scratch (PrunedInverse::WorkSize) and output (P).
-  static double Bytes(Eigen::Index p, int threads);
+  /// Bytes Layout() allocates: the twiddle table, the blocked scales'
+  /// (BlockedScales::Bytes) and, per thread, the pruned inverse's scratch
+  /// (PrunedInverse::WorkSize) and output (P).
+  static double Bytes(Eigen::Index p, int threads, const BlockedScales::Grouping& blocked);
 
   /// Plans (one per distinct D) and buffers for padded length p and the
   /// scales' bands and filters (kept by reference: they must outlive the
-  /// layout). Scales are split into contiguous chunks of about equal cost
-  /// (kChunksPerThread per thread), which `threads` threads take in turn.
-  void Layout(Eigen::Index p, const ScaleFilters& filters, int threads, bool measure);
+  /// layout). The scales `blocked` groups are transformed by overlap-save
+  /// blocks instead (blocked_scales.hpp; make_filters: every scale's filters
+  /// at a block length). Scales are split into contiguous chunks of about
+  /// equal cost (kChunksPerThread per thread), which `threads` threads take
+  /// in turn.
+  void Layout(Eigen::Index p,
+              const ScaleFilters& filters,
+              BlockedScales::Grouping blocked,
+              const std::function<void(Eigen::Index, ScaleFilters*)>& make_filters,
+              int threads,
+              bool measure);
 
-  /// Every scale of `spectrum` (P / 2 + 1 bins of the padded real signal):
-  /// column k of the output gets output_scale * W_k(0 .. times - 1), or its
-  /// rounding to complex float, or its |W| as float. times <= P.
+  /// Every scale of `spectrum` (P / 2 + 1 bins of the padded real signal
+  /// `padded`, P values): column k of the output gets output_scale *
+  /// W_k(0 .. times - 1), or its rounding to complex float, or its |W| as
+  /// float. times <= P.
   void Compute(const Complex* spectrum,
+               const double* padded,
                Eigen::Index times,
                double output_scale,
                const FullRateOutput& output) const;
@@ -65,6 +71,7 @@ class FullRateCwt {
                  const FullRateOutput& output) const;
 
   PrunedInverse inverse_;
+  BlockedScales blocked_;
   const ScaleFilters* filters_ = nullptr;
   std::vector<Eigen::Index> decimation_;   // per scale
   std::vector<Eigen::Index> batch_;        // per scale: blocks per FFTW call

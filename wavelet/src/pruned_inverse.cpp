@@ -37,6 +37,29 @@ PODID_CLONES_V3 void ScaleRun(const double* x, const double* g, double* to, Eige
   }
 }
 
+// dest[i - i_begin] = Y_b = X_b filter_i (X_-b = conj X_b), b = first_bin + i,
+// for i = i_begin .. i_begin + count - 1, a chunk of the filter at a time
+// (generated ones stay in the L1 cache).
+void FillBins(const std::complex<double>* spectrum,
+              const ScaleFilter& filter,
+              Eigen::Index first_bin,
+              Eigen::Index i_begin,
+              Eigen::Index count,
+              std::complex<double>* dest) {
+  double scratch[ScaleFilter::kChunkBins];
+  for (Eigen::Index done = 0; done < count;) {
+    const Eigen::Index n = std::min(count - done, ScaleFilter::kChunkBins);
+    const double* g = filter.Values(i_begin + done, n, scratch);
+    const Eigen::Index first = first_bin + i_begin + done;
+    const Eigen::Index negative = std::clamp<Eigen::Index>(-first, 0, n);
+    std::complex<double>* to = dest + done;
+    for (Eigen::Index i = 0; i < negative; ++i) to[i] = std::conj(spectrum[-(first + i)]) * g[i];
+    ScaleRun(reinterpret_cast<const double*>(spectrum + first + negative), g + negative,
+             reinterpret_cast<double*>(to + negative), n - negative);
+    done += n;
+  }
+}
+
 // emit(j, i) for every output j = q D + r < times and its block entry
 // i = r m + q, in output order. D fixed at compile time (kDecimation > 0)
 // unrolls the interleave of the D blocks: a run-time count per group of D
@@ -139,21 +162,8 @@ void PrunedInverse::Execute(const Complex* spectrum,
   const Eigen::Index slot0 = ((first_bin % m) + m) % m;
   const Eigen::Index head = std::min(bins, m - slot0);
   const Eigen::Index tail = bins - head;
-  // Y_b = X_b filter (X_-b = conj X_b) for bins i_begin .. i_begin + count - 1,
-  // a chunk of the filter at a time (generated ones stay in the L1 cache).
   const auto fill = [&](Eigen::Index i_begin, Eigen::Index count, Complex* dest) {
-    double scratch[ScaleFilter::kChunkBins];
-    for (Eigen::Index done = 0; done < count;) {
-      const Eigen::Index n = std::min(count - done, ScaleFilter::kChunkBins);
-      const double* g = filter.Values(i_begin + done, n, scratch);
-      const Eigen::Index first = first_bin + i_begin + done;
-      const Eigen::Index negative = std::clamp<Eigen::Index>(-first, 0, n);
-      Complex* to = dest + done;
-      for (Eigen::Index i = 0; i < negative; ++i) to[i] = std::conj(spectrum[-(first + i)]) * g[i];
-      ScaleRun(reinterpret_cast<const double*>(spectrum + first + negative), g + negative,
-               reinterpret_cast<double*>(to + negative), n - negative);
-      done += n;
-    }
+    FillBins(spectrum, filter, first_bin, i_begin, count, dest);
   };
   const auto clear = [&](Complex* block) {
     std::fill(block + tail, block + slot0, Complex(0.0, 0.0));
@@ -219,6 +229,19 @@ void PrunedInverse::Execute(const Complex* spectrum,
     }
     fftw_execute_dft(plan, AsFftw(work), AsFftw(out + r0 * m));
   }
+}
+
+void PrunedInverse::FillSlots(const Complex* spectrum,
+                              const ScaleFilter& filter,
+                              Eigen::Index first_bin,
+                              Eigen::Index bins,
+                              Eigen::Index m,
+                              Complex* block) {
+  PODID_CHECK(bins >= 0 && bins <= m);
+  const Eigen::Index slot0 = ((first_bin % m) + m) % m;
+  const Eigen::Index head = std::min(bins, m - slot0);
+  FillBins(spectrum, filter, first_bin, 0, head, block + slot0);
+  if (bins > head) FillBins(spectrum, filter, first_bin, head, bins - head, block);
 }
 
 void PrunedInverse::Gather(const Complex* blocks, Eigen::Index d, Eigen::Index times,

@@ -77,6 +77,15 @@ class PrunedInverse {
                Complex* work,
                Complex* out) const;
 
+  /// Y_(a+i) = X_(a+i) g_i (Execute's band, a = first_bin), i < bins <= m,
+  /// at slots (a + i) mod m of `block`; the other slots are left as they are.
+  static void FillSlots(const Complex* spectrum,
+                        const ScaleFilter& filter,
+                        Eigen::Index first_bin,
+                        Eigen::Index bins,
+                        Eigen::Index m,
+                        Complex* block);
+
   /// column[j] = scale * y_j, j < times (<= P), from Execute's blocks at
   /// decimation d.
   void Gather(const Complex* blocks, Eigen::Index d, Eigen::Index times, double scale,

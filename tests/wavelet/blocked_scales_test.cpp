@@ -1,0 +1,161 @@
+// The full-rate CWT's overlap-save blocks (wavelet/src/blocked_scales.hpp):
+// the grouping's invariants, and long records against a direct convolution
+// with the P-periodic kernel summed from its band in long double.
+#include "../../wavelet/src/blocked_scales.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <vector>
+
+#include "podid/wavelet/cwt.hpp"
+
+namespace podid::wavelet {
+namespace {
+
+using Complex = std::complex<double>;
+using internal::BlockedScales;
+
+TEST(BlockedScales, GroupsOnlyCompactScalesOfLongRecords) {
+  const Eigen::Index p = 102400, times = 100000;
+  // Decimations 1, 2 (two scales), 16, a scale cut at Nyquist and one whose
+  // support outgrows the longest block.
+  const std::vector<BlockedScales::Scale> scales = {
+      {.decimation = 1, .inside = true, .support = 35.0},
+      {.decimation = 2, .inside = true, .support = 50.5},
+      {.decimation = 2, .inside = true, .support = 69.2},
+      {.decimation = 16, .inside = true, .support = 455.0},
+      {.decimation = 1, .inside = false, .support = 20.0},
+      {.decimation = 64, .inside = true, .support = 2048.0}};
+  const BlockedScales::Grouping grouping = BlockedScales::Plan(p, times, scales);
+  ASSERT_EQ(grouping.group.size(), scales.size());
+  EXPECT_EQ(grouping.group[4], -1);                 // not compact in time
+  EXPECT_EQ(grouping.group[5], -1);                 // 4 H > the longest block
+  EXPECT_EQ(grouping.group[1], grouping.group[2]);  // one grid per decimation
+  for (std::size_t k = 0; k < 4; ++k) {
+    ASSERT_GE(grouping.group[k], 0) << "scale " << k;
+    const BlockedScales::Group& g = grouping.groups[static_cast<std::size_t>(grouping.group[k])];
+    EXPECT_EQ(g.decimation, scales[k].decimation);
+    // The overlap covers the group's largest support, half a block at most.
+    EXPECT_GE(static_cast<double>(g.overlap), scales[k].support);
+    EXPECT_LE(4 * g.overlap, g.length);
+    EXPECT_EQ(g.hop, g.length - 2 * g.overlap);
+    // The blocks cover every output time, the last one partly.
+    EXPECT_GE(g.blocks * g.hop, times);
+    EXPECT_LT((g.blocks - 1) * g.hop, times);
+  }
+  EXPECT_EQ(grouping.groups[static_cast<std::size_t>(grouping.group[2])].overlap, 70);
+  // A record whose inverses stay in cache is not blocked.
+  const BlockedScales::Grouping short_record =
+      BlockedScales::Plan(BlockedScales::kMinPaddedLength - 1, 60000, scales);
+  EXPECT_TRUE(short_record.groups.empty());
+  EXPECT_EQ(std::count(short_record.group.begin(), short_record.group.end(), -1),
+            static_cast<long>(scales.size()));
+}
+
+// W_k(j) = sum_t x(j - t) k(t), t within the kernel's support R, with the
+// P-periodic padded sequence x (the record, then zeros or its periodic
+// repetition) and k(t) = sum_b g_k(b) exp(2 pi i b t / P) / P over the kept
+// bins of scale k, summed in long double with the angle reduced exactly.
+class BlockedScalesRecord : public ::testing::TestWithParam<Padding> {};
+
+TEST_P(BlockedScalesRecord, EqualsTheDirectConvolution) {
+  // FFT rounding of the blocks (2048-8192 points) is about 1e-15 of sum
+  // |x| |k|; the kernel's periodisation by L instead of P differs by its
+  // tail beyond the overlap, below band_tolerance (1e-12) of its peak; the
+  // reference drops the kernel beyond 1e-13 of its peak. Measured: 2.0e-13
+  // of max |W| (both paddings). 1e-11 leaves a margin of 50 and catches an
+  // overlap 10 % short (2.7e-11; 20 % short: 3.4e-9).
+  constexpr double kRelativeTolerance = 1e-11;
+  const double step = 1e-3;
+  const Eigen::Index n = 70000;
+  Eigen::VectorXd x(n);
+  unsigned state = 12345u;  // a deterministic broadband record
+  for (Eigen::Index m = 0; m < n; ++m) {
+    state = state * 1664525u + 1013904223u;
+    const double noise = static_cast<double>(state >> 8) / 16777216.0 - 0.5;
+    x(m) = std::cos(2.0 * std::numbers::pi * 37.0 * static_cast<double>(m) * step) + noise;
+  }
+  CwtOptions o;
+  o.padding = GetParam();
+  o.remove_mean = false;
+  // 12-180 Hz at fs 1 kHz: every band inside (-500, 500) Hz, decimations 2-16.
+  o.frequencies.min_frequency_Hz = 12.0;
+  o.frequencies.max_frequency_Hz = 180.0;
+  o.frequencies.voices_per_octave = 2;
+  CwtTransform transform(o);
+  Scalogram sg;
+  transform.Compute(x, step, &sg);
+  const Eigen::Index p = transform.padded_length();
+  ASSERT_GE(p, BlockedScales::kMinPaddedLength);
+  // The layout blocks these scales: it plans a forward FFT of a block length.
+  const std::vector<int> forward = transform.Lengths(n, step).complex_forward;
+  EXPECT_TRUE(std::any_of(forward.begin(), forward.end(),
+                          [](int l) { return l == 2048 || l == 4096 || l == 8192; }));
+
+  std::vector<std::complex<long double>> w(static_cast<std::size_t>(p));
+  const long double angle = 2.0L * std::numbers::pi_v<long double> / static_cast<long double>(p);
+  for (Eigen::Index t = 0; t < p; ++t) {
+    w[static_cast<std::size_t>(t)] = {std::cos(angle * t), std::sin(angle * t)};
+  }
+  const auto padded = [&](Eigen::Index i) {
+    i = ((i % p) + p) % p;
+    return i < n ? x(i) : 0.0;
+  };
+  double lo = 0.0, hi = 0.0;
+  o.wavelet.Band(o.band_tolerance, &lo, &hi);
+  const double bin_rad_per_s = 2.0 * std::numbers::pi / (static_cast<double>(p) * step);
+  double worst = 0.0, peak = 0.0;
+  for (Eigen::Index k = 0; k < sg.frequencies(); ++k) {
+    const double s = sg.scales_s(k);
+    const auto a = static_cast<Eigen::Index>(std::ceil(lo / (s * bin_rad_per_s)));
+    const auto b = static_cast<Eigen::Index>(std::floor(hi / (s * bin_rad_per_s)));
+    ASSERT_TRUE(a > -((p - 1) / 2) && b < p / 2) << "scale " << k << " reaches Nyquist";
+    // The kernel to 1e-13 of its peak: the Gaussian envelope's radius at
+    // 1e-13 is sqrt(2 ln 1e13) = 7.74 sigma_t, sigma_t = s (Morlet).
+    const auto r = static_cast<Eigen::Index>(std::ceil(7.74 * s / step)) + 1;
+    std::vector<Complex> kernel(static_cast<std::size_t>(2 * r + 1));
+    for (Eigen::Index t = -r; t <= r; ++t) {
+      std::complex<long double> sum = 0.0L;
+      for (Eigen::Index bin = a; bin <= b; ++bin) {
+        const long double g =
+            o.wavelet.FourierTransform(s * bin * bin_rad_per_s) / static_cast<long double>(p);
+        sum += g * w[static_cast<std::size_t>((((bin * t) % p) + p) % p)];
+      }
+      kernel[static_cast<std::size_t>(t + r)] =
+          Complex(static_cast<double>(sum.real()), static_cast<double>(sum.imag()));
+    }
+    // Every 5th output time (each block boundary within 2 samples) and the
+    // last ones.
+    for (Eigen::Index j = 0; j < n; j += (j >= n - 20 ? 1 : 5)) {
+      std::complex<long double> sum = 0.0L;
+      for (Eigen::Index t = -r; t <= r; ++t) {
+        sum += static_cast<long double>(padded(j - t)) *
+               std::complex<long double>(kernel[static_cast<std::size_t>(t + r)]);
+      }
+      const Complex direct(static_cast<double>(sum.real()), static_cast<double>(sum.imag()));
+      worst = std::max(worst, std::abs(sg.coefficients(j, k) - direct));
+      peak = std::max(peak, std::abs(direct));
+    }
+  }
+  EXPECT_LE(worst, kRelativeTolerance * peak) << "worst " << worst / peak << " of max |W|";
+
+  // Three threads, |W| and W as float: the same blocks, the same numbers.
+  o.threads = 3;
+  EXPECT_TRUE(Cwt(x, step, o).coefficients == sg.coefficients);
+  o.threads = 1;
+  o.output = CwtOutput::kMagnitudeFloat;
+  EXPECT_TRUE(Cwt(x, step, o).magnitude == sg.coefficients.cwiseAbs().cast<float>());
+  o.output = CwtOutput::kComplexFloat;
+  EXPECT_TRUE(Cwt(x, step, o).coefficients_float == sg.coefficients.cast<std::complex<float>>());
+}
+
+INSTANTIATE_TEST_SUITE_P(Paddings,
+                         BlockedScalesRecord,
+                         ::testing::Values(Padding::kZero, Padding::kPeriodic));
+
+}  // namespace
+}  // namespace podid::wavelet

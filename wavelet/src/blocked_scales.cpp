@@ -1,0 +1,185 @@
+#include "blocked_scales.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "podid/core/error.hpp"
+
+namespace podid::wavelet::internal {
+namespace {
+
+// The pruned inverse's passes beyond its FFTs, per output and in units of
+// a radix-2 pass (FftCostModel's): the twiddled band fill, the gather out
+// of its blocks (P values beyond the L2 cache, read back) and the column's
+// write.
+constexpr double kPrunedPasses = 2.0;
+
+// FFT cost per point (FftCostModel: radix-2 passes).
+double PerPoint(Eigen::Index n) { return FftCostModel(n); }
+
+}  // namespace
+
+BlockedScales::Grouping BlockedScales::Plan(Eigen::Index p,
+                                            Eigen::Index times,
+                                            const std::vector<Scale>& scales) {
+  PODID_CHECK(p >= 1 && times >= 1 && times <= p);
+  Grouping out;
+  out.group.assign(scales.size(), -1);
+  if (p < kMinPaddedLength) return out;
+  for (Eigen::Index d = 1; d <= PrunedInverse::kMaxDecimation; d *= 2) {
+    double radius = 0.0;
+    bool any = false;
+    for (const Scale& s : scales) {
+      if (s.inside && s.decimation == d) {
+        any = true;
+        radius = std::max(radius, s.support);
+      }
+    }
+    if (!any || !(radius < static_cast<double>(kMaxLength) / 4.0)) continue;
+    const auto h = static_cast<Eigen::Index>(std::ceil(radius));
+    // The cheapest length per kept sample that throws away at most half.
+    Group group{.decimation = d};
+    double best = 0.0;
+    for (Eigen::Index length : kLengths) {
+      if (4 * h > length) continue;
+      const double cost =
+          PerPoint(length) * static_cast<double>(length) / static_cast<double>(length - 2 * h);
+      if (group.length == 0 || cost < best) {
+        best = cost;
+        group.length = length;
+      }
+    }
+    if (group.length == 0 || best > PerPoint(p / d) + kPrunedPasses) continue;
+    group.overlap = h;
+    group.hop = group.length - 2 * h;
+    group.blocks = (times + group.hop - 1) / group.hop;
+    const auto index = static_cast<int>(out.groups.size());
+    out.groups.push_back(group);
+    for (std::size_t k = 0; k < scales.size(); ++k) {
+      if (scales[k].inside && scales[k].decimation == d) out.group[k] = index;
+    }
+  }
+  return out;
+}
+
+double BlockedScales::Bytes(const Grouping& grouping) {
+  if (grouping.groups.empty()) return 0.0;
+  double points = static_cast<double>(kMaxLength);  // the segment's scratch
+  std::vector<Eigen::Index> lengths;
+  for (const Group& g : grouping.groups) {
+    points += static_cast<double>(g.blocks) * static_cast<double>(g.bins);
+    if (std::find(lengths.begin(), lengths.end(), g.length) == lengths.end()) {
+      lengths.push_back(g.length);
+      points += static_cast<double>(g.length);  // twiddle table
+    }
+  }
+  return 16.0 * points;
+}
+
+void BlockedScales::Layout(Eigen::Index p,
+                           Grouping grouping,
+                           const std::function<void(Eigen::Index, ScaleFilters*)>& make_filters,
+                           bool measure) {
+  p_ = p;
+  grouping_ = std::move(grouping);
+  grids_.clear();
+  spectra_.clear();
+  std::vector<Eigen::Index> lengths;
+  for (const Group& g : grouping_.groups) {
+    if (std::find(lengths.begin(), lengths.end(), g.length) == lengths.end()) {
+      lengths.push_back(g.length);
+    }
+    PODID_CHECK(g.bins >= 1 && g.bins <= g.length / 2 + 1);
+    spectra_.push_back(AllocateComplex(static_cast<std::size_t>(g.blocks * g.bins)));
+  }
+  segment_ = AllocateComplex(static_cast<std::size_t>(kMaxLength));
+  grids_.resize(lengths.size());
+  for (std::size_t i = 0; i < lengths.size(); ++i) {
+    Grid& grid = grids_[i];
+    grid.length = lengths[i];
+    grid.inverse.Reset(grid.length, measure);
+    make_filters(grid.length, &grid.filters);
+    grid.forward = ComplexForwardPlan(static_cast<int>(grid.length), measure);
+    grid.backward = BatchedBackwardPlan(static_cast<int>(grid.length), 1, measure);
+  }
+  // Every blocked band within its group's kept bins (FillSlots reads no other).
+  for (std::size_t k = 0; k < grouping_.group.size(); ++k) {
+    if (grouping_.group[k] < 0) continue;
+    const Group& g = grouping_.groups[static_cast<std::size_t>(grouping_.group[k])];
+    const ScaleFilters& filters = GridOf(g.length).filters;
+    const auto scale = static_cast<Eigen::Index>(k);
+    PODID_CHECK(filters.first(scale) > -g.bins &&
+                filters.first(scale) + filters.bins(scale) - 1 < g.bins);
+  }
+}
+
+const BlockedScales::Grid& BlockedScales::GridOf(Eigen::Index length) const {
+  for (const Grid& grid : grids_) {
+    if (grid.length == length) return grid;
+  }
+  PODID_CHECK(false);
+  return grids_.front();
+}
+
+double BlockedScales::Cost(Eigen::Index k) const {
+  const Group& g =
+      grouping_.groups[static_cast<std::size_t>(grouping_.group[static_cast<std::size_t>(k)])];
+  const auto length = static_cast<double>(g.length);
+  return static_cast<double>(g.blocks) * length * (std::log2(length) + 1.0);
+}
+
+void BlockedScales::LoadSignal(const double* padded) const {
+  for (std::size_t g = 0; g < grouping_.groups.size(); ++g) {
+    const Group& group = grouping_.groups[g];
+    const Grid& grid = GridOf(group.length);
+    Complex* segment = segment_.get();
+    for (Eigen::Index j = 0; j < group.blocks; ++j) {
+      // Samples j hop - H .. of the padded sequence, periodic with period P.
+      Eigen::Index i = ((j * group.hop - group.overlap) % p_ + p_) % p_;
+      for (Eigen::Index t = 0; t < group.length; ++t) {
+        segment[t] = Complex(padded[i], 0.0);
+        if (++i == p_) i = 0;
+      }
+      fftw_execute_dft(grid.forward, AsFftw(segment), AsFftw(segment));
+      std::copy_n(segment, group.bins, spectra_[g].get() + j * group.bins);
+    }
+  }
+}
+
+void BlockedScales::Run(Eigen::Index k,
+                        Eigen::Index times,
+                        double output_scale,
+                        Complex* work,
+                        const FullRateOutput& output) const {
+  const auto g = static_cast<std::size_t>(grouping_.group[static_cast<std::size_t>(k)]);
+  const Group& group = grouping_.groups[g];
+  const Grid& grid = GridOf(group.length);
+  const ScaleFilter filter = grid.filters.Filter(k);
+  const Eigen::Index a = grid.filters.first(k);
+  const Eigen::Index bins = grid.filters.bins(k);
+  // The band's slots are rewritten block by block; the out-of-place inverse
+  // preserves its input, so the others stay zero from this one clearing.
+  Complex* band = work;
+  Complex* inverse = work + group.length;
+  std::fill_n(band, group.length, Complex(0.0, 0.0));
+  for (Eigen::Index j = 0; j < group.blocks; ++j) {
+    const Eigen::Index first = j * group.hop;
+    const Eigen::Index n = std::min(group.hop, times - first);
+    if (n <= 0) break;
+    PrunedInverse::FillSlots(spectra_[g].get() + j * group.bins, filter, a, bins, group.length,
+                             band);
+    fftw_execute_dft(grid.backward, AsFftw(band), AsFftw(inverse));
+    // Outputs H .. H + n - 1 of the block: no wrap reaches them.
+    const Complex* kept = inverse + group.overlap;
+    if (output.magnitude != nullptr) {
+      grid.inverse.GatherMagnitude(kept, 1, n, output_scale, nullptr,
+                                   output.magnitude + k * times + first);
+    } else if (output.complex_float != nullptr) {
+      grid.inverse.GatherFloat(kept, 1, n, output_scale, output.complex_float + k * times + first);
+    } else {
+      grid.inverse.Gather(kept, 1, n, output_scale, output.complex + k * times + first);
+    }
+  }
+}
+
+}  // namespace podid::wavelet::internal
