@@ -16,8 +16,10 @@
 // segment's spectrum (one forward FFT of L, shared by every scale of a
 // group), the band times the filter sampled at L points, an inverse FFT of
 // L (in the L1/L2 cache) and B outputs written once.
-// fCWT's case at 10^5 samples (docs/benchmark-log.md, "Overlap-save blocks"):
-// 0.23-0.29 ms a scale for 2-13 Hz against 0.35-0.44 ms by the pruned inverse.
+// One scale of fCWT's case at 10^5 samples, stand-alone: 0.23-0.29 ms in
+// blocks for 2-13 Hz against 0.43-0.55 ms in place at P; the whole case
+// 1.2x faster (docs/benchmark-log.md, "Overlap-save blocks for compact
+// scales").
 //
 // Scales are grouped by their decimation D at P (an octave each): a group
 // shares one block grid, with H its largest support and L from
