@@ -60,15 +60,21 @@ TEST(BlockedScales, GroupsOnlyCompactScalesOfLongRecords) {
 // P-periodic padded sequence x (the record, then zeros or its periodic
 // repetition) and k(t) = sum_b g_k(b) exp(2 pi i b t / P) / P over the kept
 // bins of scale k, summed in long double with the angle reduced exactly.
-class BlockedScalesRecord : public ::testing::TestWithParam<Padding> {};
+struct RecordCase {
+  Padding padding;
+  WaveletFamily family;
+  bool admissibility_correction;  // Morlet's stored (not generated) filters
+};
+class BlockedScalesRecord : public ::testing::TestWithParam<RecordCase> {};
 
 TEST_P(BlockedScalesRecord, EqualsTheDirectConvolution) {
   // FFT rounding of the blocks (2048-8192 points) is about 1e-15 of sum
   // |x| |k|; the kernel's periodisation by L instead of P differs by its
   // tail beyond the overlap, below band_tolerance (1e-12) of its peak; the
-  // reference drops the kernel beyond 1e-13 of its peak. Measured: 2.0e-13
-  // of max |W| (both paddings). 1e-11 leaves a margin of 50 and catches an
-  // overlap 10 % short (2.7e-11; 20 % short: 3.4e-9).
+  // reference drops the kernel beyond 1e-13 of its peak. Measured: 2.2e-13
+  // of max |W| for Morlet (either padding), 1.8e-13 with its admissibility
+  // correction (stored filters), 6.9e-14 for Morse. 1e-11 leaves a margin of
+  // 45 and catches an overlap 10 % short (2.7e-11; 20 % short: 3.4e-9).
   constexpr double kRelativeTolerance = 1e-11;
   const double step = 1e-3;
   const Eigen::Index n = 70000;
@@ -80,7 +86,9 @@ TEST_P(BlockedScalesRecord, EqualsTheDirectConvolution) {
     x(m) = std::cos(2.0 * std::numbers::pi * 37.0 * static_cast<double>(m) * step) + noise;
   }
   CwtOptions o;
-  o.padding = GetParam();
+  o.padding = GetParam().padding;
+  o.wavelet.family = GetParam().family;
+  o.wavelet.admissibility_correction = GetParam().admissibility_correction;
   o.remove_mean = false;
   // 12-180 Hz at fs 1 kHz: every band inside (-500, 500) Hz, decimations 2-16.
   o.frequencies.min_frequency_Hz = 12.0;
@@ -114,9 +122,12 @@ TEST_P(BlockedScalesRecord, EqualsTheDirectConvolution) {
     const auto a = static_cast<Eigen::Index>(std::ceil(lo / (s * bin_rad_per_s)));
     const auto b = static_cast<Eigen::Index>(std::floor(hi / (s * bin_rad_per_s)));
     ASSERT_TRUE(a > -((p - 1) / 2) && b < p / 2) << "scale " << k << " reaches Nyquist";
-    // The kernel to 1e-13 of its peak: the Gaussian envelope's radius at
-    // 1e-13 is sqrt(2 ln 1e13) = 7.74 sigma_t, sigma_t = s (Morlet).
-    const auto r = static_cast<Eigen::Index>(std::ceil(7.74 * s / step)) + 1;
+    // The reference kernel's radius R: Morlet's Gaussian envelope exp(-t^2 /
+    // 2 s^2) is below 1e-13 of its peak beyond 7.74 s; Morse's decays more
+    // slowly: 3 x the transform's support (1.5 x 7.43 s) gives 6.9e-14 of max
+    // |W|, where 2 x left the reference itself 3.2e-8 short.
+    const double radius = GetParam().family == WaveletFamily::kMorse ? 3.0 * 1.5 * 7.43 : 7.74;
+    const auto r = static_cast<Eigen::Index>(std::ceil(radius * s / step)) + 1;
     std::vector<Complex> kernel(static_cast<std::size_t>(2 * r + 1));
     for (Eigen::Index t = -r; t <= r; ++t) {
       std::complex<long double> sum = 0.0L;
@@ -153,9 +164,13 @@ TEST_P(BlockedScalesRecord, EqualsTheDirectConvolution) {
   EXPECT_TRUE(Cwt(x, step, o).coefficients_float == sg.coefficients.cast<std::complex<float>>());
 }
 
-INSTANTIATE_TEST_SUITE_P(Paddings,
-                         BlockedScalesRecord,
-                         ::testing::Values(Padding::kZero, Padding::kPeriodic));
+INSTANTIATE_TEST_SUITE_P(
+    Paddings,
+    BlockedScalesRecord,
+    ::testing::Values(RecordCase{Padding::kZero, WaveletFamily::kMorlet, false},
+                      RecordCase{Padding::kPeriodic, WaveletFamily::kMorlet, false},
+                      RecordCase{Padding::kZero, WaveletFamily::kMorlet, true},
+                      RecordCase{Padding::kZero, WaveletFamily::kMorse, false}));
 
 }  // namespace
 }  // namespace podid::wavelet
