@@ -2,7 +2,9 @@
 // The full-rate CWT's scale loop (CwtTransform::Compute without band_limited):
 // per scale, the filtered band of the spectrum and its pruned inverse
 // (pruned_inverse.hpp) at the scale's own decimation D, written straight into
-// the output column where the column has room for P values.
+// the output column where the column has room for P values; for a long
+// record's scales whose kernel is compact in time, overlap-save blocks
+// instead (blocked_scales.hpp).
 
 #include <Eigen/Core>
 #include <complex>
