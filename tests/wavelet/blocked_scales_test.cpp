@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "podid/wavelet/cwt.hpp"
+#include "roots_of_unity.hpp"
 
 namespace podid::wavelet {
 namespace {
@@ -104,11 +105,7 @@ TEST_P(BlockedScalesRecord, EqualsTheDirectConvolution) {
   EXPECT_TRUE(std::any_of(forward.begin(), forward.end(),
                           [](int l) { return l == 2048 || l == 4096 || l == 8192; }));
 
-  std::vector<std::complex<long double>> w(static_cast<std::size_t>(p));
-  const long double angle = 2.0L * std::numbers::pi_v<long double> / static_cast<long double>(p);
-  for (Eigen::Index t = 0; t < p; ++t) {
-    w[static_cast<std::size_t>(t)] = {std::cos(angle * t), std::sin(angle * t)};
-  }
+  const std::vector<std::complex<long double>> w = testing::RootsOfUnity(p);
   const auto padded = [&](Eigen::Index i) {
     i = ((i % p) + p) % p;
     return i < n ? x(i) : 0.0;

@@ -1,6 +1,8 @@
 // The full-rate CWT's pruned inverse FFT (wavelet/src/pruned_inverse.hpp)
 // against a direct inverse DFT in long double, and the full-rate transform
 // at large decimations against a direct frequency-domain evaluation.
+#include "../../wavelet/src/pruned_inverse.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,24 +10,15 @@
 #include <numbers>
 #include <vector>
 
-#include "../../wavelet/src/pruned_inverse.hpp"
 #include "podid/wavelet/cwt.hpp"
+#include "roots_of_unity.hpp"
 
 namespace podid::wavelet {
 namespace {
 
 using Complex = std::complex<double>;
 using internal::PrunedInverse;
-
-// exp(2 pi i t / P), t = 0 .. P - 1, in long double.
-std::vector<std::complex<long double>> RootsOfUnity(Eigen::Index p) {
-  std::vector<std::complex<long double>> w(static_cast<std::size_t>(p));
-  const long double step = 2.0L * std::numbers::pi_v<long double> / static_cast<long double>(p);
-  for (Eigen::Index t = 0; t < p; ++t) {
-    w[static_cast<std::size_t>(t)] = {std::cos(step * t), std::sin(step * t)};
-  }
-  return w;
-}
+using testing::RootsOfUnity;
 
 // y_j = sum_b Y_b exp(2 pi i b j / P), summed in long double with the angle
 // reduced exactly (b j mod P in integers): an independent, slow reference.

@@ -14,9 +14,6 @@ namespace {
 // write.
 constexpr double kPrunedPasses = 2.0;
 
-// FFT cost per point (FftCostModel: radix-2 passes).
-double PerPoint(Eigen::Index n) { return FftCostModel(n); }
-
 }  // namespace
 
 BlockedScales::Grouping BlockedScales::Plan(Eigen::Index p,
@@ -43,13 +40,13 @@ BlockedScales::Grouping BlockedScales::Plan(Eigen::Index p,
     for (Eigen::Index length : kLengths) {
       if (4 * h > length) continue;
       const double cost =
-          PerPoint(length) * static_cast<double>(length) / static_cast<double>(length - 2 * h);
+          FftCostModel(length) * static_cast<double>(length) / static_cast<double>(length - 2 * h);
       if (group.length == 0 || cost < best) {
         best = cost;
         group.length = length;
       }
     }
-    if (group.length == 0 || best > PerPoint(p / d) + kPrunedPasses) continue;
+    if (group.length == 0 || best > FftCostModel(p / d) + kPrunedPasses) continue;
     group.overlap = h;
     group.hop = group.length - 2 * h;
     group.blocks = (times + group.hop - 1) / group.hop;

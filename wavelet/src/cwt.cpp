@@ -10,6 +10,7 @@
 #include <string>
 #include <system_error>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "extent.hpp"
@@ -249,14 +250,14 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
     return internal::ScaleFilters::Bytes(options.wavelet,
                                          bins * static_cast<Eigen::Index>(scales_s.size()));
   };
+  internal::BlockedScales::Grouping blocked;  // the full-rate path's overlap-save groups
+  if (!options.band_limited) blocked = BlockGroups(z.p, step, z.times);
   const double bytes =
       per_coefficient * static_cast<double>(z.times) * static_cast<double>(scales_s.size()) +
       internal::ScaleFilters::Bytes(options.wavelet, z.filter_bins) +
       8.0 * static_cast<double>(z.p) + 16.0 * static_cast<double>(z.p) +
       16.0 * static_cast<double>(z.m) * options.threads +
-      (options.band_limited
-           ? 0.0
-           : internal::FullRateCwt::Bytes(z.p, options.threads, BlockGroups(z.p, step, z.times))) +
+      (options.band_limited ? 0.0 : internal::FullRateCwt::Bytes(z.p, options.threads, blocked)) +
       (options.band_limited ? 0.0 : BlockFilterBytes(z.p));
   if (bytes > options.memory_budget_bytes) {
     ThrowInvalid("Cwt: memory",
@@ -288,7 +289,7 @@ void CwtTransform::Impl::Layout(Eigen::Index samples, double step) {
   }
   if (!options.band_limited) {
     full_rate.Layout(
-        p, filters, BlockGroups(p, step_s, times),
+        p, filters, std::move(blocked),
         [this](Eigen::Index length, internal::ScaleFilters* out) {
           SetFilters(length, step_s, out);
         },
