@@ -9,6 +9,9 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <ostream>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "podid/wavelet/cwt.hpp"
@@ -47,7 +50,23 @@ TEST(BlockedScales, GroupsOnlyCompactScalesOfLongRecords) {
     // The blocks cover every output time, the last one partly.
     EXPECT_GE(g.blocks * g.hop, times);
     EXPECT_LT((g.blocks - 1) * g.hop, times);
+    // A block's inverse decimated no further than the group's bands allow.
+    EXPECT_GE(g.inner, 1);
+    EXPECT_LE(g.inner, g.decimation);
+    EXPECT_EQ(g.length % g.inner, 0);
   }
+  // The octave at D = 16 inverted as D' > 1 shorter inverses, D = 1 not.
+  const BlockedScales::Group& wide = grouping.groups[static_cast<std::size_t>(grouping.group[0])];
+  const BlockedScales::Group& narrow = grouping.groups[static_cast<std::size_t>(grouping.group[3])];
+  EXPECT_EQ(wide.inner, 1);
+  EXPECT_GT(narrow.inner, 1);
+  // A scale's own D': L / D' holds its band, at most the group's; a band
+  // that Execute does not take (reaching -L / 2) keeps D' = 1.
+  const Eigen::Index l = narrow.length;
+  EXPECT_EQ(BlockedScales::InnerDecimation(narrow, -3, l / narrow.inner), narrow.inner);
+  EXPECT_EQ(BlockedScales::InnerDecimation(narrow, -3, l / narrow.inner + 1), narrow.inner / 2);
+  EXPECT_EQ(BlockedScales::InnerDecimation(narrow, -l / 2, 4), 1);
+  EXPECT_EQ(BlockedScales::InnerDecimation(narrow, l / 2 - 2, 4), 1);
   EXPECT_EQ(grouping.groups[static_cast<std::size_t>(grouping.group[2])].overlap, 70);
   // A record whose inverses stay in cache is not blocked.
   const BlockedScales::Grouping short_record =
@@ -66,16 +85,24 @@ struct RecordCase {
   WaveletFamily family;
   bool admissibility_correction;  // Morlet's stored (not generated) filters
 };
+// The case's name in the test's label (not its bytes).
+void PrintTo(const RecordCase& c, std::ostream* os) {
+  *os << (c.padding == Padding::kZero ? "zero" : "periodic") << " padding, "
+      << (c.family == WaveletFamily::kMorse ? "Morse" : "Morlet")
+      << (c.admissibility_correction ? " with the admissibility correction" : "");
+}
 class BlockedScalesRecord : public ::testing::TestWithParam<RecordCase> {};
 
 TEST_P(BlockedScalesRecord, EqualsTheDirectConvolution) {
   // FFT rounding of the blocks (2048-8192 points) is about 1e-15 of sum
   // |x| |k|; the kernel's periodisation by L instead of P differs by its
   // tail beyond the overlap, below band_tolerance (1e-12) of its peak; the
-  // reference drops the kernel beyond 1e-13 of its peak. Measured: 2.2e-13
-  // of max |W| for Morlet (either padding), 1.8e-13 with its admissibility
-  // correction (stored filters), 6.9e-14 for Morse. 1e-11 leaves a margin of
-  // 45 and catches an overlap 10 % short (2.7e-11; 20 % short: 3.4e-9).
+  // reference drops the kernel beyond 1e-13 of its peak. Measured, with
+  // the narrow bands' blocks inverted as D' > 1 shorter inverses: 2.0e-13
+  // of max |W| for Morlet (either padding), 1.65e-13 with its admissibility
+  // correction (stored filters), 6.9e-14 for Morse (2.2e-13, 1.8e-13 and
+  // 6.9e-14 with one inverse of L a block). 1e-11 leaves a margin of 50 and
+  // catches an overlap 10 % short (2.7e-11; 20 % short: 3.4e-9).
   constexpr double kRelativeTolerance = 1e-11;
   const double step = 1e-3;
   const Eigen::Index n = 70000;
@@ -104,6 +131,12 @@ TEST_P(BlockedScalesRecord, EqualsTheDirectConvolution) {
   const std::vector<int> forward = transform.Lengths(n, step).complex_forward;
   EXPECT_TRUE(std::any_of(forward.begin(), forward.end(),
                           [](int l) { return l == 2048 || l == 4096 || l == 8192; }));
+  // ... and some of them as D' > 1 inverses of L / D' (m x D' = L).
+  const std::vector<std::pair<int, int>> inverses = transform.Lengths(n, step).interleaved_backward;
+  EXPECT_TRUE(std::any_of(inverses.begin(), inverses.end(), [](const std::pair<int, int>& mg) {
+    const int l = mg.first * mg.second;
+    return mg.second > 1 && (l == 2048 || l == 4096 || l == 8192);
+  }));
 
   const std::vector<std::complex<long double>> w = testing::RootsOfUnity(p);
   const auto padded = [&](Eigen::Index i) {
@@ -162,12 +195,18 @@ TEST_P(BlockedScalesRecord, EqualsTheDirectConvolution) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Paddings,
+    Records,
     BlockedScalesRecord,
     ::testing::Values(RecordCase{Padding::kZero, WaveletFamily::kMorlet, false},
                       RecordCase{Padding::kPeriodic, WaveletFamily::kMorlet, false},
                       RecordCase{Padding::kZero, WaveletFamily::kMorlet, true},
-                      RecordCase{Padding::kZero, WaveletFamily::kMorse, false}));
+                      RecordCase{Padding::kZero, WaveletFamily::kMorse, false}),
+    [](const ::testing::TestParamInfo<RecordCase>& info) {
+      const RecordCase& c = info.param;
+      return std::string(c.padding == Padding::kZero ? "Zero" : "Periodic") +
+             (c.family == WaveletFamily::kMorse ? "Morse" : "Morlet") +
+             (c.admissibility_correction ? "Admissible" : "");
+    });
 
 }  // namespace
 }  // namespace podid::wavelet

@@ -579,18 +579,27 @@ FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
       auto& list = lengths.interleaved_backward;
       if (std::find(list.begin(), list.end(), pair) == list.end()) list.push_back(pair);
     }
-    // The overlap-save blocks: a forward and an inverse FFT per block length.
+    // The overlap-save blocks: a forward FFT per block length, and each
+    // scale's inverse, of L or D' inverses of L / D'.
     for (const auto& group : grouping.groups) {
-      const auto length = static_cast<int>(group.length);
       auto& forward = lengths.complex_forward;
+      const auto length = static_cast<int>(group.length);
       if (std::find(forward.begin(), forward.end(), length) == forward.end()) {
         forward.push_back(length);
       }
-      const std::pair<int, int> inverse(length, 1);
-      auto& backward = lengths.interleaved_backward;
-      if (std::find(backward.begin(), backward.end(), inverse) == backward.end()) {
-        backward.push_back(inverse);
-      }
+    }
+    for (Eigen::Index k = 0; k < s.scales_s.size(); ++k) {
+      const int g = grouping.group[static_cast<std::size_t>(k)];
+      if (g < 0) continue;
+      const auto& group = grouping.groups[static_cast<std::size_t>(g)];
+      Eigen::Index a = 0, b = 0;
+      s.Band(k, group.length, step_s, &a, &b);
+      const Eigen::Index inner = internal::BlockedScales::InnerDecimation(group, a, b - a + 1);
+      const std::pair<int, int> pair(
+          static_cast<int>(group.length / inner),
+          static_cast<int>(internal::PrunedInverse::Batch(group.length, inner)));
+      auto& list = lengths.interleaved_backward;
+      if (std::find(list.begin(), list.end(), pair) == list.end()) list.push_back(pair);
     }
   }
   return lengths;

@@ -104,6 +104,9 @@ void FullRateCwt::Compute(const Complex* spectrum,
   for (auto& thread : pool) thread.join();
 }
 
+// A blocked scale's scratch is the thread's input_ buffer.
+static_assert(PrunedInverse::WorkSize(BlockedScales::kMinPaddedLength) >= BlockedScales::kWorkSize);
+
 // Nothing here throws: PODID_CHECK aborts, and the buffers exist already.
 void FullRateCwt::RunScales(int thread,
                             int chunk,
@@ -131,7 +134,7 @@ void FullRateCwt::RunScales(int thread,
       }
       continue;
     }
-    if (blocked_.Blocked(k)) {  // input_ holds 1.5 P >= 2 BlockedScales::kMaxLength entries
+    if (blocked_.Blocked(k)) {  // input_ holds 1.5 P >= BlockedScales::kWorkSize entries
       blocked_.Run(k, times, output_scale, input, output);
       continue;
     }
@@ -151,16 +154,18 @@ void FullRateCwt::RunScales(int thread,
     }
     if (output.magnitude != nullptr) {
       // Execute's work is free again: it serves as scratch for P floats.
-      inverse_.GatherMagnitude(out, d, times, output_scale, reinterpret_cast<float*>(input),
+      inverse_.GatherMagnitude(out, d, 0, times, output_scale, reinterpret_cast<float*>(input),
                                output.magnitude + k * times);
     } else if (output.complex_float != nullptr) {
-      inverse_.GatherFloat(out, d, times, output_scale, output.complex_float + k * times);
+      inverse_.GatherFloat(out, d, 0, times, output_scale, output.complex_float + k * times);
     } else if (!direct) {
-      inverse_.Gather(out, d, times, output_scale, column);
+      inverse_.Gather(out, d, 0, times, output_scale, column);
     } else if (output_scale != 1.0) {
       for (Eigen::Index j = 0; j < times; ++j) column[j] *= output_scale;
     }
   }
+  // The chunk's streamed columns before the join hands them to the caller.
+  PrunedInverse::FenceStreams();
 }
 
 }  // namespace podid::wavelet::internal

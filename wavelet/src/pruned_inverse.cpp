@@ -60,49 +60,56 @@ void FillBins(const std::complex<double>* spectrum,
   }
 }
 
-// emit(j, i) for every output j = q D + r < times and its block entry
-// i = r m + q, in output order. D fixed at compile time (kDecimation > 0)
-// unrolls the interleave of the D blocks: a run-time count per group of D
-// outputs was a short loop of unknown length (fCWT's case 1.04x at 10^4,
-// 1.07x at 10^5; docs/benchmark-log.md, "fCWT with measured plans").
+// emit(j - first, i) for every output j = q D + r in [first, first + times)
+// and its block entry i = r m + q, in output order. D fixed at compile time
+// (kDecimation > 0) unrolls the interleave of the D blocks: a run-time count
+// per group of D outputs was a short loop of unknown length (fCWT's case
+// 1.04x at 10^4, 1.07x at 10^5; docs/benchmark-log.md, "fCWT with measured
+// plans").
 template <Eigen::Index kDecimation, class Emit>
-void Interleave(Eigen::Index d, Eigen::Index m, Eigen::Index times, Emit emit) {
+void Interleave(Eigen::Index d, Eigen::Index m, Eigen::Index first, Eigen::Index times, Emit emit) {
   if constexpr (kDecimation > 0) d = kDecimation;
-  const Eigen::Index groups = times / d;  // whole groups of d outputs
-  for (Eigen::Index q = 0; q < groups; ++q) {
-    for (Eigen::Index r = 0; r < d; ++r) emit(q * d + r, r * m + q);
+  const Eigen::Index end = first + times;
+  // Up to the first whole group, the whole groups, the rest.
+  Eigen::Index j = first;
+  for (const Eigen::Index head = std::min(end, (first + d - 1) / d * d); j < head; ++j) {
+    emit(j - first, j % d * m + j / d);
   }
-  for (Eigen::Index j = groups * d; j < times; ++j) emit(j, j % d * m + j / d);
+  for (Eigen::Index q = j / d; q < end / d; ++q) {
+    for (Eigen::Index r = 0; r < d; ++r) emit(q * d + r - first, r * m + q);
+  }
+  for (j = std::max(j, end / d * d); j < end; ++j) emit(j - first, j % d * m + j / d);
 }
 
 // Interleave with D as a compile-time constant for the decimations
 // PrunedInverse::Decimation gives (powers of 2), any other D at run time.
 template <class Emit>
-void InterleaveBlocks(Eigen::Index d, Eigen::Index m, Eigen::Index times, Emit emit) {
+void InterleaveBlocks(
+    Eigen::Index d, Eigen::Index m, Eigen::Index first, Eigen::Index times, Emit emit) {
   switch (d) {
     case 1:
-      Interleave<1>(d, m, times, emit);
+      Interleave<1>(d, m, first, times, emit);
       break;
     case 2:
-      Interleave<2>(d, m, times, emit);
+      Interleave<2>(d, m, first, times, emit);
       break;
     case 4:
-      Interleave<4>(d, m, times, emit);
+      Interleave<4>(d, m, first, times, emit);
       break;
     case 8:
-      Interleave<8>(d, m, times, emit);
+      Interleave<8>(d, m, first, times, emit);
       break;
     case 16:
-      Interleave<16>(d, m, times, emit);
+      Interleave<16>(d, m, first, times, emit);
       break;
     case 32:
-      Interleave<32>(d, m, times, emit);
+      Interleave<32>(d, m, first, times, emit);
       break;
     case 64:
-      Interleave<64>(d, m, times, emit);
+      Interleave<64>(d, m, first, times, emit);
       break;
     default:
-      Interleave<0>(d, m, times, emit);
+      Interleave<0>(d, m, first, times, emit);
       break;
   }
 }
@@ -244,9 +251,14 @@ void PrunedInverse::FillSlots(const Complex* spectrum,
   if (bins > head) FillBins(spectrum, filter, first_bin, head, bins - head, block);
 }
 
-void PrunedInverse::Gather(const Complex* blocks, Eigen::Index d, Eigen::Index times,
-                           double scale, Complex* column) const {
-  PODID_CHECK(d >= 1 && d <= kMaxDecimation && p_ % d == 0);
+void PrunedInverse::Gather(const Complex* blocks,
+                           Eigen::Index d,
+                           Eigen::Index first,
+                           Eigen::Index times,
+                           double scale,
+                           Complex* column) const {
+  PODID_CHECK(d >= 1 && d <= kMaxDecimation && p_ % d == 0 && first >= 0 && times >= 0 &&
+              first + times <= p_);
   const auto* in = reinterpret_cast<const double*>(blocks);
   auto* out = reinterpret_cast<double*>(column);
 #if defined(__SSE2__)
@@ -254,24 +266,31 @@ void PrunedInverse::Gather(const Complex* blocks, Eigen::Index d, Eigen::Index t
   // larger than any cache: stream it past the cache instead of reading each
   // line before writing it.
   const __m128d factor = _mm_set1_pd(scale);
-  InterleaveBlocks(d, p_ / d, times, [&](Eigen::Index j, Eigen::Index i) {
+  InterleaveBlocks(d, p_ / d, first, times, [&](Eigen::Index j, Eigen::Index i) {
     _mm_stream_pd(out + 2 * j, _mm_mul_pd(_mm_loadu_pd(in + 2 * i), factor));
   });
-  _mm_sfence();
 #else
-  InterleaveBlocks(d, p_ / d, times, [&](Eigen::Index j, Eigen::Index i) {
+  InterleaveBlocks(d, p_ / d, first, times, [&](Eigen::Index j, Eigen::Index i) {
     out[2 * j] = in[2 * i] * scale;
     out[2 * j + 1] = in[2 * i + 1] * scale;
   });
 #endif
 }
 
+void PrunedInverse::FenceStreams() {
+#if defined(__SSE2__)
+  _mm_sfence();
+#endif
+}
+
 void PrunedInverse::GatherFloat(const Complex* blocks,
                                 Eigen::Index d,
+                                Eigen::Index first,
                                 Eigen::Index times,
                                 double scale,
                                 std::complex<float>* column) const {
-  PODID_CHECK(d >= 1 && d <= kMaxDecimation && p_ % d == 0 && times <= p_);
+  PODID_CHECK(d >= 1 && d <= kMaxDecimation && p_ % d == 0 && first >= 0 && times >= 0 &&
+              first + times <= p_);
   const auto* in = reinterpret_cast<const double*>(blocks);
 #if defined(__SSE2__) && defined(__x86_64__)
   // Streamed past the cache as Gather does, a complex float (8 bytes) a
@@ -280,13 +299,12 @@ void PrunedInverse::GatherFloat(const Complex* blocks,
   // rounds: 141-142 against 133-142 ms).
   auto* out = reinterpret_cast<long long*>(column);
   const __m128d factor = _mm_set1_pd(scale);
-  InterleaveBlocks(d, p_ / d, times, [&](Eigen::Index j, Eigen::Index i) {
+  InterleaveBlocks(d, p_ / d, first, times, [&](Eigen::Index j, Eigen::Index i) {
     const __m128 rounded = _mm_cvtpd_ps(_mm_mul_pd(_mm_loadu_pd(in + 2 * i), factor));
     _mm_stream_si64(out + j, _mm_cvtsi128_si64(_mm_castps_si128(rounded)));
   });
-  _mm_sfence();
 #else
-  InterleaveBlocks(d, p_ / d, times, [&](Eigen::Index j, Eigen::Index i) {
+  InterleaveBlocks(d, p_ / d, first, times, [&](Eigen::Index j, Eigen::Index i) {
     column[j] = std::complex<float>(static_cast<float>(in[2 * i] * scale),
                                     static_cast<float>(in[2 * i + 1] * scale));
   });
@@ -295,22 +313,27 @@ void PrunedInverse::GatherFloat(const Complex* blocks,
 
 void PrunedInverse::GatherMagnitude(const Complex* blocks,
                                     Eigen::Index d,
+                                    Eigen::Index first,
                                     Eigen::Index times,
                                     double scale,
                                     float* scratch,
                                     float* magnitude) const {
-  PODID_CHECK(d >= 1 && d <= kMaxDecimation && p_ % d == 0 && times <= p_);
+  PODID_CHECK(d >= 1 && d <= kMaxDecimation && p_ % d == 0 && first >= 0 && times >= 0 &&
+              first + times <= p_);
+  if (times == 0) return;
   // |y| of the scaled transform (no overflow), rounded once to float.
   if (d == 1) {
-    MagnitudesToFloat(blocks, times, scale, magnitude);
+    MagnitudesToFloat(blocks + first, times, scale, magnitude);
     return;
   }
-  // The entries the output reads, block by block, then interleaved.
+  // The entries q the output reads, block by block, then interleaved.
   const Eigen::Index m = p_ / d;
-  for (Eigen::Index r = 0; r < std::min(d, times); ++r) {
-    MagnitudesToFloat(blocks + r * m, (times - r + d - 1) / d, scale, scratch + r * m);
+  const Eigen::Index q0 = first / d, q1 = std::min(m, (first + times - 1) / d + 1);
+  for (Eigen::Index r = 0; r < d; ++r) {
+    MagnitudesToFloat(blocks + r * m + q0, q1 - q0, scale, scratch + r * m + q0);
   }
-  InterleaveBlocks(d, m, times, [&](Eigen::Index j, Eigen::Index i) { magnitude[j] = scratch[i]; });
+  InterleaveBlocks(d, m, first, times,
+                   [&](Eigen::Index j, Eigen::Index i) { magnitude[j] = scratch[i]; });
 }
 
 }  // namespace podid::wavelet::internal

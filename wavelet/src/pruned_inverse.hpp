@@ -53,7 +53,7 @@ class PrunedInverse {
   /// G p / d <= kBatchPoints, at least 1 (so at D = 1 the whole length).
   static Eigen::Index Batch(Eigen::Index p, Eigen::Index d);
   /// Complex entries of Execute's scratch: a batch (<= P) and the band (<= P / 2).
-  static Eigen::Index WorkSize(Eigen::Index p) { return p + p / 2 + 1; }
+  static constexpr Eigen::Index WorkSize(Eigen::Index p) { return p + p / 2 + 1; }
   /// The plan of `batch` inverses of length P / d (cached process-wide).
   fftw_plan Plan(Eigen::Index d, Eigen::Index batch) const;
 
@@ -86,22 +86,35 @@ class PrunedInverse {
                         Eigen::Index m,
                         Complex* block);
 
-  /// column[j] = scale * y_j, j < times (<= P), from Execute's blocks at
-  /// decimation d.
-  void Gather(const Complex* blocks, Eigen::Index d, Eigen::Index times, double scale,
+  /// column[j] = scale * y_(first + j), j < times (first + times <= P), from
+  /// Execute's blocks at decimation d. Gather and GatherFloat stream the column past the cache
+  /// (non-temporal stores, weakly ordered): FenceStreams() before another
+  /// thread reads it. A fence a block made the overlap-save blocks wait for
+  /// their stores to drain (BlockedScales::Run).
+  void Gather(const Complex* blocks,
+              Eigen::Index d,
+              Eigen::Index first,
+              Eigen::Index times,
+              double scale,
               Complex* column) const;
-  /// column[j] = complex<float>(scale * y_j), j < times (<= P): each part of
-  /// the double product correctly rounded, as the complex output rounded.
+  /// column[j] = complex<float>(scale * y_(first + j)), j < times: each part
+  /// of the double product correctly rounded, as the complex output rounded.
   void GatherFloat(const Complex* blocks,
                    Eigen::Index d,
+                   Eigen::Index first,
                    Eigen::Index times,
                    double scale,
                    std::complex<float>* column) const;
-  /// magnitude[j] = float(scale |y_j|), j < times, from Execute's blocks
-  /// (|y| = sqrt(re^2 + im^2), correctly rounded); scratch: P floats (Execute's
-  /// work serves).
+  /// Orders this thread's streaming stores before its later stores (an
+  /// sfence): what a thread calls before the columns it gathered are handed
+  /// to another.
+  static void FenceStreams();
+  /// magnitude[j] = float(scale |y_(first + j)|), j < times, from Execute's
+  /// blocks (|y| = sqrt(re^2 + im^2), correctly rounded); scratch: P floats
+  /// (Execute's work serves).
   void GatherMagnitude(const Complex* blocks,
                        Eigen::Index d,
+                       Eigen::Index first,
                        Eigen::Index times,
                        double scale,
                        float* scratch,

@@ -47,6 +47,8 @@ class ScaleFilter {
   /// into the stored values, or generated into scratch (kChunkBins doubles),
   /// the same values however a band is cut into calls.
   const double* Values(Eigen::Index begin, Eigen::Index count, double* scratch) const;
+  /// Whether Values generates (into its scratch) rather than reads.
+  bool generated() const { return generated_; }
 
   /// A generated filter's constants: A, c, omega0, the first bin and the
   /// ratios of its recurrences (scale_filters.cpp).
