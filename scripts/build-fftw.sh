@@ -11,7 +11,7 @@
 #
 # Built by default on Intel CPUs and on AMD CPUs from Zen 5 on (family 26 and
 # later; PODID_FFTW_SIMD=auto). On a Zen 5 EPYC (AVX-512 at full width) fCWT's
-# case ran 1.15-1.16x faster with measured plans and 1.14x at 10^4 with
+# case ran 1.15-1.26x faster with measured plans and 1.13-1.21x at 10^4 with
 # estimated ones, 0.86x at 10^5 (docs/benchmark-log.md, "Narrow bands' blocks
 # as shorter inverses, and FFTW's codelets on a Zen 5"). On an Intel
 # Xeon (family 6 model 207, AVX-512) the transforms are faster with it, with

@@ -30,10 +30,11 @@
 // Scales are grouped by their decimation D at P (an octave each): a group
 // shares one block grid, with H its largest support, L from {2048, 4096,
 // 8192} and D' the cheapest per kept sample ((FftCostModel(L / D') + the
-// twiddle pass) L / (L - 2 H)), at most 2 H = L / 2 thrown away. Scales whose band reaches
-// Nyquist (the kernel is then cut by a step in frequency, with 1 / t tails),
-// records shorter than kMinPaddedLength (their inverses stay in cache) and
-// groups that would not be cheaper than the pruned inverse keep that path.
+// twiddle pass) L / (L - 2 H)), at most 2 H = L / 2 thrown away. Scales
+// whose band reaches Nyquist (the kernel is then cut by a step in
+// frequency, with 1 / t tails), records shorter than kMinPaddedLength (their
+// inverses stay in cache) and groups that would not be cheaper than the
+// pruned inverse keep that path.
 
 #include <Eigen/Core>
 #include <complex>
@@ -134,7 +135,6 @@ class BlockedScales {
   Grouping grouping_;
   std::vector<Eigen::Index> inner_;  // per scale: its D' (1 if not blocked)
   std::vector<fftw_plan> plans_;     // per blocked scale: D' inverses of L / D' (input preserved)
-
   std::vector<Grid> grids_;
   mutable std::vector<ComplexBuffer> spectra_;  // per group: blocks x bins (LoadSignal)
   mutable ComplexBuffer segment_;               // kMaxLength: a segment's forward FFT
