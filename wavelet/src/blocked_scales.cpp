@@ -76,7 +76,7 @@ Eigen::Index BlockedScales::InnerDecimation(const Group& group,
 
 double BlockedScales::Bytes(const Grouping& grouping) {
   if (grouping.groups.empty()) return 0.0;
-  double points = static_cast<double>(kMaxLength);  // the segment's scratch
+  double points = 0.0;
   std::vector<Eigen::Index> lengths;
   for (const Group& g : grouping.groups) {
     points += static_cast<double>(g.blocks) * static_cast<double>(g.bins);
@@ -104,7 +104,6 @@ void BlockedScales::Layout(Eigen::Index p,
     PODID_CHECK(g.bins >= 1 && g.bins <= g.length / 2 + 1);
     spectra_.push_back(AllocateComplex(static_cast<std::size_t>(g.blocks * g.bins)));
   }
-  segment_ = AllocateComplex(static_cast<std::size_t>(kMaxLength));
   grids_.resize(lengths.size());
   for (std::size_t i = 0; i < lengths.size(); ++i) {
     Grid& grid = grids_[i];
@@ -148,22 +147,25 @@ double BlockedScales::Cost(Eigen::Index k) const {
          (std::log2(length / inner) + 1.0 + (inner > 1.0 ? kTwiddlePasses : 0.0));
 }
 
-void BlockedScales::LoadSignal(const double* padded) const {
-  for (std::size_t g = 0; g < grouping_.groups.size(); ++g) {
-    const Group& group = grouping_.groups[g];
-    const Grid& grid = GridOf(group.length);
-    Complex* segment = segment_.get();
-    for (Eigen::Index j = 0; j < group.blocks; ++j) {
-      // Samples j hop - H .. of the padded sequence, periodic with period P.
-      Eigen::Index i = ((j * group.hop - group.overlap) % p_ + p_) % p_;
-      for (Eigen::Index t = 0; t < group.length; ++t) {
-        segment[t] = Complex(padded[i], 0.0);
-        if (++i == p_) i = 0;
-      }
-      fftw_execute_dft(grid.forward, AsFftw(segment), AsFftw(segment));
-      std::copy_n(segment, group.bins, spectra_[g].get() + j * group.bins);
-    }
+Eigen::Index BlockedScales::blocks() const {
+  Eigen::Index total = 0;
+  for (const Group& group : grouping_.groups) total += group.blocks;
+  return total;
+}
+
+void BlockedScales::LoadBlock(Eigen::Index index, const double* padded, Complex* segment) const {
+  std::size_t g = 0;
+  while (index >= grouping_.groups[g].blocks) index -= grouping_.groups[g++].blocks;
+  const Group& group = grouping_.groups[g];
+  const Grid& grid = GridOf(group.length);
+  // Samples index hop - H .. of the padded sequence, periodic with period P.
+  Eigen::Index i = ((index * group.hop - group.overlap) % p_ + p_) % p_;
+  for (Eigen::Index t = 0; t < group.length; ++t) {
+    segment[t] = Complex(padded[i], 0.0);
+    if (++i == p_) i = 0;
   }
+  fftw_execute_dft(grid.forward, AsFftw(segment), AsFftw(segment));
+  std::copy_n(segment, group.bins, spectra_[g].get() + index * group.bins);
 }
 
 void BlockedScales::Run(Eigen::Index k,

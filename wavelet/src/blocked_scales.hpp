@@ -92,7 +92,7 @@ class BlockedScales {
   /// (PrunedInverse::Decimation), 1 for a band Execute does not take.
   static Eigen::Index InnerDecimation(const Group& group, Eigen::Index first, Eigen::Index bins);
   /// Bytes Layout allocates for `grouping` (its groups' bins set): the kept
-  /// bins of the block spectra, a segment's scratch and the twiddle tables;
+  /// bins of the block spectra and the twiddle tables;
   /// the filters are the caller's.
   static double Bytes(const Grouping& grouping);
 
@@ -109,9 +109,13 @@ class BlockedScales {
   /// Cost of scale k in complex products (FullRateCwt's chunking).
   double Cost(Eigen::Index k) const;
 
-  /// The block spectra of the padded sequence (P values, the transform's
-  /// scaled signal) for every group.
-  void LoadSignal(const double* padded) const;
+  /// Blocks over all groups: LoadBlock's indices 0 .. blocks() - 1.
+  Eigen::Index blocks() const;
+  /// Block `index` (the groups' blocks in turn) of the padded sequence (P
+  /// values, the transform's scaled signal): its segment's kept spectrum.
+  /// segment: kMaxLength complex of scratch. Distinct blocks may be loaded by
+  /// threads at once; every block before Run. Does not throw.
+  void LoadBlock(Eigen::Index index, const double* padded, Complex* segment) const;
   /// Scale k (Blocked) at output times 0 .. times - 1 into `output`'s column
   /// k, times output_scale; work: kWorkSize complex of scratch. The column is
   /// written with streaming stores: PrunedInverse::FenceStreams() before
@@ -136,8 +140,7 @@ class BlockedScales {
   std::vector<Eigen::Index> inner_;  // per scale: its D' (1 if not blocked)
   std::vector<fftw_plan> plans_;     // per blocked scale: D' inverses of L / D' (input preserved)
   std::vector<Grid> grids_;
-  mutable std::vector<ComplexBuffer> spectra_;  // per group: blocks x bins (LoadSignal)
-  mutable ComplexBuffer segment_;               // kMaxLength: a segment's forward FFT
+  mutable std::vector<ComplexBuffer> spectra_;  // per group: blocks x bins (LoadBlock)
 };
 
 }  // namespace podid::wavelet::internal

@@ -84,10 +84,20 @@ void FullRateCwt::Compute(const Complex* spectrum,
   PODID_CHECK((output.complex != nullptr) + (output.complex_float != nullptr) +
                   (output.magnitude != nullptr) ==
               1);
-  if (!blocked_.empty()) blocked_.LoadSignal(padded);
   const auto chunks = static_cast<int>(chunk_begin_.size()) - 1;
+  const Eigen::Index blocks = blocked_.blocks();
+  std::atomic<Eigen::Index> next_block{0}, loaded{0};
   std::atomic<int> next_chunk{0};
   const auto work = [&](int thread) {
+    // The blocked scales' block spectra first, shared out like the chunks
+    // (1.3 ms of one thread's 89 at 10^5 in fCWT's case), then every thread
+    // waits for the last one: about one block's forward FFT.
+    Complex* segment = input_[static_cast<std::size_t>(thread)].get();
+    for (Eigen::Index b = next_block++; b < blocks; b = next_block++) {
+      blocked_.LoadBlock(b, padded, segment);
+      loaded.fetch_add(1, std::memory_order_release);
+    }
+    while (loaded.load(std::memory_order_acquire) < blocks) std::this_thread::yield();
     for (int c = next_chunk++; c < chunks; c = next_chunk++) {
       RunScales(thread, c, spectrum, times, output_scale, output);
     }
@@ -104,8 +114,9 @@ void FullRateCwt::Compute(const Complex* spectrum,
   for (auto& thread : pool) thread.join();
 }
 
-// A blocked scale's scratch is the thread's input_ buffer.
+// A blocked scale's scratch, and a block's segment, is the thread's input_ buffer.
 static_assert(PrunedInverse::WorkSize(BlockedScales::kMinPaddedLength) >= BlockedScales::kWorkSize);
+static_assert(BlockedScales::kWorkSize >= BlockedScales::kMaxLength);
 
 // Nothing here throws: PODID_CHECK aborts, and the buffers exist already.
 void FullRateCwt::RunScales(int thread,
