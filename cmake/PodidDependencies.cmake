@@ -6,6 +6,13 @@ find_package(PkgConfig REQUIRED)
 # CMAKE_PREFIX_PATH), else Debian's libfftw3-dev.
 pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET GLOBAL fftw3)
 message(STATUS "podid: FFTW ${FFTW3_VERSION} from ${FFTW3_LINK_LIBRARIES}")
+# scripts/build-fftw.sh's FFTW (its AVX2/AVX-512 codelets) prefers other
+# plans: wavelet/src/full_rate.hpp's kInPlaceLength follows it.
+if(FFTW3_LIBDIR MATCHES "/fftw-simd/lib$")
+  set(PODID_FFTW_SIMD_CODELETS ON)
+else()
+  set(PODID_FFTW_SIMD_CODELETS OFF)
+endif()
 pkg_check_modules(MATIO REQUIRED IMPORTED_TARGET GLOBAL matio)
 # v7.3 .mat files: dataset storage checked and HDF5's own error printing
 # silenced before libmatio reads them (the HDF5 libmatio is built with).

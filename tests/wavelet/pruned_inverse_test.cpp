@@ -203,8 +203,9 @@ TEST(PrunedInverse, FullRateCwtAtLargeDecimationsEqualsTheDirectSum) {
 }
 
 TEST(PrunedInverse, LongRecordNearNyquistEqualsTheAnalyticImpulseResponse) {
-  // P >= FullRateCwt::kInPlaceLength with bands wider than P / 2 (D = 1): the
-  // columns transformed in place. An impulse at m0 has X_b = exp(-2 pi i b m0
+  // P >= 65536 with bands wider than P / 2 (D = 1): the columns transformed
+  // in place (FullRateCwt::kInPlaceLength; out of place with the FFTW of
+  // scripts/build-fftw.sh). An impulse at m0 has X_b = exp(-2 pi i b m0
   // / P) exactly, so W_k(j) = sum_b g_k(b) exp(2 pi i b (j - m0) / P) / P
   // (g_k the kept filter bins), summed here in long double at a few times.
   // FFT rounding at ~7e4 points (17 levels): 1e-12 of sum_b |g_k(b)| / P.

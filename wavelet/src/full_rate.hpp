@@ -32,8 +32,15 @@ class FullRateCwt {
   /// input and output (32 P bytes) outgrow a 2 MiB L2 cache the scratch's
   /// round trip dominates (FFTW 3.3.10, estimated plans: 0.96 against 1.13 ms
   /// at 102400 points; 0.079 against 0.070 ms at 10752, where the scratch
-  /// stays in cache).
+  /// stays in cache). Not with scripts/build-fftw.sh's FFTW: its out-of-place
+  /// plans won on a Zen 5 (1 MiB L2), fCWT's case at 10^5 1.10x faster with
+  /// patient plans, 1.00-1.09x with measured ones, where Debian's FFTW lost
+  /// 0.95-0.98x (docs/benchmark-log.md, "Threads on the Zen 5, ...").
+#if defined(PODID_FFTW_SIMD_CODELETS)
+  static constexpr Eigen::Index kInPlaceLength = Eigen::Index{kMaxPlanLength} + 1;
+#else
   static constexpr Eigen::Index kInPlaceLength = 65536;
+#endif
 
   /// Bytes Layout() allocates: the twiddle table, the blocked scales'
   /// (BlockedScales::Bytes) and, per thread, the pruned inverse's scratch
