@@ -574,6 +574,8 @@ FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
       s.Band(k, z.p, step_s, &a, &b);
       const Eigen::Index d =
           internal::PrunedInverse::Decimation(z.p, std::max<Eigen::Index>(b - a + 1, 1));
+      // In place, a D = 1 scale runs on complex_backward's plan of P.
+      if (d == 1 && z.p >= internal::FullRateCwt::kInPlaceLength) continue;
       const std::pair<int, int> pair(static_cast<int>(z.p / d),
                                      static_cast<int>(internal::PrunedInverse::Batch(z.p, d)));
       auto& list = lengths.interleaved_backward;

@@ -36,9 +36,11 @@ void FullRateCwt::Layout(Eigen::Index p,
     const Eigen::Index d = PrunedInverse::Decimation(p, std::max<Eigen::Index>(bins, 1));
     decimation_[k] = d;
     batch_[k] = PrunedInverse::Batch(p, d);
-    // A blocked scale needs no pruned plan (nor its measuring).
-    plans_[k] =
-        blocked_.Blocked(static_cast<Eigen::Index>(k)) ? nullptr : inverse_.Plan(d, batch_[k]);
+    // A blocked scale needs no pruned plan (nor its measuring), nor does a
+    // D = 1 scale from kInPlaceLength on: it runs on in_place_.
+    plans_[k] = blocked_.Blocked(static_cast<Eigen::Index>(k)) || (d == 1 && p >= kInPlaceLength)
+                    ? nullptr
+                    : inverse_.Plan(d, batch_[k]);
     // FFT flops plus the twiddle pass, in units of complex products.
     cost[k] = blocked_.Blocked(static_cast<Eigen::Index>(k))
                   ? blocked_.Cost(static_cast<Eigen::Index>(k))
