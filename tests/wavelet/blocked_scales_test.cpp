@@ -16,6 +16,7 @@
 
 #include "podid/wavelet/cwt.hpp"
 #include "roots_of_unity.hpp"
+#include "same_outputs.hpp"
 
 namespace podid::wavelet {
 namespace {
@@ -185,13 +186,7 @@ TEST_P(BlockedScalesRecord, EqualsTheDirectConvolution) {
   EXPECT_LE(worst, kRelativeTolerance * peak) << "worst " << worst / peak << " of max |W|";
 
   // Three threads, |W| and W as float: the same blocks, the same numbers.
-  o.threads = 3;
-  EXPECT_TRUE(Cwt(x, step, o).coefficients == sg.coefficients);
-  o.threads = 1;
-  o.output = CwtOutput::kMagnitudeFloat;
-  EXPECT_TRUE(Cwt(x, step, o).magnitude == sg.coefficients.cwiseAbs().cast<float>());
-  o.output = CwtOutput::kComplexFloat;
-  EXPECT_TRUE(Cwt(x, step, o).coefficients_float == sg.coefficients.cast<std::complex<float>>());
+  testing::ExpectSameOnThreadsAndOutputs(x, step, o, sg);
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -10,32 +10,46 @@
 #include <numbers>
 #include <vector>
 
+#include "../../wavelet/src/full_rate.hpp"
 #include "podid/wavelet/cwt.hpp"
+#include "podid/wavelet/plans.hpp"
 #include "roots_of_unity.hpp"
+#include "same_outputs.hpp"
 
 namespace podid::wavelet {
 namespace {
 
 using Complex = std::complex<double>;
 using internal::PrunedInverse;
+using testing::ExpectSameOnThreadsAndOutputs;
 using testing::RootsOfUnity;
 
-// y_j = sum_b Y_b exp(2 pi i b j / P), summed in long double with the angle
-// reduced exactly (b j mod P in integers): an independent, slow reference.
-std::vector<Complex> DirectInverse(const std::vector<Complex>& band, Eigen::Index first_bin,
-                                   Eigen::Index p) {
-  std::vector<Complex> y(static_cast<std::size_t>(p));
-  const std::vector<std::complex<long double>> w = RootsOfUnity(p);
-  for (Eigen::Index j = 0; j < p; ++j) {
-    long double re = 0.0L, im = 0.0L;
-    for (std::size_t i = 0; i < band.size(); ++i) {
-      const Eigen::Index b = first_bin + static_cast<Eigen::Index>(i);
-      const auto& e = w[static_cast<std::size_t>((((b % p) + p) % p) * j % p)];
-      re += band[i].real() * e.real() - band[i].imag() * e.imag();
-      im += band[i].real() * e.imag() + band[i].imag() * e.real();
-    }
-    y[static_cast<std::size_t>(j)] = Complex(static_cast<double>(re), static_cast<double>(im));
+// y_j = sum_b Y_b exp(2 pi i b j / P) at one output j, summed in long double
+// with the angle reduced exactly (b j mod P in integers; w: RootsOfUnity(P)):
+// an independent, slow reference.
+Complex DirectInverseAt(const std::vector<Complex>& band,
+                        Eigen::Index first_bin,
+                        Eigen::Index j,
+                        const std::vector<std::complex<long double>>& w) {
+  const auto p = static_cast<Eigen::Index>(w.size());
+  long double re = 0.0L, im = 0.0L;
+  for (std::size_t i = 0; i < band.size(); ++i) {
+    const Eigen::Index b = first_bin + static_cast<Eigen::Index>(i);
+    const auto& e = w[static_cast<std::size_t>((((b % p) + p) % p) * j % p)];
+    re += band[i].real() * e.real() - band[i].imag() * e.imag();
+    im += band[i].real() * e.imag() + band[i].imag() * e.real();
   }
+  return {static_cast<double>(re), static_cast<double>(im)};
+}
+
+// Every y_j, j < P.
+std::vector<Complex> DirectInverse(const std::vector<Complex>& band,
+                                   Eigen::Index first_bin,
+                                   Eigen::Index p) {
+  const std::vector<std::complex<long double>> w = RootsOfUnity(p);
+  std::vector<Complex> y(static_cast<std::size_t>(p));
+  for (Eigen::Index j = 0; j < p; ++j)
+    y[static_cast<std::size_t>(j)] = DirectInverseAt(band, first_bin, j, w);
   return y;
 }
 
@@ -129,6 +143,99 @@ TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
   EXPECT_EQ(PrunedInverse::Batch(102400, 1), 1);
 }
 
+// The band X_b g_i of a deterministic spectrum (no symmetry), its filter and
+// L1 norm, as EveryDecimationEqualsTheDirectInverseDft builds them.
+struct TestBand {
+  std::vector<Complex> spectrum, band;
+  std::vector<double> filter;
+  double l1 = 0.0;
+};
+TestBand MakeBand(Eigen::Index p, Eigen::Index first, Eigen::Index bins) {
+  TestBand t;
+  t.spectrum.resize(static_cast<std::size_t>(p / 2 + 1));
+  for (std::size_t b = 0; b < t.spectrum.size(); ++b) {
+    t.spectrum[b] = Complex(std::cos(0.37 * b * b + 1.0), std::sin(1.3 * b) + 0.1);
+  }
+  t.spectrum[0] = Complex(t.spectrum[0].real(), 0.0);
+  for (Eigen::Index i = 0; i < bins; ++i) {
+    const Eigen::Index b = first + i;
+    t.filter.push_back(0.5 + 0.4 * std::sin(0.1 * static_cast<double>(i)));
+    const Complex x = b >= 0 ? t.spectrum[static_cast<std::size_t>(b)]
+                             : std::conj(t.spectrum[static_cast<std::size_t>(-b)]);
+    t.band.push_back(x * t.filter.back());
+    t.l1 += std::abs(t.band.back());
+  }
+  return t;
+}
+
+TEST(PrunedInverse, SplitEqualsTheDirectInverseDft) {
+  // Of the band's L1 norm, as at D = 1: FFTW's error at P / 8 points, then
+  // the radix-8 step (w^(n l) by at most 3 products, 3 levels of sums, the
+  // odd terms by w^(1, 2, 3) of 8): about (log2 P + 6) eps, 1.9e-15 at
+  // P = 2048; measured 4e-16. Every entry of the column must be written
+  // (NaN before), and none past `times`.
+  constexpr double kRelativeTolerance = 3e-15;
+  const Eigen::Index p = 2048, m = p / PrunedInverse::kSplitBlocks;
+  ASSERT_TRUE(PrunedInverse::Splittable(p));
+  EXPECT_FALSE(PrunedInverse::Splittable(2040));
+  EXPECT_FALSE(PrunedInverse::Splittable(512));
+  PrunedInverse inverse;
+  inverse.Reset(p, false);
+  const fftw_plan plan = inverse.SplitPlan();
+  // Bands: below bin 0 and above, reaching Nyquist and wider than P / 2
+  // (the D = 1 scales of a long record), every bin, one bin at either end.
+  const std::vector<std::pair<Eigen::Index, Eigen::Index>> bands = {
+      {-40, 100}, {7, 60}, {-600, 1625}, {-1023, 2048}, {1024, 1}, {-1023, 5}, {0, 1}, {-9, 9}};
+  std::vector<Complex> work(static_cast<std::size_t>(PrunedInverse::WorkSize(p)));
+  std::vector<Complex> column(static_cast<std::size_t>(p) + 4);
+  for (const auto& [first, bins] : bands) {
+    const TestBand t = MakeBand(p, first, bins);
+    const std::vector<Complex> direct = DirectInverse(t.band, first, p);
+    inverse.ExecuteSplit(t.spectrum.data(), internal::ScaleFilter::Stored(t.filter.data()), first,
+                         bins, plan, work.data());
+    for (const Eigen::Index times : {p, p - 3, 7 * m + 5, 7 * m - 1, m, Eigen::Index{100}}) {
+      std::fill(column.begin(), column.end(), Complex(std::nan(""), 0.0));
+      inverse.CombineSplit(work.data(), times, 0.5, column.data());
+      double worst = 0.0;
+      for (Eigen::Index j = 0; j < times; ++j) {
+        worst = std::max(worst, std::abs(column[static_cast<std::size_t>(j)] -
+                                         0.5 * direct[static_cast<std::size_t>(j)]));
+      }
+      EXPECT_LE(worst, 0.5 * kRelativeTolerance * t.l1)
+          << "band " << first << "+" << bins << " times " << times;
+      for (std::size_t j = static_cast<std::size_t>(times); j < column.size(); ++j) {
+        EXPECT_TRUE(std::isnan(column[j].real())) << "written past times: " << j;
+      }
+    }
+  }
+}
+
+TEST(PrunedInverse, SplitAtFcwtsLengthEqualsTheDirectSum) {
+  // fCWT's case at 10^5 samples: P = 102400, a band from bin -5000 to
+  // Nyquist (a D = 1 scale near 30 Hz at 64 Hz), at the ends of the blocks
+  // of M = 12800 and between. FFTW's error at 12800 points (14 levels) plus
+  // the radix-8 step: 3e-15 of sum |Y_b| (measured 1.7e-17 here: the
+  // rounding errors of 57201 bins add up far below the sum of their sizes).
+  constexpr double kRelativeTolerance = 3e-15;
+  const Eigen::Index p = 102400, m = p / PrunedInverse::kSplitBlocks, first = -5000;
+  const Eigen::Index bins = p / 2 - first + 1;
+  PrunedInverse inverse;
+  inverse.Reset(p, false);
+  const TestBand t = MakeBand(p, first, bins);
+  std::vector<Complex> work(static_cast<std::size_t>(PrunedInverse::WorkSize(p)));
+  std::vector<Complex> column(static_cast<std::size_t>(p));
+  inverse.ExecuteSplit(t.spectrum.data(), internal::ScaleFilter::Stored(t.filter.data()), first,
+                       bins, inverse.SplitPlan(), work.data());
+  inverse.CombineSplit(work.data(), p, 1.0, column.data());
+  const std::vector<std::complex<long double>> w = RootsOfUnity(p);
+  for (const Eigen::Index j : {Eigen::Index{0}, Eigen::Index{1}, m - 1, m, 3 * m + 77, 7 * m - 1,
+                               7 * m, p - 1, Eigen::Index{12345}}) {
+    EXPECT_LE(std::abs(column[static_cast<std::size_t>(j)] - DirectInverseAt(t.band, first, j, w)),
+              kRelativeTolerance * t.l1)
+        << "output " << j;
+  }
+}
+
 TEST(PrunedInverse, FullRateCwtAtLargeDecimationsEqualsTheDirectSum) {
   // A long record of low frequencies (every scale decimated by up to 64),
   // complex and float-magnitude output, one and three threads, against
@@ -188,27 +295,16 @@ TEST(PrunedInverse, FullRateCwtAtLargeDecimationsEqualsTheDirectSum) {
   }
   const double tolerance = kRelativeTolerance * direct.cwiseAbs().maxCoeff();
   EXPECT_LE((sg.coefficients - direct).cwiseAbs().maxCoeff(), tolerance);
-  o.threads = 3;
-  const Scalogram threaded = Cwt(x, step, o);
-  EXPECT_TRUE(threaded.coefficients == sg.coefficients);
-  o.output = CwtOutput::kMagnitudeFloat;
-  const Scalogram magnitude = Cwt(x, step, o);
-  const Eigen::MatrixXf rounded = sg.coefficients.cwiseAbs().cast<float>();
-  EXPECT_TRUE(magnitude.magnitude == rounded);
-  // Complex float: the complex output, each part rounded once (bit for bit).
-  o.output = CwtOutput::kComplexFloat;
-  const Scalogram single = Cwt(x, step, o);
-  EXPECT_EQ(single.coefficients.size(), 0);
-  EXPECT_TRUE(single.coefficients_float == sg.coefficients.cast<std::complex<float>>());
+  ExpectSameOnThreadsAndOutputs(x, step, o, sg);
 }
 
 TEST(PrunedInverse, LongRecordNearNyquistEqualsTheAnalyticImpulseResponse) {
   // P >= 65536 with bands wider than P / 2 (D = 1): the columns transformed
-  // in place (FullRateCwt::kInPlaceLength; out of place with the FFTW of
-  // scripts/build-fftw.sh). An impulse at m0 has X_b = exp(-2 pi i b m0
-  // / P) exactly, so W_k(j) = sum_b g_k(b) exp(2 pi i b (j - m0) / P) / P
-  // (g_k the kept filter bins), summed here in long double at a few times.
-  // FFT rounding at ~7e4 points (17 levels): 1e-12 of sum_b |g_k(b)| / P.
+  // in place with Debian's FFTW's estimated plans (FullRateCwt::kInPlaceLength),
+  // split into 8 inverses of P / 8 otherwise (FullRateCwt::kSplitLength). An impulse at m0 has X_b
+  // = exp(-2 pi i b m0 / P) exactly, so W_k(j) = sum_b g_k(b) exp(2 pi i b (j - m0) / P) / P (g_k
+  // the kept filter bins), summed here in long double at a few times. FFT rounding at ~7e4 points
+  // (17 levels): 1e-12 of sum_b |g_k(b)| / P.
   constexpr double kRelativeTolerance = 1e-12;
   const double step = 1e-3;
   const Eigen::Index n = 70000, m0 = 35000;
@@ -228,42 +324,50 @@ TEST(PrunedInverse, LongRecordNearNyquistEqualsTheAnalyticImpulseResponse) {
   o.wavelet.Band(o.band_tolerance, &lo, &hi);
   const double bin_rad_per_s = 2.0 * std::numbers::pi / (static_cast<double>(p) * step);
   const std::vector<std::complex<long double>> w = RootsOfUnity(p);
-  for (Eigen::Index k = 0; k < sg.frequencies(); ++k) {
-    const double s = sg.scales_s(k);
-    const auto a = std::max<Eigen::Index>(
-        -((p - 1) / 2), static_cast<Eigen::Index>(std::ceil(lo / (s * bin_rad_per_s))));
-    const auto b =
-        std::min<Eigen::Index>(p / 2, static_cast<Eigen::Index>(std::floor(hi / (s * bin_rad_per_s))));
-    ASSERT_GT(b - a + 1, p / 2) << "scale " << k << " is decimated: the test needs D = 1";
-    double l1 = 0.0;
-    for (Eigen::Index bin = a; bin <= b; ++bin) {
-      l1 += std::abs(o.wavelet.FourierTransform(s * bin * bin_rad_per_s)) / static_cast<double>(p);
-    }
-    for (Eigen::Index j : {Eigen::Index{0}, Eigen::Index{1}, m0 - 7, m0, m0 + 1, n - 1}) {
-      long double re = 0.0L, im = 0.0L;
+  const auto check = [&](const Scalogram& sg, const char* path) {
+    for (Eigen::Index k = 0; k < sg.frequencies(); ++k) {
+      const double s = sg.scales_s(k);
+      const auto a = std::max<Eigen::Index>(
+          -((p - 1) / 2), static_cast<Eigen::Index>(std::ceil(lo / (s * bin_rad_per_s))));
+      const auto b = std::min<Eigen::Index>(
+          p / 2, static_cast<Eigen::Index>(std::floor(hi / (s * bin_rad_per_s))));
+      ASSERT_GT(b - a + 1, p / 2) << "scale " << k << " is decimated: the test needs D = 1";
+      double l1 = 0.0;
       for (Eigen::Index bin = a; bin <= b; ++bin) {
-        const long double g =
-            o.wavelet.FourierTransform(s * bin * bin_rad_per_s) / static_cast<long double>(p);
-        const auto& e = w[static_cast<std::size_t>((((bin * (j - m0)) % p) + p) % p)];
-        re += g * e.real();
-        im += g * e.imag();
+        l1 +=
+            std::abs(o.wavelet.FourierTransform(s * bin * bin_rad_per_s)) / static_cast<double>(p);
       }
-      const Complex direct(static_cast<double>(re), static_cast<double>(im));
-      EXPECT_LE(std::abs(sg.coefficients(j, k) - direct), kRelativeTolerance * l1)
-          << "scale " << k << " time " << j;
+      for (Eigen::Index j : {Eigen::Index{0}, Eigen::Index{1}, m0 - 7, m0, m0 + 1, n - 1}) {
+        long double re = 0.0L, im = 0.0L;
+        for (Eigen::Index bin = a; bin <= b; ++bin) {
+          const long double g =
+              o.wavelet.FourierTransform(s * bin * bin_rad_per_s) / static_cast<long double>(p);
+          const auto& e = w[static_cast<std::size_t>((((bin * (j - m0)) % p) + p) % p)];
+          re += g * e.real();
+          im += g * e.imag();
+        }
+        const Complex direct(static_cast<double>(re), static_cast<double>(im));
+        EXPECT_LE(std::abs(sg.coefficients(j, k) - direct), kRelativeTolerance * l1)
+            << path << ": scale " << k << " time " << j;
+      }
     }
-  }
+  };
+  check(sg, "as planned");
   // Three threads (a chunk per scale: each column ends its chunk and is
   // transformed in place in the thread's buffer, then copied), |W| and W as
   // float (the same in-place transform): the same numbers.
-  o.threads = 3;
-  EXPECT_TRUE(Cwt(x, step, o).coefficients == sg.coefficients);
-  o.threads = 1;
-  o.output = CwtOutput::kMagnitudeFloat;
-  const Eigen::MatrixXf rounded = sg.coefficients.cwiseAbs().cast<float>();
-  EXPECT_TRUE(Cwt(x, step, o).magnitude == rounded);
-  o.output = CwtOutput::kComplexFloat;
-  EXPECT_TRUE(Cwt(x, step, o).coefficients_float == sg.coefficients.cast<std::complex<float>>());
+  ExpectSameOnThreadsAndOutputs(x, step, o, sg);
+  // P = 73728 splits (FullRateCwt::kSplitLength): with Debian's FFTW once
+  // the inverse of P / 8 is measured (in this binary's private cache), with
+  // scripts/build-fftw.sh's FFTW always. The same reference, then the same
+  // numbers on three threads and as |W| and complex float.
+  ASSERT_TRUE(internal::FullRateCwt::MaySplit(p));
+  FftLengths split;
+  split.interleaved_backward = {{static_cast<int>(p / internal::PrunedInverse::kSplitBlocks), 1}};
+  MeasureFftPlans(split);
+  const Scalogram measured = Cwt(x, step, o);
+  check(measured, "split");
+  ExpectSameOnThreadsAndOutputs(x, step, o, measured);
 }
 
 }  // namespace

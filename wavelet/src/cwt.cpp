@@ -574,10 +574,16 @@ FftLengths CwtTransform::Lengths(Eigen::Index samples, double step_s) const {
       s.Band(k, z.p, step_s, &a, &b);
       const Eigen::Index d =
           internal::PrunedInverse::Decimation(z.p, std::max<Eigen::Index>(b - a + 1, 1));
-      // In place, a D = 1 scale runs on complex_backward's plan of P.
-      if (d == 1 && z.p >= internal::FullRateCwt::kInPlaceLength) continue;
-      const std::pair<int, int> pair(static_cast<int>(z.p / d),
-                                     static_cast<int>(internal::PrunedInverse::Batch(z.p, d)));
+      // A D = 1 scale that may split takes the one inverse of P / 8 (with
+      // Debian's FFTW only once measured: measuring it is what `podid plan`
+      // is for); in place, one runs on complex_backward's plan of P.
+      std::pair<int, int> pair(static_cast<int>(z.p / d),
+                               static_cast<int>(internal::PrunedInverse::Batch(z.p, d)));
+      if (d == 1 && internal::FullRateCwt::MaySplit(z.p)) {
+        pair = {static_cast<int>(z.p / internal::PrunedInverse::kSplitBlocks), 1};
+      } else if (d == 1 && z.p >= internal::FullRateCwt::kInPlaceLength) {
+        continue;
+      }
       auto& list = lengths.interleaved_backward;
       if (std::find(list.begin(), list.end(), pair) == list.end()) list.push_back(pair);
     }

@@ -158,12 +158,13 @@ fftw_plan GetPlanLocked(
   return plan;
 }
 
-fftw_plan GetPlan(Kind kind, int n, int howmany, bool measure) {
+fftw_plan GetPlan(Kind kind, int n, int howmany, bool measure, bool* measured = nullptr) {
   State& state = GlobalState();
   std::lock_guard<std::mutex> lock(state.mutex);
   bool measured_now = false;
   fftw_plan plan = GetPlanLocked(state, kind, n, howmany, measure ? 1 : 0, &measured_now);
   if (measured_now) SaveWisdomLocked(state);  // best effort: an unwritable cache only costs time
+  if (measured != nullptr) *measured = state.plans[{kind, n, howmany}].effort >= 1;
   return plan;
 }
 
@@ -178,8 +179,8 @@ fftw_plan ComplexForwardPlan(int n, bool measure) {
 fftw_plan ComplexBackwardPlan(int n, bool measure) {
   return GetPlan(Kind::kComplexBackward, n, 1, measure);
 }
-fftw_plan BatchedBackwardPlan(int m, int d, bool measure) {
-  return GetPlan(Kind::kBatchedBackward, m, d, measure);
+fftw_plan BatchedBackwardPlan(int m, int d, bool measure, bool* measured) {
+  return GetPlan(Kind::kBatchedBackward, m, d, measure, measured);
 }
 
 double FftCostModel(long long n) {

@@ -46,7 +46,9 @@ fftw_plan ComplexBackwardPlan(int n, bool measure);
 /// pruned inverse of pruned_inverse.hpp twiddles its next block from it). (Writing the outputs
 /// interleaved, stride d, lets FFTW skip a pass but is slower: 0.97-1.2 ms against 0.50-0.54 ms for
 /// 16 x 6400 points.)
-fftw_plan BatchedBackwardPlan(int m, int d, bool measure);
+/// *measured (if given): whether the plan was measured (now, or earlier in
+/// the wisdom) rather than estimated.
+fftw_plan BatchedBackwardPlan(int m, int d, bool measure, bool* measured = nullptr);
 
 /// Cost of an FFT of length n relative to n log2 n (a model of FFTW's codelets:
 /// radix 2 cheapest, then 3, 5, 7); +inf when n has a prime factor above 7.

@@ -31,14 +31,30 @@ void FullRateCwt::Layout(Eigen::Index p,
   batch_.resize(scales);
   plans_.resize(scales);
   std::vector<double> cost(scales);
+  // The D = 1 scales split (kSplitLength) when their plan allows, decided
+  // once: whether there are such scales, then the plan.
+  split_ = nullptr;
+  if (MaySplit(p)) {
+    for (std::size_t k = 0; k < scales && split_ == nullptr; ++k) {
+      const Eigen::Index bins = filters.bins(static_cast<Eigen::Index>(k));
+      if (bins > 0 && !blocked_.Blocked(static_cast<Eigen::Index>(k)) &&
+          PrunedInverse::Decimation(p, bins) == 1) {
+        bool measured = false;
+        fftw_plan plan = inverse_.SplitPlan(&measured);
+        split_ = measured || kSplitEstimated ? plan : nullptr;
+        break;
+      }
+    }
+  }
   for (std::size_t k = 0; k < scales; ++k) {
     const Eigen::Index bins = filters.bins(static_cast<Eigen::Index>(k));
     const Eigen::Index d = PrunedInverse::Decimation(p, std::max<Eigen::Index>(bins, 1));
     decimation_[k] = d;
     batch_[k] = PrunedInverse::Batch(p, d);
     // A blocked scale needs no pruned plan (nor its measuring), nor does a
-    // D = 1 scale from kInPlaceLength on: it runs on in_place_.
-    plans_[k] = blocked_.Blocked(static_cast<Eigen::Index>(k)) || (d == 1 && p >= kInPlaceLength)
+    // D = 1 scale that splits or, from kInPlaceLength on, runs on in_place_.
+    plans_[k] = blocked_.Blocked(static_cast<Eigen::Index>(k)) ||
+                        (d == 1 && (split_ != nullptr || p >= kInPlaceLength))
                     ? nullptr
                     : inverse_.Plan(d, batch_[k]);
     // FFT flops plus the twiddle pass, in units of complex products.
@@ -67,7 +83,9 @@ void FullRateCwt::Layout(Eigen::Index p,
     }
   }
   threads_ = threads;
-  in_place_ = p >= kInPlaceLength ? ComplexBackwardPlan(static_cast<int>(p), measure) : nullptr;
+  in_place_ = p >= kInPlaceLength && split_ == nullptr
+                  ? ComplexBackwardPlan(static_cast<int>(p), measure)
+                  : nullptr;
   input_.clear();
   output_.clear();
   for (int t = 0; t < threads; ++t) {
@@ -151,14 +169,30 @@ void FullRateCwt::RunScales(int thread,
       blocked_.Run(k, times, output_scale, input, output);
       continue;
     }
+    const Eigen::Index d = decimation_[static_cast<std::size_t>(k)];
+    const ScaleFilter filter = filters_->Filter(k);
+    if (d == 1 && split_ != nullptr) {  // the radix-8 pass writes `times` outputs: any column
+      inverse_.ExecuteSplit(spectrum, filter, a, bins, split_, input);
+      if (column != nullptr) {
+        inverse_.CombineSplit(input, times, output_scale, column);
+        continue;
+      }
+      inverse_.CombineSplit(input, times, 1.0, own_output);
+      if (output.magnitude != nullptr) {
+        inverse_.GatherMagnitude(own_output, 1, 0, times, output_scale,
+                                 reinterpret_cast<float*>(input), output.magnitude + k * times);
+      } else {
+        inverse_.GatherFloat(own_output, 1, 0, times, output_scale,
+                             output.complex_float + k * times);
+      }
+      continue;
+    }
     // At D = 1 the column itself takes all P outputs when P values from its
     // start stay inside this chunk's later columns (overwritten when their
     // turn comes): no copy.
-    const Eigen::Index d = decimation_[static_cast<std::size_t>(k)];
     const bool direct = d == 1 && column != nullptr && (end - k) * times >= p &&
                         fftw_alignment_of(reinterpret_cast<double*>(column)) == plan_alignment_;
     Complex* out = direct ? column : own_output;
-    const ScaleFilter filter = filters_->Filter(k);
     if (d == 1 && in_place_ != nullptr) {  // in place: in the column or the thread's buffer
       inverse_.Execute(spectrum, filter, a, bins, 1, 1, in_place_, out, out);
     } else {

@@ -42,6 +42,27 @@ class FullRateCwt {
   static constexpr Eigen::Index kInPlaceLength = 65536;
 #endif
 
+  /// From this length on, a D = 1 scale is inverted by PrunedInverse's
+  /// decimation in time (ExecuteSplit: 8 inverses of P / 8 that fit the L2
+  /// cache, then one radix-8 pass streamed into the column) where P is
+  /// Splittable, with scripts/build-fftw.sh's FFTW always, with Debian's when
+  /// the inverse of P / 8 is measured (wisdom): its estimated plan lost.
+  /// The 65 D = 1 scales of fCWT's case at 10^5 samples (P = 102400) on a
+  /// Zen 5, against the path it replaces: Debian's FFTW 1.14x with measured
+  /// plans, 0.80x with estimated ones; the AVX2 + AVX-512 build 1.04x
+  /// measured, 1.58x estimated (docs/wavelet.md, "D = 1 scales of long
+  /// records").
+  static constexpr Eigen::Index kSplitLength = 65536;
+  /// Whether the D = 1 scales at length p may be split (if their plan allows).
+  static constexpr bool MaySplit(Eigen::Index p) {
+    return p >= kSplitLength && PrunedInverse::Splittable(p);
+  }
+#if defined(PODID_FFTW_SIMD_CODELETS)
+  static constexpr bool kSplitEstimated = true;
+#else
+  static constexpr bool kSplitEstimated = false;
+#endif
+
   /// Bytes Layout() allocates: the twiddle table, the blocked scales'
   /// (BlockedScales::Bytes) and, per thread, the pruned inverse's scratch
   /// (PrunedInverse::WorkSize) and output (P).
@@ -86,6 +107,7 @@ class FullRateCwt {
   std::vector<Eigen::Index> batch_;        // per scale: blocks per FFTW call
   std::vector<fftw_plan> plans_;           // per scale
   fftw_plan in_place_ = nullptr;           // length P in place, when P >= kInPlaceLength
+  fftw_plan split_ = nullptr;              // the D = 1 scales' ExecuteSplit plan, if they split
   std::vector<Eigen::Index> chunk_begin_;  // chunks + 1: chunk c is [begin_c, begin_c+1)
   int threads_ = 1;
   int plan_alignment_ = 0;                 // fftw_alignment_of the planned arrays
