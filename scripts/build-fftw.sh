@@ -13,7 +13,9 @@
 # later; PODID_FFTW_SIMD=auto). On a Zen 5 EPYC (AVX-512 at full width) fCWT's
 # case ran 1.15-1.26x faster with measured plans and 1.13-1.21x at 10^4 with
 # estimated ones, 0.86x at 10^5 (docs/benchmark-log.md, "Narrow bands' blocks
-# as shorter inverses, and FFTW's codelets on a Zen 5"). On an Intel
+# as shorter inverses, and FFTW's codelets on a Zen 5"; 1.00x since the D = 1
+# scales split, 93.6 against 94.0 ms: "The D = 1 scales split into 8
+# inverses of P / 8"). On an Intel
 # Xeon (family 6 model 207, AVX-512) the transforms are faster with it, with
 # FFTW_ESTIMATE's plans too (the CWT of fCWT's case 1.04-1.32x, the Silverbox
 # evaluation 1.36x), but on an AMD Zen 4 FFTW_ESTIMATE picked slower plans
