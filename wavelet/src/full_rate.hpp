@@ -26,7 +26,8 @@ class FullRateCwt {
   /// few enough that the chunk ends (whose last column cannot spill into the
   /// next chunk, so it is gathered instead of written in place) cost little.
   static constexpr std::size_t kChunksPerThread = 8;
-  /// From this length on, a D = 1 scale is transformed in place (in its
+  /// From this length on, a D = 1 scale that does not split (kSplitLength
+  /// below) is transformed in place (in its
   /// column, or in the thread's output buffer when the column cannot take P
   /// values or the output is in single precision) instead of from a scratch buffer: once
   /// input and output (32 P bytes) outgrow a 2 MiB L2 cache the scratch's
@@ -44,7 +45,7 @@ class FullRateCwt {
 
   /// From this length on, a D = 1 scale is inverted by PrunedInverse's
   /// decimation in time (ExecuteSplit: 8 inverses of P / 8 that fit the L2
-  /// cache, then one radix-8 pass streamed into the column) where P is
+  /// cache, then one radix-8 pass written into the column) where P is
   /// Splittable, with scripts/build-fftw.sh's FFTW always, with Debian's when
   /// the inverse of P / 8 is measured (wisdom): its estimated plan lost.
   /// The 65 D = 1 scales of fCWT's case at 10^5 samples (P = 102400) on a
