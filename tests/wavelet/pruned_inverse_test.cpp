@@ -53,6 +53,31 @@ std::vector<Complex> DirectInverse(const std::vector<Complex>& band,
   return y;
 }
 
+// Spectrum X_0 .. X_(P/2) of a real signal (deterministic, no symmetry), and
+// the band Y_b = X_b g_i, b = first + i, its filter g and L1 norm sum |Y_b|.
+struct TestBand {
+  std::vector<Complex> spectrum, band;
+  std::vector<double> filter;
+  double l1 = 0.0;
+};
+TestBand MakeBand(Eigen::Index p, Eigen::Index first, Eigen::Index bins) {
+  TestBand t;
+  t.spectrum.resize(static_cast<std::size_t>(p / 2 + 1));
+  for (std::size_t b = 0; b < t.spectrum.size(); ++b) {
+    t.spectrum[b] = Complex(std::cos(0.37 * b * b + 1.0), std::sin(1.3 * b) + 0.1);
+  }
+  t.spectrum[0] = Complex(t.spectrum[0].real(), 0.0);
+  for (Eigen::Index i = 0; i < bins; ++i) {
+    const Eigen::Index b = first + i;
+    t.filter.push_back(0.5 + 0.4 * std::sin(0.1 * static_cast<double>(i)));
+    const Complex x = b >= 0 ? t.spectrum[static_cast<std::size_t>(b)]
+                             : std::conj(t.spectrum[static_cast<std::size_t>(-b)]);
+    t.band.push_back(x * t.filter.back());
+    t.l1 += std::abs(t.band.back());
+  }
+  return t;
+}
+
 TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
   // Of the band's L1 norm sum |Y_b|: FFTW's error is O(eps log2 P) (5e-16
   // measured at D = 1, P = 5040), and a block's twiddles carry at most 8
@@ -63,12 +88,6 @@ TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
   const Eigen::Index p = 5040;  // 2^4 3^2 5 7: divisors 2..63 of every kind
   PrunedInverse inverse;
   inverse.Reset(p, false);
-  // Spectrum X_0 .. X_(P/2) of a real signal: deterministic, no symmetry.
-  std::vector<Complex> spectrum(static_cast<std::size_t>(p / 2 + 1));
-  for (std::size_t b = 0; b < spectrum.size(); ++b) {
-    spectrum[b] = Complex(std::cos(0.37 * b * b + 1.0), std::sin(1.3 * b) + 0.1);
-  }
-  spectrum[0] = Complex(spectrum[0].real(), 0.0);
   // Bands: negative bins, one reaching Nyquist, narrow and wide, and starts
   // that make the band wrap around the end of a block.
   const std::vector<std::pair<Eigen::Index, Eigen::Index>> bands = {
@@ -78,18 +97,9 @@ TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
       column(static_cast<std::size_t>(p));
   std::vector<float> magnitude(static_cast<std::size_t>(p));
   for (const auto& [first, bins] : bands) {
-    std::vector<double> filter(static_cast<std::size_t>(bins));
-    std::vector<Complex> band(static_cast<std::size_t>(bins));
-    double l1 = 0.0;
-    for (Eigen::Index i = 0; i < bins; ++i) {
-      const Eigen::Index b = first + i;
-      filter[static_cast<std::size_t>(i)] = 0.5 + 0.4 * std::sin(0.1 * static_cast<double>(i));
-      const Complex x = b >= 0 ? spectrum[static_cast<std::size_t>(b)]
-                               : std::conj(spectrum[static_cast<std::size_t>(-b)]);
-      band[static_cast<std::size_t>(i)] = x * filter[static_cast<std::size_t>(i)];
-      l1 += std::abs(band[static_cast<std::size_t>(i)]);
-    }
-    const std::vector<Complex> direct = DirectInverse(band, first, p);
+    const TestBand t = MakeBand(p, first, bins);
+    const double l1 = t.l1;
+    const std::vector<Complex> direct = DirectInverse(t.band, first, p);
     int tried = 0;
     for (Eigen::Index d = 1; d <= PrunedInverse::kMaxDecimation; ++d) {
       if (p % d != 0 || p / d < bins) continue;
@@ -99,8 +109,8 @@ TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
         ++tried;
         std::fill(out.begin(), out.end(),
                   Complex(std::nan(""), 0.0));  // every entry must be written
-        inverse.Execute(spectrum.data(), internal::ScaleFilter::Stored(filter.data()), first, bins,
-                        d, batch, inverse.Plan(d, batch), work.data(), out.data());
+        inverse.Execute(t.spectrum.data(), internal::ScaleFilter::Stored(t.filter.data()), first,
+                        bins, d, batch, inverse.Plan(d, batch), work.data(), out.data());
         // Outputs from 0, from inside the first group of D and from beyond
         // it, up to P - 3: a last row of blocks only partly used.
         for (const Eigen::Index from : {Eigen::Index{0}, Eigen::Index{3}, Eigen::Index{37}}) {
@@ -141,31 +151,6 @@ TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
   EXPECT_EQ(PrunedInverse::Batch(102400, 16), 2);  // M = 6400: 2 x 6400 <= 16384 < 4 x 6400
   EXPECT_EQ(PrunedInverse::Batch(102400, 2), 1);
   EXPECT_EQ(PrunedInverse::Batch(102400, 1), 1);
-}
-
-// The band X_b g_i of a deterministic spectrum (no symmetry), its filter and
-// L1 norm, as EveryDecimationEqualsTheDirectInverseDft builds them.
-struct TestBand {
-  std::vector<Complex> spectrum, band;
-  std::vector<double> filter;
-  double l1 = 0.0;
-};
-TestBand MakeBand(Eigen::Index p, Eigen::Index first, Eigen::Index bins) {
-  TestBand t;
-  t.spectrum.resize(static_cast<std::size_t>(p / 2 + 1));
-  for (std::size_t b = 0; b < t.spectrum.size(); ++b) {
-    t.spectrum[b] = Complex(std::cos(0.37 * b * b + 1.0), std::sin(1.3 * b) + 0.1);
-  }
-  t.spectrum[0] = Complex(t.spectrum[0].real(), 0.0);
-  for (Eigen::Index i = 0; i < bins; ++i) {
-    const Eigen::Index b = first + i;
-    t.filter.push_back(0.5 + 0.4 * std::sin(0.1 * static_cast<double>(i)));
-    const Complex x = b >= 0 ? t.spectrum[static_cast<std::size_t>(b)]
-                             : std::conj(t.spectrum[static_cast<std::size_t>(-b)]);
-    t.band.push_back(x * t.filter.back());
-    t.l1 += std::abs(t.band.back());
-  }
-  return t;
 }
 
 TEST(PrunedInverse, SplitEqualsTheDirectInverseDft) {

@@ -35,7 +35,7 @@ void FullRateCwt::Layout(Eigen::Index p,
   // once: whether there are such scales, then the plan.
   split_ = nullptr;
   if (MaySplit(p)) {
-    for (std::size_t k = 0; k < scales && split_ == nullptr; ++k) {
+    for (std::size_t k = 0; k < scales; ++k) {
       const Eigen::Index bins = filters.bins(static_cast<Eigen::Index>(k));
       if (bins > 0 && !blocked_.Blocked(static_cast<Eigen::Index>(k)) &&
           PrunedInverse::Decimation(p, bins) == 1) {

@@ -334,7 +334,8 @@ __attribute__((target("avx2,fma"))) void CombineRunAvx2(const double* const z[8]
 }
 #endif
 
-// The same for the n whose later outputs lie past `times` (one n at a time).
+// Outputs n + q M < times of every n in [n0, n1), one n at a time: the n
+// CombineRunAvx2 leaves (an odd one at a run's end), or all without AVX2.
 void CombineTail(const double* const z[8],
                  const double* tw,
                  Eigen::Index m,
