@@ -513,7 +513,9 @@ __attribute__((target("avx2"))) void GatherPairsAvx2(const double* in,
   for (j = q * kD + r0 - first; j < times; ++j) one(j);
 }
 
-// GatherPairsAvx2 for D = 2 .. 64 (Decimation's powers of 2); false for any other D.
+// GatherPairsAvx2 at D = kD, 2 kD, .. kMaxDecimation (Decimation's powers of 2); false
+// at any other D.
+template <Eigen::Index kD = 2>
 bool GatherPairs(const double* in,
                  Eigen::Index d,
                  Eigen::Index m,
@@ -521,29 +523,12 @@ bool GatherPairs(const double* in,
                  Eigen::Index times,
                  double scale,
                  double* out) {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (!avx2) return false;
-  switch (d) {
-    case 2:
-      GatherPairsAvx2<2>(in, m, first, times, scale, out);
-      return true;
-    case 4:
-      GatherPairsAvx2<4>(in, m, first, times, scale, out);
-      return true;
-    case 8:
-      GatherPairsAvx2<8>(in, m, first, times, scale, out);
-      return true;
-    case 16:
-      GatherPairsAvx2<16>(in, m, first, times, scale, out);
-      return true;
-    case 32:
-      GatherPairsAvx2<32>(in, m, first, times, scale, out);
-      return true;
-    case 64:
-      GatherPairsAvx2<64>(in, m, first, times, scale, out);
-      return true;
-    default:
-      return false;
+  if constexpr (kD > PrunedInverse::kMaxDecimation) {
+    return false;
+  } else {
+    if (d != kD) return GatherPairs<2 * kD>(in, d, m, first, times, scale, out);
+    GatherPairsAvx2<kD>(in, m, first, times, scale, out);
+    return true;
   }
 }
 
@@ -561,7 +546,8 @@ void PrunedInverse::Gather(const Complex* blocks,
   const auto* in = reinterpret_cast<const double*>(blocks);
   auto* out = reinterpret_cast<double*>(column);
 #if defined(PODID_AVX2_PASSES)
-  if (GatherPairs(in, d, p_ / d, first, times, scale, out)) return;
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2 && GatherPairs(in, d, p_ / d, first, times, scale, out)) return;
 #endif
 #if defined(__SSE2__)
   // The output (16 bytes per value, 300 x 10^5 values in fCWT's case) is far
