@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <numbers>
 
 #include "podid/core/error.hpp"
@@ -279,7 +278,7 @@ inline void Radix8(const double* const z[8], Eigen::Index n, Cx t, double scale,
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-#define PODID_AVX2_PASSES 1
+#define PODID_SPLIT_AVX2 1
 // CombineSplit two n to a vector, each output stream written 32 bytes a
 // store. Hand-written: GCC vectorised neither the scalar loop nor its
 // target clones, and one n at a time the pass took about 0.2 ms of a D = 1
@@ -436,7 +435,7 @@ void PrunedInverse::CombineSplit(const Complex* work,
   const auto* tw = reinterpret_cast<const double*>(twiddle_.data());
   auto* y = reinterpret_cast<double*>(out);
   const Eigen::Index end = std::min(m, times);
-#if defined(PODID_AVX2_PASSES)
+#if defined(PODID_SPLIT_AVX2)
   static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
   if (avx2) {
     // Runs of n with the same count of outputs below `times`: n writes
@@ -468,73 +467,6 @@ void PrunedInverse::FillSlots(const Complex* spectrum,
   if (bins > head) FillBins(spectrum, filter, first_bin, head, bins - head, block);
 }
 
-#if defined(PODID_AVX2_PASSES)
-namespace {
-
-// Gather at an even D (a power of 2), two outputs to a 32-byte streaming
-// store: outputs j, j + 1 and j + D, j + D + 1 come from two 32-byte loads
-// (entries q, q + 1 of two blocks) and one lane shuffle. The 16-byte stores
-// of one output each took about 20 % of the profile of fCWT's 1-2 Hz octave
-// at 10^5 samples (D = 8 and 16; docs/benchmark-log.md, "Gather in 32-byte
-// stores").
-template <Eigen::Index kD>
-__attribute__((target("avx2"))) void GatherPairsAvx2(const double* in,
-                                                     Eigen::Index m,
-                                                     Eigen::Index first,
-                                                     Eigen::Index times,
-                                                     double scale,
-                                                     double* out) {
-  static_assert(kD >= 2 && kD % 2 == 0);
-  const __m128d factor1 = _mm_set1_pd(scale);
-  const auto one = [&](Eigen::Index j) {  // output j alone
-    const Eigen::Index g = first + j;
-    _mm_stream_pd(out + 2 * j, _mm_mul_pd(_mm_loadu_pd(in + 2 * (g % kD * m + g / kD)), factor1));
-  };
-  Eigen::Index j = 0;
-  if (times > 0 && reinterpret_cast<std::uintptr_t>(out) % 32 != 0) one(j++);
-  // From output j on, rows of 2 D outputs from q D + r0, two q at a time:
-  // pair i holds the outputs at o = r0 + 2 i and o + 1 of row q, whose
-  // entries lie `entry` apart from q (o may reach into row q + 1).
-  const Eigen::Index r0 = (first + j) % kD;
-  Eigen::Index entry[kD];
-  for (Eigen::Index i = 0; i < kD; ++i) entry[i] = (r0 + i) % kD * m + (r0 + i) / kD;
-  const __m256d factor = _mm256_set1_pd(scale);
-  Eigen::Index q = (first + j) / kD;
-  for (; (q + 2) * kD + r0 <= first + times; q += 2) {
-    double* row = out + 2 * (q * kD + r0 - first);
-    const double* from = in + 2 * q;
-    for (Eigen::Index i = 0; i < kD; i += 2) {
-      const __m256d a = _mm256_mul_pd(_mm256_loadu_pd(from + 2 * entry[i]), factor);
-      const __m256d b = _mm256_mul_pd(_mm256_loadu_pd(from + 2 * entry[i + 1]), factor);
-      _mm256_stream_pd(row + 2 * i, _mm256_permute2f128_pd(a, b, 0x20));
-      _mm256_stream_pd(row + 2 * (i + kD), _mm256_permute2f128_pd(a, b, 0x31));
-    }
-  }
-  for (j = q * kD + r0 - first; j < times; ++j) one(j);
-}
-
-// GatherPairsAvx2 at D = kD, 2 kD, .. kMaxDecimation (Decimation's powers of 2); false
-// at any other D.
-template <Eigen::Index kD = 2>
-bool GatherPairs(const double* in,
-                 Eigen::Index d,
-                 Eigen::Index m,
-                 Eigen::Index first,
-                 Eigen::Index times,
-                 double scale,
-                 double* out) {
-  if constexpr (kD > PrunedInverse::kMaxDecimation) {
-    return false;
-  } else {
-    if (d != kD) return GatherPairs<2 * kD>(in, d, m, first, times, scale, out);
-    GatherPairsAvx2<kD>(in, m, first, times, scale, out);
-    return true;
-  }
-}
-
-}  // namespace
-#endif
-
 void PrunedInverse::Gather(const Complex* blocks,
                            Eigen::Index d,
                            Eigen::Index first,
@@ -545,10 +477,6 @@ void PrunedInverse::Gather(const Complex* blocks,
               first + times <= p_);
   const auto* in = reinterpret_cast<const double*>(blocks);
   auto* out = reinterpret_cast<double*>(column);
-#if defined(PODID_AVX2_PASSES)
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2 && GatherPairs(in, d, p_ / d, first, times, scale, out)) return;
-#endif
 #if defined(__SSE2__)
   // The output (16 bytes per value, 300 x 10^5 values in fCWT's case) is far
   // larger than any cache: stream it past the cache instead of reading each
