@@ -112,8 +112,8 @@ TEST(PrunedInverse, EveryDecimationEqualsTheDirectInverseDft) {
                         bins, d, batch, inverse.Plan(d, batch), work.data(), out.data());
         // Outputs from 0, from inside the first group of D and from beyond
         // it, up to P - 3: a last row of blocks only partly used.
-        // Into a column at either 32-byte phase (a vectorised gather's two
-        // cases; Gather's streaming stores need 16-byte alignment only).
+        // Into a column at either 32-byte phase, as a scalogram's columns
+        // start (16-byte aligned allocations, columns of any length).
         for (const auto& [from, shift] : std::vector<std::pair<Eigen::Index, std::size_t>>{
                  {0, 0}, {0, 1}, {3, 0}, {3, 1}, {37, 0}, {37, 1}}) {
           const Eigen::Index times = p - 3 - from;
