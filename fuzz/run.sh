@@ -17,7 +17,10 @@ targets=("$@")
 if ((${#targets[@]} == 0)); then targets=(csv case mat uff model wisdom); fi
 build="${PODID_FUZZ_BUILD:-build/fuzz}"
 
+# Line tables only (-g1): the reports keep file:line, the build takes about a
+# third less time than with full debug info.
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
   -DCMAKE_CXX_COMPILER=clang++-14 -DPODID_BUILD_FUZZERS=ON \
   -DPODID_BUILD_TESTS=OFF -DPODID_BUILD_BENCH=OFF -DPODID_BUILD_APPS=OFF >/dev/null
 cmake --build "$build" -j "$(nproc)" --target "${targets[@]/#/podid_fuzz_}"
