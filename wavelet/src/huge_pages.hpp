@@ -1,8 +1,9 @@
 #pragma once
-// Transparent huge pages for large outputs (not installed).
+// Transparent huge pages for large outputs and buffers (not installed).
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -35,6 +36,17 @@ inline void AdviseHugePages(void* data, std::size_t bytes) {
   (void)kMinBytes;
   (void)kMaxBytes;
 #endif
+}
+
+/// v->resize(n), new storage advised huge pages (AdviseHugePages) before
+/// resize's value-initialisation first touches it.
+template <typename T>
+void ResizeWithHugePages(std::vector<T>* v, std::size_t n) {
+  if (n > v->capacity()) {
+    v->reserve(n);
+    AdviseHugePages(v->data(), n * sizeof(T));
+  }
+  v->resize(n);
 }
 
 }  // namespace podid::wavelet::internal
