@@ -207,8 +207,8 @@ void RidgeProgramme::Reset(Eigen::Index times) {
   const std::size_t cells = maximum_ ? 0 : static_cast<std::size_t>(x_.size() * times);
   // The back-pointers and near_ are the largest buffers a long ridge touches
   // first: on huge pages a one-shot `podid cwt` of the Silverbox record
-  // (131,072 times x 115 frequencies) faults 14,662 times instead of 19,263,
-  // 461-484 ms of CPU instead of 511-536 ms on the VM of benchmark-log.md.
+  // (131,072 times x 115 frequencies) faults 14,225 times instead of 19,336,
+  // 427-433 ms of CPU instead of 462-483 ms on the VM of benchmark-log.md.
   ResizeWithHugePages(&back8_, width_ == 1 ? cells : 0);
   ResizeWithHugePages(&back16_, width_ == 2 ? cells : 0);
   ResizeWithHugePages(&back32_, width_ == 4 ? cells : 0);
